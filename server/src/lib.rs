@@ -1,0 +1,1 @@
+//! The PPS-tag registry server.
