@@ -1,10 +1,40 @@
 //! The PPS-tag contract shared by the registry and the robots: the JSON Schemas in
 //! `schemas/`, the serde types that match them, the validator, and the [`Epc`] key.
 //!
-//! This crate depends on neither the server nor the robot client.
+//! This crate depends on neither the server nor the robot client, and does no I/O: the
+//! schemas are compiled into it.
 
+mod behavior;
+mod effective;
 mod entry;
 mod epc;
+mod link;
+mod read_only;
+mod robot;
+mod robot_id;
+mod schemas;
+mod trial;
+mod validate;
 
-pub use entry::ColorSegmentation;
+pub use behavior::{
+    BehaviorKind, BehaviorParams, BehaviorSpec, DropParams, LightSwitchParams, ParamOverride,
+    PullBackParams, PullLampParams, PushParams, SweepDirection, SwitchMotion, UnknownBehavior,
+};
+pub use effective::{EffectiveEntry, Provenance, ProvenanceError, UnavailableAction};
+pub use entry::{
+    ColorSegmentation, Location, LookDirection, PpsTagMaterial, Properties, RobotProperties,
+    StateChange, TagEntry,
+};
 pub use epc::{Epc, EpcError};
+pub use link::{Link, LinkRel};
+pub use read_only::{
+    READ_ONLY_ROBOT_FIELDS, READ_ONLY_TAG_FIELDS, READ_ONLY_TRIAL_FIELDS, strip_fields,
+    strip_read_only,
+};
+pub use robot::{Robot, RobotLimits};
+pub use robot_id::{RobotId, RobotIdError};
+pub use schemas::{SCHEMA_BASE_URI, SCHEMA_NAMES, schema_document};
+pub use trial::{Finger, ForceSample, MAX_FORCE_SAMPLES, Outcome, StartPose, Trial};
+pub use validate::{
+    FieldError, ValidationErrors, Validator, validate_robot, validate_tag, validate_trial,
+};

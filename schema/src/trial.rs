@@ -1,0 +1,112 @@
+//! A trial: one attempt by a robot to perform an action, recorded in the registry.
+
+use serde::{Deserialize, Serialize};
+use serde_json::{Map, Value};
+use time::OffsetDateTime;
+use uuid::Uuid;
+
+use crate::{Epc, RobotId};
+
+/// The most force-torque samples one trial may carry (the schema's `maxItems`): 20 000 is
+/// about 3 minutes of both fingers at 50 Hz, far longer than any behaviour runs.
+pub const MAX_FORCE_SAMPLES: usize = 20_000;
+
+/// One attempt, as a robot PUTs it; `received_at` and `seq` are the registry's.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Trial {
+    /// Chosen by the robot, so a retried upload is stored once.
+    pub id: Uuid,
+    pub epc: Epc,
+    pub robot: RobotId,
+    /// The action performed, e.g. `on`.
+    pub action: String,
+    /// The key in the entry's `behaviors` that ran, e.g. `push_top`.
+    pub behavior: String,
+    #[serde(with = "time::serde::rfc3339")]
+    pub started_at: OffsetDateTime,
+    #[serde(with = "time::serde::rfc3339")]
+    pub finished_at: OffsetDateTime,
+    pub outcome: Outcome,
+    /// The person's answer; `None` (JSON null) while nobody has answered.
+    #[serde(default)]
+    pub confirmed: Option<bool>,
+    /// What the success decision rested on (free-form).
+    #[serde(default)]
+    pub detector: Map<String, Value>,
+    #[serde(default)]
+    pub forces: Vec<ForceSample>,
+    /// Behaviour-specific measurements (free-form).
+    #[serde(default)]
+    pub measurements: Map<String, Value>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start_pose: Option<StartPose>,
+    /// Read-only: when the registry received the trial.
+    #[serde(
+        default,
+        with = "time::serde::rfc3339::option",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub received_at: Option<OffsetDateTime>,
+    /// Read-only: the trial's place in the registry's arrival order.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub seq: Option<u64>,
+}
+
+/// The robot's own verdict on an attempt.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Outcome {
+    /// The success detector saw the expected change.
+    Success,
+    /// The behaviour ran to its end and the change did not happen.
+    Failure,
+    /// Stopped before its end, by a person or a safety limit.
+    Aborted,
+    /// The robot's software or hardware failed.
+    Error,
+}
+
+impl Outcome {
+    pub const ALL: [Outcome; 4] = [Self::Success, Self::Failure, Self::Aborted, Self::Error];
+
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Success => "success",
+            Self::Failure => "failure",
+            Self::Aborted => "aborted",
+            Self::Error => "error",
+        }
+    }
+}
+
+/// One reading of a finger's force-torque sensor.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ForceSample {
+    /// Seconds since the trial's `started_at`.
+    pub t: f64,
+    pub finger: Finger,
+    /// `[fx, fy, fz]`, newtons, in the sensor's frame.
+    pub force: [f64; 3],
+    /// `[tx, ty, tz]`, newton-metres, in the sensor's frame.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub torque: Option<[f64; 3]>,
+}
+
+/// Which finger a sample came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Finger {
+    Left,
+    Right,
+}
+
+/// Where the base was when the attempt started, in the map frame.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct StartPose {
+    /// Metres.
+    pub x: f64,
+    /// Metres.
+    pub y: f64,
+    /// Radians, −π..=π, counter-clockwise from x.
+    pub yaw: f64,
+}

@@ -1,0 +1,42 @@
+//! RFC 6901 JSON pointers into the validated document, and the field names they end in.
+
+/// `parent` followed by the segment `key`, escaped.
+pub(crate) fn join(parent: &str, key: &str) -> String {
+    format!("{parent}/{}", key.replace('~', "~0").replace('/', "~1"))
+}
+
+/// How a message names the field at `pointer`: its key, `hue_deg[0]` for an array item, or
+/// "the document" for the root.
+pub(crate) fn field_name(pointer: &str) -> String {
+    let mut segments = pointer.rsplit('/').map(unescape);
+    match (segments.next(), segments.next()) {
+        (None, _) | (Some(_), None) => "the document".to_owned(),
+        (Some(last), parent) if last.parse::<usize>().is_ok() => match parent {
+            Some(parent) if !parent.is_empty() => format!("{parent}[{last}]"),
+            _ => format!("item {last}"),
+        },
+        (Some(last), _) => last,
+    }
+}
+
+fn unescape(segment: &str) -> String {
+    segment.replace("~1", "/").replace("~0", "~")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn escapes_and_names() {
+        assert_eq!(join("/actions", "a/b~c"), "/actions/a~1b~0c");
+        assert_eq!(field_name(""), "the document");
+        assert_eq!(field_name("/epc"), "epc");
+        assert_eq!(field_name("/actions/a~1b~0c"), "a/b~c");
+        assert_eq!(
+            field_name("/properties/robots/el-e/color_segmentation/hue_deg/0"),
+            "hue_deg[0]"
+        );
+        assert_eq!(field_name("/forces/3"), "forces[3]");
+    }
+}
