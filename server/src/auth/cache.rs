@@ -1,0 +1,53 @@
+//! The token cache on the hot path: a hash look-up in memory, the database only on a miss.
+//!
+//! Entries are re-checked against the database after [`RECHECK_AFTER`], which bounds how long a
+//! token revoked by another process (the CLI) keeps working.
+
+use std::collections::HashMap;
+use std::sync::RwLock;
+use std::time::{Duration, Instant};
+
+use crate::auth::Principal;
+
+/// How long a cached positive look-up is trusted.
+pub const RECHECK_AFTER: Duration = Duration::from_secs(2);
+
+/// Upper bound on cached tokens, so a flood of distinct bogus tokens cannot grow memory.
+const CAPACITY: usize = 4096;
+
+#[derive(Debug)]
+struct Cached {
+    principal: Principal,
+    checked_at: Instant,
+    /// Unix seconds after which the token stops working, if it expires.
+    expires_at: Option<i64>,
+}
+
+#[derive(Debug, Default)]
+pub struct TokenCache {
+    entries: RwLock<HashMap<String, Cached>>,
+}
+
+impl TokenCache {
+    /// The principal for a secret hash, when it was confirmed live recently.
+    pub fn get(&self, secret_hash: &str, now_unix: i64) -> Option<Principal> {
+        let entries = self.entries.read().unwrap_or_else(|e| e.into_inner());
+        let cached = entries.get(secret_hash)?;
+        let fresh = cached.checked_at.elapsed() < RECHECK_AFTER;
+        let live = cached.expires_at.is_none_or(|at| now_unix < at);
+        (fresh && live).then(|| cached.principal.clone())
+    }
+
+    pub fn insert(&self, secret_hash: String, principal: Principal, expires_at: Option<i64>) {
+        let mut entries = self.entries.write().unwrap_or_else(|e| e.into_inner());
+        if entries.len() >= CAPACITY {
+            entries.retain(|_, cached| cached.checked_at.elapsed() < RECHECK_AFTER);
+        }
+        entries.insert(secret_hash, Cached { principal, checked_at: Instant::now(), expires_at });
+    }
+
+    /// Forgets every cached token, e.g. after a revocation through the API.
+    pub fn clear(&self) {
+        self.entries.write().unwrap_or_else(|e| e.into_inner()).clear();
+    }
+}

@@ -1,0 +1,50 @@
+//! Who is making a request, once their credential has been checked.
+
+use crate::auth::Role;
+use crate::error::ApiError;
+
+/// An authenticated caller.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Principal {
+    pub role: Role,
+    /// Shown as `updated_by`: the token's name or the user's login.
+    pub name: String,
+    /// The robot a robot credential is bound to.
+    pub robot: Option<String>,
+}
+
+impl Principal {
+    /// Caretakers and admins edit tags.
+    pub fn require_editor(&self) -> Result<(), ApiError> {
+        match self.role {
+            Role::Admin | Role::Caretaker => Ok(()),
+            Role::Robot => Err(ApiError::Forbidden(
+                "robots read tags but cannot change them; use a caretaker or admin credential"
+                    .into(),
+            )),
+        }
+    }
+
+    pub fn require_admin(&self) -> Result<(), ApiError> {
+        if self.role == Role::Admin {
+            Ok(())
+        } else {
+            Err(ApiError::Forbidden(format!(
+                "this needs an admin credential; yours has the role {}",
+                self.role
+            )))
+        }
+    }
+
+    /// A robot may act only as itself; caretakers and admins as any robot.
+    pub fn require_robot_or_editor(&self, robot: &str) -> Result<(), ApiError> {
+        match (&self.role, &self.robot) {
+            (Role::Admin | Role::Caretaker, _) => Ok(()),
+            (Role::Robot, Some(own)) if own == robot => Ok(()),
+            (Role::Robot, own) => Err(ApiError::Forbidden(format!(
+                "this robot token is bound to {:?}; it cannot act as {robot:?}",
+                own.as_deref().unwrap_or("")
+            ))),
+        }
+    }
+}

@@ -1,0 +1,295 @@
+//! The `pps-server` command line (DESIGN §6).
+
+use std::io::{Read, Write};
+use std::net::SocketAddr;
+use std::path::PathBuf;
+
+use anyhow::{Context, bail};
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+use crate::auth::Role;
+use crate::db::Db;
+use crate::state::AppState;
+use crate::store::tokens;
+use crate::{clock, seed};
+
+#[derive(Debug, Parser)]
+#[command(name = "pps-server", version, about = "The PPS-tag registry for mobile robots")]
+pub struct Cli {
+    /// The SQLite database file; created and migrated when missing.
+    #[arg(long, global = true, env = "PPS_DB", default_value = "pps.db")]
+    db: PathBuf,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Serve the registry over HTTP (seeding an empty registry first).
+    Serve(ServeArgs),
+    /// Create or migrate the database, then exit.
+    Migrate,
+    /// Load the paper's five devices again (creating missing ones, restoring changed ones).
+    Seed,
+    /// Print every tag as one JSON array.
+    Export {
+        /// Write to this file instead of stdout.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Load tags from a JSON array (as `export` prints it); all or nothing.
+    Import {
+        /// Read this file instead of stdin.
+        file: Option<PathBuf>,
+    },
+    /// Manage API tokens.
+    #[command(subcommand)]
+    Token(TokenCommand),
+}
+
+#[derive(Debug, Args)]
+struct ServeArgs {
+    /// Address to listen on.
+    #[arg(long, env = "PPS_LISTEN", default_value = "127.0.0.1:8080")]
+    listen: SocketAddr,
+}
+
+#[derive(Debug, Subcommand)]
+enum TokenCommand {
+    /// Mint a token and print it alone on stdout (it is shown only this once).
+    Create {
+        #[arg(long, value_enum)]
+        role: RoleArg,
+        /// Who or what holds it; for a robot token, the robot id it is bound to.
+        #[arg(long)]
+        name: String,
+        /// Lifetime such as 30d, 12h, 90m or 3600s; without it the token does not expire.
+        #[arg(long, value_parser = parse_duration)]
+        expires_in: Option<time::Duration>,
+    },
+    /// List tokens (never their secrets).
+    List {
+        /// Print JSON instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Revoke a token by its id; it stops working within seconds, also on a running server.
+    Revoke { id: String },
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum RoleArg {
+    Admin,
+    Caretaker,
+    Robot,
+}
+
+impl From<RoleArg> for Role {
+    fn from(role: RoleArg) -> Self {
+        match role {
+            RoleArg::Admin => Role::Admin,
+            RoleArg::Caretaker => Role::Caretaker,
+            RoleArg::Robot => Role::Robot,
+        }
+    }
+}
+
+/// Parses `30d`, `12h`, `90m`, `3600s` or `2w`.
+fn parse_duration(text: &str) -> Result<time::Duration, String> {
+    let text = text.trim();
+    let split = text.find(|c: char| !c.is_ascii_digit()).unwrap_or(text.len());
+    let (number, unit) = text.split_at(split);
+    let number: i64 = number
+        .parse()
+        .map_err(|_| format!("{text:?} is not a duration; write e.g. 30d, 12h, 90m or 3600s"))?;
+    let seconds = match unit {
+        "s" | "" => 1,
+        "m" => 60,
+        "h" => 3600,
+        "d" => 86_400,
+        "w" => 604_800,
+        other => return Err(format!("unknown unit {other:?}; use s, m, h, d or w")),
+    };
+    if number <= 0 {
+        return Err("a lifetime must be positive".into());
+    }
+    number
+        .checked_mul(seconds)
+        .map(time::Duration::seconds)
+        .ok_or_else(|| format!("{text:?} is too long"))
+}
+
+impl Cli {
+    pub async fn run(self) -> anyhow::Result<()> {
+        let db = Db::open(&self.db).await?;
+        let result = match self.command {
+            Command::Serve(args) => serve(db.clone(), args).await,
+            Command::Migrate => {
+                eprintln!("database {} is migrated", self.db.display());
+                Ok(())
+            }
+            Command::Seed => {
+                let report = seed::reload(&db).await?;
+                eprintln!(
+                    "seeded: {} created, {} restored, {} unchanged",
+                    report.created, report.replaced, report.unchanged
+                );
+                Ok(())
+            }
+            Command::Export { out } => {
+                let text = serde_json::to_string_pretty(&seed::export(&db).await?)?;
+                match out {
+                    Some(path) => std::fs::write(&path, text + "\n")
+                        .with_context(|| format!("cannot write {}", path.display())),
+                    None => {
+                        println!("{text}");
+                        Ok(())
+                    }
+                }
+            }
+            Command::Import { file } => import(&db, file).await,
+            Command::Token(command) => token(&db, command).await,
+        };
+        db.close().await;
+        result
+    }
+}
+
+async fn import(db: &Db, file: Option<PathBuf>) -> anyhow::Result<()> {
+    let text = match &file {
+        Some(path) => std::fs::read_to_string(path)
+            .with_context(|| format!("cannot read {}", path.display()))?,
+        None => {
+            let mut text = String::new();
+            std::io::stdin().read_to_string(&mut text)?;
+            text
+        }
+    };
+    let value: serde_json::Value = serde_json::from_str(&text).context("the input is not JSON")?;
+    let serde_json::Value::Array(entries) = value else {
+        bail!("the input must be a JSON array of tag entries, as `pps-server export` prints");
+    };
+    let report = seed::import(db, entries, "import").await?;
+    eprintln!(
+        "imported: {} created, {} replaced, {} unchanged",
+        report.created, report.replaced, report.unchanged
+    );
+    Ok(())
+}
+
+async fn token(db: &Db, command: TokenCommand) -> anyhow::Result<()> {
+    match command {
+        TokenCommand::Create { role, name, expires_in } => {
+            let role = Role::from(role);
+            if role == Role::Robot {
+                pps_schema::RobotId::parse(&name)
+                    .map_err(|e| anyhow::anyhow!("--name must be the robot's id: {e}"))?;
+            } else if name.trim().is_empty() || name.len() > 100 {
+                bail!("--name must be 1 to 100 characters");
+            }
+            let expires_at = expires_in
+                .map(|lifetime| clock::format(time::OffsetDateTime::now_utc() + lifetime));
+            let minted = tokens::create(db, role, &name, expires_at).await?;
+            eprintln!("token {} for {} ({}) created", minted.record.id, name, role);
+            println!("{}", minted.token);
+        }
+        TokenCommand::List { json } => {
+            let all = tokens::list(db.reader()).await?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&all)?);
+            } else {
+                let mut out = std::io::stdout().lock();
+                writeln!(
+                    out,
+                    "{:<13} {:<10} {:<24} {:<25} {:<25} revoked",
+                    "id", "role", "name", "created", "expires"
+                )?;
+                for t in all {
+                    writeln!(
+                        out,
+                        "{:<13} {:<10} {:<24} {:<25} {:<25} {}",
+                        t.id,
+                        t.role,
+                        t.name,
+                        t.created_at,
+                        t.expires_at.as_deref().unwrap_or("never"),
+                        t.revoked_at.as_deref().unwrap_or("-")
+                    )?;
+                }
+            }
+        }
+        TokenCommand::Revoke { id } => {
+            if !tokens::revoke(db, &id).await? {
+                bail!("no live token has the id {id:?} (see `pps-server token list`)");
+            }
+            eprintln!("token {id} revoked");
+        }
+    }
+    Ok(())
+}
+
+async fn serve(db: Db, args: ServeArgs) -> anyhow::Result<()> {
+    let seeded = seed::seed_if_empty(&db).await?;
+    if seeded > 0 {
+        tracing::info!(tags = seeded, "seeded an empty registry with the paper's devices");
+    }
+    let listener = tokio::net::TcpListener::bind(args.listen)
+        .await
+        .with_context(|| format!("cannot listen on {}", args.listen))?;
+    let address = listener.local_addr()?;
+    let url = format!("http://{address}/");
+    if !tokens::live_admin_exists(db.reader()).await? {
+        let minted = tokens::create(&db, Role::Admin, "first admin", None).await?;
+        print_first_admin_banner(&url, &minted.token);
+    }
+    tracing::info!(%url, "serving the PPS-tag registry");
+    crate::serve(listener, AppState::new(db), shutdown_signal()).await?;
+    tracing::info!("stopped");
+    Ok(())
+}
+
+/// The one time the first admin token is shown: on stderr, not through the log.
+fn print_first_admin_banner(url: &str, token: &str) {
+    let rule = "=".repeat(78);
+    eprintln!(
+        "\n{rule}\n  PPS-tag registry at {url}\n\n  No admin credential existed, so one was made. It is shown only now and\n  \
+         stored only as a hash; keep it safe:\n\n    {token}\n\n  Try it:  curl -H \"Authorization: Bearer {token}\" {url}api/v1/tags\n{rule}\n"
+    );
+}
+
+/// Completes on SIGINT or SIGTERM.
+async fn shutdown_signal() {
+    let interrupt = async {
+        let _ = tokio::signal::ctrl_c().await;
+    };
+    #[cfg(unix)]
+    let terminate = async {
+        match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
+            Ok(mut signal) => {
+                signal.recv().await;
+            }
+            Err(_) => std::future::pending().await,
+        }
+    };
+    #[cfg(not(unix))]
+    let terminate = std::future::pending::<()>();
+    tokio::select! {
+        () = interrupt => {}
+        () = terminate => {}
+    }
+    tracing::info!("shutting down: finishing open requests");
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn durations() {
+        assert_eq!(parse_duration("30d").unwrap(), time::Duration::days(30));
+        assert_eq!(parse_duration("90m").unwrap(), time::Duration::minutes(90));
+        assert!(parse_duration("0s").is_err());
+        assert!(parse_duration("3 fortnights").is_err());
+        assert!(parse_duration("h").is_err());
+    }
+}

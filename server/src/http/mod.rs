@@ -1,0 +1,98 @@
+//! The HTTP API: one route table, read top to bottom, with each route's access next to it.
+
+pub mod access;
+pub mod extract;
+mod fallback;
+mod meta;
+pub mod page;
+pub mod precondition;
+mod tags;
+mod web;
+
+use axum::Router;
+use axum::extract::DefaultBodyLimit;
+use axum::handler::Handler;
+use axum::http::{HeaderValue, Method, header};
+use axum::routing::{MethodFilter, on};
+use tower_http::set_header::SetResponseHeaderLayer;
+
+pub use access::Access;
+
+use crate::state::AppState;
+
+/// One route of the API, as the role table and the OpenAPI document see it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RouteSpec {
+    pub method: Method,
+    pub path: &'static str,
+    pub access: Access,
+}
+
+/// The API's routes; every one goes through [`Routes::add`], so none escapes the access check.
+struct Routes {
+    state: AppState,
+    router: Router<AppState>,
+    specs: Vec<RouteSpec>,
+}
+
+impl Routes {
+    fn add<H, T>(mut self, method: Method, path: &'static str, access: Access, handler: H) -> Self
+    where
+        H: Handler<T, AppState>,
+        T: 'static,
+    {
+        let filter = MethodFilter::try_from(method.clone()).expect("a standard method");
+        let check =
+            axum::middleware::from_fn_with_state((self.state.clone(), access), access::check);
+        self.router = self.router.route(path, on(filter, handler).route_layer(check));
+        self.specs.push(RouteSpec { method, path, access });
+        self
+    }
+}
+
+/// The whole application: API, UI and the layers every response passes through.
+pub fn router(state: AppState) -> Router {
+    router_with_routes(state).0
+}
+
+/// The application and the table of its API routes.
+pub fn router_with_routes(state: AppState) -> (Router, Vec<RouteSpec>) {
+    use Access::*;
+    let get = || Method::GET;
+    let routes = Routes { state: state.clone(), router: Router::new(), specs: Vec::new() }
+        .add(get(), "/healthz", Open, meta::healthz)
+        .add(get(), "/api/v1/schema/{name}", Open, meta::schema)
+        .add(get(), "/api/v1/tags", Anyone, tags::list)
+        .add(get(), "/api/v1/tags/{epc}", Anyone, tags::get)
+        .add(Method::PUT, "/api/v1/tags/{epc}", Editors, tags::put)
+        .add(Method::DELETE, "/api/v1/tags/{epc}", Editors, tags::archive)
+        .add(get(), "/api/v1/tags/{epc}/revisions", Editors, tags::revisions)
+        .add(Method::POST, "/api/v1/validate/tag", Editors, tags::validate);
+    let Routes { router, specs, .. } = routes;
+    let router = router
+        .merge(web::router())
+        .fallback(fallback::not_found)
+        .layer(axum::middleware::from_fn(fallback::method_not_allowed))
+        .layer(DefaultBodyLimit::max(extract::MAX_BODY_BYTES));
+    let router =
+        with_security_headers(router).layer(crate::telemetry::http_trace_layer()).with_state(state);
+    (router, specs)
+}
+
+/// Headers every response carries; the UI's Content-Security-Policy forbids inline script.
+fn with_security_headers(router: Router<AppState>) -> Router<AppState> {
+    const HEADERS: [(header::HeaderName, &str); 4] = [
+        (
+            header::CONTENT_SECURITY_POLICY,
+            "default-src 'self'; script-src 'self'; style-src 'self'; img-src 'self' data:; \
+             connect-src 'self'; object-src 'none'; base-uri 'none'; form-action 'self'; \
+             frame-ancestors 'none'",
+        ),
+        (header::X_CONTENT_TYPE_OPTIONS, "nosniff"),
+        (header::REFERRER_POLICY, "no-referrer"),
+        (header::X_FRAME_OPTIONS, "DENY"),
+    ];
+    HEADERS.into_iter().fold(router, |router, (name, value)| {
+        router.layer(SetResponseHeaderLayer::if_not_present(name, HeaderValue::from_static(value)))
+    })
+}

@@ -1,0 +1,4 @@
+//! The registry's SQL, one module per resource. Nothing above this layer writes SQL.
+
+pub mod tags;
+pub mod tokens;

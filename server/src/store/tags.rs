@@ -1,0 +1,319 @@
+//! Tag entries and their revision history in the database.
+//!
+//! Every write runs in one immediate transaction that checks the precondition against the
+//! current revision, so of two caretakers saving the same revision exactly one wins.
+
+use pps_schema::Epc;
+use serde_json::{Map, Value};
+use sqlx::SqlitePool;
+
+use crate::clock;
+use crate::db::Db;
+use crate::http::precondition::WriteCondition;
+
+/// A tag as stored, with the metadata the registry keeps about it.
+#[derive(Debug, Clone)]
+pub struct StoredTag {
+    pub epc: String,
+    pub entry: Value,
+    pub revision: i64,
+    pub archived: bool,
+    pub updated_at: String,
+    pub updated_by: String,
+}
+
+impl StoredTag {
+    /// The entry as returned by GET: the stored entry plus the read-only fields.
+    pub fn to_json(&self) -> Value {
+        let mut object = match &self.entry {
+            Value::Object(map) => map.clone(),
+            _ => Map::new(),
+        };
+        if let Some(uri) = Epc::parse(&self.epc).ok().and_then(|epc| epc.pure_identity_uri()) {
+            object.insert("epc_uri".into(), uri.into());
+        }
+        object.insert("revision".into(), self.revision.into());
+        object.insert("updated_at".into(), self.updated_at.clone().into());
+        object.insert("updated_by".into(), self.updated_by.clone().into());
+        object.insert("archived".into(), self.archived.into());
+        Value::Object(object)
+    }
+}
+
+#[derive(sqlx::FromRow)]
+struct TagRow {
+    epc: String,
+    entry: String,
+    revision: i64,
+    archived: bool,
+    updated_at: String,
+    updated_by: String,
+}
+
+impl TryFrom<TagRow> for StoredTag {
+    type Error = sqlx::Error;
+    fn try_from(row: TagRow) -> Result<Self, Self::Error> {
+        Ok(Self {
+            entry: serde_json::from_str(&row.entry).map_err(|e| sqlx::Error::Decode(e.into()))?,
+            epc: row.epc,
+            revision: row.revision,
+            archived: row.archived,
+            updated_at: row.updated_at,
+            updated_by: row.updated_by,
+        })
+    }
+}
+
+/// Why a tag write did not happen.
+#[derive(Debug, thiserror::Error)]
+pub enum TagWriteError {
+    #[error("a tag with this EPC already exists")]
+    Exists { current: StoredTag },
+    #[error("no tag has this EPC")]
+    Missing,
+    #[error("the tag changed since the revision the request names")]
+    Stale { current: StoredTag },
+    #[error(transparent)]
+    Database(#[from] sqlx::Error),
+}
+
+/// Which tags a list wants.
+#[derive(Debug, Default)]
+pub struct TagFilter {
+    pub kind: Option<String>,
+    pub name_contains: Option<String>,
+    pub archived: bool,
+}
+
+#[tracing::instrument(skip_all)]
+pub async fn get(pool: &SqlitePool, epc: &Epc) -> sqlx::Result<Option<StoredTag>> {
+    let row: Option<TagRow> = sqlx::query_as(
+        "select epc, entry, revision, archived, updated_at, updated_by from tags where epc = ?",
+    )
+    .bind(epc.as_hex())
+    .fetch_optional(pool)
+    .await?;
+    row.map(StoredTag::try_from).transpose()
+}
+
+/// Up to `limit` tags after the EPC `after`, in EPC order.
+#[tracing::instrument(skip_all)]
+pub async fn list(
+    pool: &SqlitePool,
+    filter: &TagFilter,
+    after: Option<&str>,
+    limit: u32,
+) -> sqlx::Result<Vec<StoredTag>> {
+    let pattern = filter.name_contains.as_deref().map(like_pattern);
+    let rows: Vec<TagRow> = sqlx::query_as(
+        "select epc, entry, revision, archived, updated_at, updated_by from tags
+         where archived = ?
+           and (?2 is null or kind = ?2)
+           and (?3 is null or name like ?3 escape '\\')
+           and (?4 is null or epc > ?4)
+         order by epc
+         limit ?5",
+    )
+    .bind(filter.archived)
+    .bind(&filter.kind)
+    .bind(&pattern)
+    .bind(after)
+    .bind(i64::from(limit))
+    .fetch_all(pool)
+    .await?;
+    rows.into_iter().map(StoredTag::try_from).collect()
+}
+
+/// A case-insensitive substring pattern for LIKE, with the user's `%` and `_` taken literally.
+fn like_pattern(text: &str) -> String {
+    let escaped = text.replace('\\', "\\\\").replace('%', "\\%").replace('_', "\\_");
+    format!("%{escaped}%")
+}
+
+/// Creates or replaces the tag under `condition`, recording the revision.
+#[tracing::instrument(skip_all, fields(epc = %epc))]
+pub async fn put(
+    db: &Db,
+    epc: &Epc,
+    entry: &Value,
+    condition: &WriteCondition,
+    by: &str,
+) -> Result<(StoredTag, bool), TagWriteError> {
+    let mut tx = db.begin_write().await?;
+    let written = put_in(&mut tx, epc, entry, condition, by).await?;
+    tx.commit().await?;
+    Ok(written)
+}
+
+/// [`put`] inside the caller's transaction; true when the tag was created.
+pub async fn put_in(
+    tx: &mut sqlx::SqliteConnection,
+    epc: &Epc,
+    entry: &Value,
+    condition: &WriteCondition,
+    by: &str,
+) -> Result<(StoredTag, bool), TagWriteError> {
+    let current = current(tx, epc).await?;
+    let (revision, change) = match (&current, condition) {
+        (Some(current), WriteCondition::Absent) => {
+            return Err(TagWriteError::Exists { current: current.clone() });
+        }
+        (None, WriteCondition::Absent) => (1, "create"),
+        (None, _) => return Err(TagWriteError::Missing),
+        (Some(current), condition) if !condition.allows(current.revision) => {
+            return Err(TagWriteError::Stale { current: current.clone() });
+        }
+        (Some(current), _) => {
+            (current.revision + 1, if current.archived { "restore" } else { "replace" })
+        }
+    };
+    let stored = StoredTag {
+        epc: epc.as_hex().to_owned(),
+        entry: entry.clone(),
+        revision,
+        archived: false,
+        updated_at: clock::now(),
+        updated_by: by.to_owned(),
+    };
+    write(tx, &stored, change).await?;
+    Ok((stored, change == "create"))
+}
+
+/// Archives the tag under `condition`; its trials are kept.
+#[tracing::instrument(skip_all, fields(epc = %epc))]
+pub async fn archive(
+    db: &Db,
+    epc: &Epc,
+    condition: &WriteCondition,
+    by: &str,
+) -> Result<StoredTag, TagWriteError> {
+    let mut tx = db.begin_write().await?;
+    let archived = archive_in(&mut tx, epc, condition, by).await?;
+    tx.commit().await?;
+    Ok(archived)
+}
+
+/// [`archive`] inside the caller's transaction.
+pub async fn archive_in(
+    tx: &mut sqlx::SqliteConnection,
+    epc: &Epc,
+    condition: &WriteCondition,
+    by: &str,
+) -> Result<StoredTag, TagWriteError> {
+    let Some(current) = current(tx, epc).await? else {
+        return Err(TagWriteError::Missing);
+    };
+    if !condition.allows(current.revision) {
+        return Err(TagWriteError::Stale { current });
+    }
+    if current.archived {
+        return Ok(current);
+    }
+    let stored = StoredTag {
+        revision: current.revision + 1,
+        archived: true,
+        updated_at: clock::now(),
+        updated_by: by.to_owned(),
+        ..current
+    };
+    write(tx, &stored, "archive").await?;
+    Ok(stored)
+}
+
+pub async fn current(
+    tx: &mut sqlx::SqliteConnection,
+    epc: &Epc,
+) -> sqlx::Result<Option<StoredTag>> {
+    let row: Option<TagRow> = sqlx::query_as(
+        "select epc, entry, revision, archived, updated_at, updated_by from tags where epc = ?",
+    )
+    .bind(epc.as_hex())
+    .fetch_optional(&mut *tx)
+    .await?;
+    row.map(StoredTag::try_from).transpose()
+}
+
+async fn write(tx: &mut sqlx::SqliteConnection, tag: &StoredTag, change: &str) -> sqlx::Result<()> {
+    let entry = tag.entry.to_string();
+    let properties = tag.entry.get("properties");
+    let text = |key: &str| {
+        properties.and_then(|p| p.get(key)).and_then(Value::as_str).unwrap_or("").to_owned()
+    };
+    sqlx::query(
+        "insert into tags (epc, entry, kind, name, revision, archived, updated_at, updated_by)
+         values (?, ?, ?, ?, ?, ?, ?, ?)
+         on conflict (epc) do update set entry = excluded.entry, kind = excluded.kind,
+             name = excluded.name, revision = excluded.revision, archived = excluded.archived,
+             updated_at = excluded.updated_at, updated_by = excluded.updated_by",
+    )
+    .bind(&tag.epc)
+    .bind(&entry)
+    .bind(text("type"))
+    .bind(text("name"))
+    .bind(tag.revision)
+    .bind(tag.archived)
+    .bind(&tag.updated_at)
+    .bind(&tag.updated_by)
+    .execute(&mut *tx)
+    .await?;
+    sqlx::query(
+        "insert into tag_revisions (epc, revision, change, entry, archived, changed_at, changed_by)
+         values (?, ?, ?, ?, ?, ?, ?)",
+    )
+    .bind(&tag.epc)
+    .bind(tag.revision)
+    .bind(change)
+    .bind(&entry)
+    .bind(tag.archived)
+    .bind(&tag.updated_at)
+    .bind(&tag.updated_by)
+    .execute(&mut *tx)
+    .await?;
+    Ok(())
+}
+
+/// One change in a tag's history.
+#[derive(Debug, serde::Serialize, sqlx::FromRow)]
+pub struct Revision {
+    pub revision: i64,
+    pub change: String,
+    pub archived: bool,
+    pub changed_at: String,
+    pub changed_by: String,
+    #[sqlx(json)]
+    pub entry: Value,
+}
+
+/// Revisions of a tag, oldest first, after revision `after`.
+#[tracing::instrument(skip_all)]
+pub async fn revisions(
+    pool: &SqlitePool,
+    epc: &Epc,
+    after: i64,
+    limit: u32,
+) -> sqlx::Result<Vec<Revision>> {
+    sqlx::query_as(
+        "select revision, change, archived, changed_at, changed_by, entry from tag_revisions
+         where epc = ? and revision > ? order by revision limit ?",
+    )
+    .bind(epc.as_hex())
+    .bind(after)
+    .bind(i64::from(limit))
+    .fetch_all(pool)
+    .await
+}
+
+/// How many tags the registry holds, archived ones included.
+pub async fn count(pool: &SqlitePool) -> sqlx::Result<i64> {
+    sqlx::query_scalar("select count(*) from tags").fetch_one(pool).await
+}
+
+/// Every tag, archived ones included, in EPC order (for export).
+pub async fn all(pool: &SqlitePool) -> sqlx::Result<Vec<StoredTag>> {
+    let rows: Vec<TagRow> = sqlx::query_as(
+        "select epc, entry, revision, archived, updated_at, updated_by from tags order by epc",
+    )
+    .fetch_all(pool)
+    .await?;
+    rows.into_iter().map(StoredTag::try_from).collect()
+}

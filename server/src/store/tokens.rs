@@ -1,0 +1,114 @@
+//! API tokens in the database: only their SHA-256 is ever stored.
+
+use serde::Serialize;
+use sqlx::SqlitePool;
+
+use crate::auth::{Role, secret};
+use crate::clock;
+use crate::db::Db;
+
+/// A token as listed: everything but the secret, which is shown once at creation.
+#[derive(Debug, Clone, Serialize, sqlx::FromRow)]
+pub struct TokenRecord {
+    pub id: String,
+    pub name: String,
+    pub role: String,
+    pub robot_id: Option<String>,
+    pub created_at: String,
+    pub expires_at: Option<String>,
+    pub revoked_at: Option<String>,
+}
+
+/// A token just minted: the record plus the secret, which exists nowhere else.
+#[derive(Debug, Serialize)]
+pub struct MintedToken {
+    #[serde(flatten)]
+    pub record: TokenRecord,
+    pub token: String,
+}
+
+/// Mints a token. For a robot token, `name` is the robot id it is bound to.
+#[tracing::instrument(skip_all, fields(role = %role))]
+pub async fn create(
+    db: &Db,
+    role: Role,
+    name: &str,
+    expires_at: Option<String>,
+) -> sqlx::Result<MintedToken> {
+    let token = secret::mint_token();
+    let record = TokenRecord {
+        id: secret::mint_id(),
+        name: name.to_owned(),
+        role: role.as_str().to_owned(),
+        robot_id: (role == Role::Robot).then(|| name.to_owned()),
+        created_at: clock::now(),
+        expires_at,
+        revoked_at: None,
+    };
+    let mut tx = db.begin_write().await?;
+    sqlx::query(
+        "insert into tokens (id, name, role, robot_id, secret_hash, created_at, expires_at)
+         values (?, ?, ?, ?, ?, ?, ?)",
+    )
+    .bind(&record.id)
+    .bind(&record.name)
+    .bind(&record.role)
+    .bind(&record.robot_id)
+    .bind(secret::hash(&token))
+    .bind(&record.created_at)
+    .bind(&record.expires_at)
+    .execute(&mut *tx)
+    .await?;
+    tx.commit().await?;
+    Ok(MintedToken { record, token })
+}
+
+#[tracing::instrument(skip_all)]
+pub async fn list(pool: &SqlitePool) -> sqlx::Result<Vec<TokenRecord>> {
+    sqlx::query_as(
+        "select id, name, role, robot_id, created_at, expires_at, revoked_at
+         from tokens order by created_at, id",
+    )
+    .fetch_all(pool)
+    .await
+}
+
+/// Revokes a token; false when no token has that id or it was already revoked.
+#[tracing::instrument(skip_all)]
+pub async fn revoke(db: &Db, id: &str) -> sqlx::Result<bool> {
+    let mut tx = db.begin_write().await?;
+    let done = sqlx::query("update tokens set revoked_at = ? where id = ? and revoked_at is null")
+        .bind(clock::now())
+        .bind(id)
+        .execute(&mut *tx)
+        .await?
+        .rows_affected()
+        == 1;
+    tx.commit().await?;
+    Ok(done)
+}
+
+/// The live (not revoked, not expired) token with this secret hash.
+#[tracing::instrument(skip_all)]
+pub async fn find_live(pool: &SqlitePool, secret_hash: &str) -> sqlx::Result<Option<TokenRecord>> {
+    sqlx::query_as(
+        "select id, name, role, robot_id, created_at, expires_at, revoked_at
+         from tokens
+         where secret_hash = ? and revoked_at is null and (expires_at is null or expires_at > ?)",
+    )
+    .bind(secret_hash)
+    .bind(clock::now())
+    .fetch_optional(pool)
+    .await
+}
+
+/// Whether any admin credential that still works exists.
+pub async fn live_admin_exists(pool: &SqlitePool) -> sqlx::Result<bool> {
+    sqlx::query_scalar(
+        "select exists (select 1 from tokens where role = 'admin' and revoked_at is null
+                        and (expires_at is null or expires_at > ?))",
+    )
+    .bind(clock::now())
+    .fetch_one(pool)
+    .await
+}

@@ -1,0 +1,109 @@
+//! Credentials: missing or bad ones are 401, roles without the right 403, and tokens minted or
+//! revoked by another process take effect on a running server.
+
+mod common;
+
+use std::time::{Duration, Instant};
+
+use common::*;
+use pps_server::auth::Role;
+use pps_server::store::tokens;
+use reqwest::{Method, StatusCode};
+
+#[tokio::test]
+async fn api_needs_a_credential_but_open_routes_do_not() {
+    let server = TestServer::start().await;
+    for path in ["/api/v1/tags", "/api/v1/tags/355AB1C60000002000000001"] {
+        let response = server.request(Method::GET, path, None).send().await.unwrap();
+        assert_eq!(response.headers()["www-authenticate"], "Bearer");
+        problem(response, StatusCode::UNAUTHORIZED).await;
+    }
+    for bad in ["Bearer pps_nope", "Basic YWRtaW46YWRtaW4=", "Bearer "] {
+        let response = server
+            .request(Method::GET, "/api/v1/tags", None)
+            .header("authorization", bad)
+            .send()
+            .await
+            .unwrap();
+        problem(response, StatusCode::UNAUTHORIZED).await;
+    }
+    let forged = format!("pps_{}", "A".repeat(43));
+    problem(server.get("/api/v1/tags", &forged).await, StatusCode::UNAUTHORIZED).await;
+    for open in ["/healthz", "/api/v1/schema/tag", "/"] {
+        assert_eq!(
+            server.request(Method::GET, open, None).send().await.unwrap().status(),
+            StatusCode::OK,
+            "{open}"
+        );
+    }
+}
+
+#[tokio::test]
+async fn robots_read_tags_but_cannot_edit_them() {
+    let server = TestServer::start().await;
+    let robot = server.token(Role::Robot, "el-e-1").await;
+    let caretaker = server.token(Role::Caretaker, "nurse").await;
+    assert_eq!(server.get("/api/v1/tags", &robot).await.status(), StatusCode::OK);
+    let entry = new_entry("E20034120000000000004242", "new");
+    let path = "/api/v1/tags/E20034120000000000004242";
+    problem(
+        server.put(path, &robot, &entry, Some(("if-none-match", "*"))).await,
+        StatusCode::FORBIDDEN,
+    )
+    .await;
+    problem(
+        server.get(&format!("/api/v1/tags/{ADA_SWITCH}/revisions"), &robot).await,
+        StatusCode::FORBIDDEN,
+    )
+    .await;
+    let created = server.put(path, &caretaker, &entry, Some(("if-none-match", "*"))).await;
+    assert_eq!(created.status(), StatusCode::CREATED);
+    let created: serde_json::Value = created.json().await.unwrap();
+    assert_eq!(created["updated_by"], "nurse");
+}
+
+#[tokio::test]
+async fn tokens_from_another_process_work_at_once_and_revocation_bites_within_seconds() {
+    let server = TestServer::start().await;
+    // A second handle on the file stands in for the CLI process.
+    let cli = pps_server::Db::open(&server.db_path).await.unwrap();
+    let minted = tokens::create(&cli, Role::Caretaker, "late nurse", None).await.unwrap();
+    assert_eq!(server.get("/api/v1/tags", &minted.token).await.status(), StatusCode::OK);
+    assert!(tokens::revoke(&cli, &minted.record.id).await.unwrap());
+    let deadline = Instant::now() + pps_server::auth::TOKEN_RECHECK_AFTER + Duration::from_secs(3);
+    loop {
+        let status = server.get("/api/v1/tags", &minted.token).await.status();
+        if status == StatusCode::UNAUTHORIZED {
+            break;
+        }
+        assert!(Instant::now() < deadline, "revoked token still works");
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+
+    let expired = tokens::create(
+        &cli,
+        Role::Admin,
+        "short",
+        Some(pps_server::clock::format(
+            time::OffsetDateTime::now_utc() - time::Duration::seconds(1),
+        )),
+    )
+    .await
+    .unwrap();
+    problem(server.get("/api/v1/tags", &expired.token).await, StatusCode::UNAUTHORIZED).await;
+}
+
+#[tokio::test]
+async fn only_hashes_of_tokens_are_stored() {
+    let server = TestServer::start().await;
+    let token = server.token(Role::Caretaker, "nurse").await;
+    server.db.close().await;
+    let bytes = std::fs::read(&server.db_path).unwrap();
+    let wal = std::fs::read(server.db_path.with_extension("db-wal")).unwrap_or_default();
+    for file in [bytes, wal] {
+        assert!(
+            !file.windows(token.len()).any(|w| w == token.as_bytes()),
+            "a token is stored in plain text"
+        );
+    }
+}
