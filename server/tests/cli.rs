@@ -1,0 +1,161 @@
+//! The `pps-server` binary as an operator uses it: first start, tokens, seed, export/import,
+//! shutdown on SIGTERM.
+
+use std::io::{BufRead, BufReader, Write};
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+
+use serde_json::Value;
+
+const BIN: &str = env!("CARGO_BIN_EXE_pps-server");
+
+fn cli(db: &Path, args: &[&str]) -> std::process::Output {
+    Command::new(BIN).args(args).arg("--db").arg(db).output().unwrap()
+}
+
+fn stdout(output: &std::process::Output) -> String {
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    String::from_utf8(output.stdout.clone()).unwrap()
+}
+
+/// A running `pps-server serve` and what its first-start banner said.
+struct Served {
+    child: Child,
+    url: String,
+    admin: String,
+}
+
+fn serve(db: &Path) -> Served {
+    let mut child = Command::new(BIN)
+        .args(["serve", "--listen", "127.0.0.1:0", "--db"])
+        .arg(db)
+        .env("RUST_LOG", "warn")
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
+    let (mut url, mut admin) = (None, None);
+    while url.is_none() || admin.is_none() {
+        let line = lines.next().expect("the server printed its banner").unwrap();
+        if let Some(rest) = line.trim().strip_prefix("PPS-tag registry at ") {
+            url = Some(rest.trim_end_matches('/').to_owned());
+        } else if line.trim().starts_with("pps_") {
+            admin = Some(line.trim().to_owned());
+        }
+    }
+    // Keep draining stderr so the server never blocks on a full pipe.
+    std::thread::spawn(move || for _ in lines {});
+    Served { child, url: url.unwrap(), admin: admin.unwrap() }
+}
+
+fn blocking_get(url: &str, token: &str) -> (u16, Value) {
+    let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().unwrap();
+    runtime.block_on(async {
+        let response = reqwest::Client::new().get(url).bearer_auth(token).send().await.unwrap();
+        let status = response.status().as_u16();
+        (status, response.json().await.unwrap_or(Value::Null))
+    })
+}
+
+#[test]
+fn first_start_prints_a_working_admin_token_once_and_serves_the_seeds() {
+    let dir = tempfile::tempdir().unwrap();
+    let db = dir.path().join("registry.db");
+    let mut served = serve(&db);
+    let (status, entry) = blocking_get(&format!("{}/api/v1/tags/355AB1C60000002000000001", served.url), &served.admin);
+    assert_eq!(status, 200);
+    assert_eq!(entry["properties"]["name"], "A D A light switch 1");
+
+    // A token minted by the CLI while the server runs works at once.
+    let caretaker = stdout(&cli(&db, &["token", "create", "--role", "caretaker", "--name", "nurse"]));
+    let caretaker = caretaker.trim();
+    assert!(caretaker.starts_with("pps_") && !caretaker.contains('\n'), "the token alone on stdout");
+    assert_eq!(blocking_get(&format!("{}/api/v1/tags", served.url), caretaker).0, 200);
+
+    let listed = stdout(&cli(&db, &["token", "list", "--json"]));
+    let listed: Vec<Value> = serde_json::from_str(&listed).unwrap();
+    assert_eq!(listed.len(), 2);
+    assert!(!serde_json::to_string(&listed).unwrap().contains(caretaker), "list never shows secrets");
+    let id = listed.iter().find(|t| t["name"] == "nurse").unwrap()["id"].as_str().unwrap().to_owned();
+    stdout(&cli(&db, &["token", "revoke", &id]));
+    let revoked = cli(&db, &["token", "revoke", &id]);
+    assert!(!revoked.status.success(), "revoking twice says so");
+
+    nix_terminate(&served.child);
+    let status = served.child.wait().unwrap();
+    assert!(status.success(), "SIGTERM shuts down cleanly: {status:?}");
+
+    // A second start finds the admin credential and prints no new token.
+    let mut again = Command::new(BIN)
+        .args(["serve", "--listen", "127.0.0.1:0", "--db"])
+        .arg(&db)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut lines = BufReader::new(again.stderr.take().unwrap()).lines();
+    let first = lines.find(|l| l.as_ref().unwrap().contains("serving")).unwrap().unwrap();
+    assert!(!first.contains("pps_"));
+    nix_terminate(&again);
+    let rest: Vec<String> = lines.map(Result::unwrap).collect();
+    assert!(rest.iter().all(|l| !l.contains("pps_")), "the admin token is never printed again");
+    again.wait().unwrap();
+}
+
+fn nix_terminate(child: &Child) {
+    let status = Command::new("kill").arg("-TERM").arg(child.id().to_string()).status().unwrap();
+    assert!(status.success());
+}
+
+#[test]
+fn export_import_round_trips_and_a_bad_import_changes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let source = dir.path().join("a.db");
+    stdout(&cli(&source, &["seed"]));
+    let exported = stdout(&cli(&source, &["export"]));
+    let tags: Vec<Value> = serde_json::from_str(&exported).unwrap();
+    assert_eq!(tags.len(), 5);
+
+    let target = dir.path().join("b.db");
+    let mut import = Command::new(BIN).args(["import", "--db"]).arg(&target).stdin(Stdio::piped()).spawn().unwrap();
+    import.stdin.take().unwrap().write_all(exported.as_bytes()).unwrap();
+    assert!(import.wait().unwrap().success());
+    let reexported: Vec<Value> = serde_json::from_str(&stdout(&cli(&target, &["export"]))).unwrap();
+    let strip = |tags: &[Value]| -> Vec<Value> {
+        tags.iter()
+            .map(|t| {
+                let mut t = t.clone();
+                for field in ["updated_at", "updated_by", "revision"] {
+                    t.as_object_mut().unwrap().remove(field);
+                }
+                t
+            })
+            .collect()
+    };
+    assert_eq!(strip(&reexported), strip(&tags));
+
+    let mut broken = tags.clone();
+    broken[3]["behaviors"] = Value::Null;
+    let file = dir.path().join("broken.json");
+    std::fs::write(&file, serde_json::to_string(&broken).unwrap()).unwrap();
+    let fresh = dir.path().join("c.db");
+    let failed = cli(&fresh, &["import", file.to_str().unwrap()]);
+    assert!(!failed.status.success());
+    let message = String::from_utf8_lossy(&failed.stderr);
+    assert!(message.contains("entry 3") && message.contains("/behaviors"), "{message}");
+    assert_eq!(stdout(&cli(&fresh, &["export"])).trim(), "[]", "nothing was imported");
+}
+
+#[test]
+fn token_create_checks_its_arguments() {
+    let dir = tempfile::tempdir().unwrap();
+    let db = dir.path().join("t.db");
+    let bad_robot = cli(&db, &["token", "create", "--role", "robot", "--name", "Not A Robot Id"]);
+    assert!(!bad_robot.status.success());
+    let bad_expiry = cli(&db, &["token", "create", "--role", "admin", "--name", "x", "--expires-in", "soon"]);
+    assert!(!bad_expiry.status.success());
+    let robot = stdout(&cli(&db, &["token", "create", "--role", "robot", "--name", "el-e-1", "--expires-in", "30d"]));
+    assert!(robot.trim().starts_with("pps_"));
+    let listed: Vec<Value> = serde_json::from_str(&stdout(&cli(&db, &["token", "list", "--json"]))).unwrap();
+    assert_eq!(listed[0]["robot_id"], "el-e-1");
+    assert!(listed[0]["expires_at"].is_string());
+}
