@@ -62,21 +62,32 @@ fn first_start_prints_a_working_admin_token_once_and_serves_the_seeds() {
     let dir = tempfile::tempdir().unwrap();
     let db = dir.path().join("registry.db");
     let mut served = serve(&db);
-    let (status, entry) = blocking_get(&format!("{}/api/v1/tags/355AB1C60000002000000001", served.url), &served.admin);
+    let (status, entry) = blocking_get(
+        &format!("{}/api/v1/tags/355AB1C60000002000000001", served.url),
+        &served.admin,
+    );
     assert_eq!(status, 200);
     assert_eq!(entry["properties"]["name"], "A D A light switch 1");
 
     // A token minted by the CLI while the server runs works at once.
-    let caretaker = stdout(&cli(&db, &["token", "create", "--role", "caretaker", "--name", "nurse"]));
+    let caretaker =
+        stdout(&cli(&db, &["token", "create", "--role", "caretaker", "--name", "nurse"]));
     let caretaker = caretaker.trim();
-    assert!(caretaker.starts_with("pps_") && !caretaker.contains('\n'), "the token alone on stdout");
+    assert!(
+        caretaker.starts_with("pps_") && !caretaker.contains('\n'),
+        "the token alone on stdout"
+    );
     assert_eq!(blocking_get(&format!("{}/api/v1/tags", served.url), caretaker).0, 200);
 
     let listed = stdout(&cli(&db, &["token", "list", "--json"]));
     let listed: Vec<Value> = serde_json::from_str(&listed).unwrap();
     assert_eq!(listed.len(), 2);
-    assert!(!serde_json::to_string(&listed).unwrap().contains(caretaker), "list never shows secrets");
-    let id = listed.iter().find(|t| t["name"] == "nurse").unwrap()["id"].as_str().unwrap().to_owned();
+    assert!(
+        !serde_json::to_string(&listed).unwrap().contains(caretaker),
+        "list never shows secrets"
+    );
+    let id =
+        listed.iter().find(|t| t["name"] == "nurse").unwrap()["id"].as_str().unwrap().to_owned();
     stdout(&cli(&db, &["token", "revoke", &id]));
     let revoked = cli(&db, &["token", "revoke", &id]);
     assert!(!revoked.status.success(), "revoking twice says so");
@@ -116,7 +127,12 @@ fn export_import_round_trips_and_a_bad_import_changes_nothing() {
     assert_eq!(tags.len(), 5);
 
     let target = dir.path().join("b.db");
-    let mut import = Command::new(BIN).args(["import", "--db"]).arg(&target).stdin(Stdio::piped()).spawn().unwrap();
+    let mut import = Command::new(BIN)
+        .args(["import", "--db"])
+        .arg(&target)
+        .stdin(Stdio::piped())
+        .spawn()
+        .unwrap();
     import.stdin.take().unwrap().write_all(exported.as_bytes()).unwrap();
     assert!(import.wait().unwrap().success());
     let reexported: Vec<Value> = serde_json::from_str(&stdout(&cli(&target, &["export"]))).unwrap();
@@ -151,11 +167,16 @@ fn token_create_checks_its_arguments() {
     let db = dir.path().join("t.db");
     let bad_robot = cli(&db, &["token", "create", "--role", "robot", "--name", "Not A Robot Id"]);
     assert!(!bad_robot.status.success());
-    let bad_expiry = cli(&db, &["token", "create", "--role", "admin", "--name", "x", "--expires-in", "soon"]);
+    let bad_expiry =
+        cli(&db, &["token", "create", "--role", "admin", "--name", "x", "--expires-in", "soon"]);
     assert!(!bad_expiry.status.success());
-    let robot = stdout(&cli(&db, &["token", "create", "--role", "robot", "--name", "el-e-1", "--expires-in", "30d"]));
+    let robot = stdout(&cli(
+        &db,
+        &["token", "create", "--role", "robot", "--name", "el-e-1", "--expires-in", "30d"],
+    ));
     assert!(robot.trim().starts_with("pps_"));
-    let listed: Vec<Value> = serde_json::from_str(&stdout(&cli(&db, &["token", "list", "--json"]))).unwrap();
+    let listed: Vec<Value> =
+        serde_json::from_str(&stdout(&cli(&db, &["token", "list", "--json"]))).unwrap();
     assert_eq!(listed[0]["robot_id"], "el-e-1");
     assert!(listed[0]["expires_at"].is_string());
 }
