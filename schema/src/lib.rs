@@ -9,6 +9,7 @@ mod effective;
 mod entry;
 mod epc;
 mod link;
+pub mod pointer;
 mod read_only;
 mod robot;
 mod robot_id;

@@ -7,9 +7,10 @@ use uuid::Uuid;
 
 use crate::{Epc, RobotId};
 
-/// The most force-torque samples one trial may carry (the schema's `maxItems`): 20 000 is
-/// about 3 minutes of both fingers at 50 Hz, far longer than any behaviour runs.
-pub const MAX_FORCE_SAMPLES: usize = 20_000;
+/// The most force-torque samples one trial may carry (the schema's `maxItems`): 5 000 is
+/// 50 s of both fingers at 50 Hz, longer than any behaviour runs, and fits the API's 1 MiB
+/// request limit even with torques.
+pub const MAX_FORCE_SAMPLES: usize = 5_000;
 
 /// One attempt, as a robot PUTs it; `received_at` and `seq` are the registry's.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -5,7 +5,7 @@
 //! the network or the file system.
 
 mod messages;
-mod pointer;
+
 mod rules;
 
 use std::fmt;

@@ -109,7 +109,7 @@ fn force_samples_are_capped() {
     full["forces"].as_array_mut().unwrap().push(sample);
     let errors = rejected(&full);
     assert_eq!(pointers(&errors), ["/forces"]);
-    assert!(errors.errors()[0].message.contains("20000"), "{errors}");
+    assert!(errors.errors()[0].message.contains("5000"), "{errors}");
 }
 
 #[test]

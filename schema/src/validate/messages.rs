@@ -9,7 +9,7 @@ use jsonschema::{JsonType, ValidationError};
 use serde_json::Value;
 
 use super::FieldError;
-use super::pointer::{field_name, join};
+use crate::pointer::{field_name, join};
 use crate::schemas::{SchemaDocument, keyword_parent, resolve};
 
 /// The sentences for one jsonschema error: usually one, one per key for unknown keys.

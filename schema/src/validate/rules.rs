@@ -9,7 +9,7 @@ use time::OffsetDateTime;
 use time::format_description::well_known::Rfc3339;
 
 use super::FieldError;
-use super::pointer::join;
+use crate::pointer::join;
 use crate::{Epc, RobotId};
 
 pub(super) fn tag(entry: &Value) -> Vec<FieldError> {

@@ -1,13 +1,18 @@
-//! RFC 6901 JSON pointers into the validated document, and the field names they end in.
+//! RFC 6901 JSON pointers: how validation errors, provenance and learned values name a field.
 
 /// `parent` followed by the segment `key`, escaped.
-pub(crate) fn join(parent: &str, key: &str) -> String {
-    format!("{parent}/{}", key.replace('~', "~0").replace('/', "~1"))
+pub fn join(parent: &str, key: &str) -> String {
+    format!("{parent}/{}", escape(key))
+}
+
+/// Escapes one reference token (`~` and `/`).
+pub fn escape(segment: &str) -> String {
+    segment.replace('~', "~0").replace('/', "~1")
 }
 
 /// How a message names the field at `pointer`: its key, `hue_deg[0]` for an array item, or
 /// "the document" for the root.
-pub(crate) fn field_name(pointer: &str) -> String {
+pub fn field_name(pointer: &str) -> String {
     let mut segments = pointer.rsplit('/').map(unescape);
     match (segments.next(), segments.next()) {
         (None, _) | (Some(_), None) => "the document".to_owned(),
@@ -19,7 +24,8 @@ pub(crate) fn field_name(pointer: &str) -> String {
     }
 }
 
-fn unescape(segment: &str) -> String {
+/// Undoes [`escape`].
+pub fn unescape(segment: &str) -> String {
     segment.replace("~1", "/").replace("~0", "~")
 }
 
