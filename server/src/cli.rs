@@ -7,10 +7,10 @@ use std::path::PathBuf;
 use anyhow::{Context, bail};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use crate::auth::Role;
+use crate::auth::{Role, UserName, password};
 use crate::db::Db;
 use crate::state::AppState;
-use crate::store::tokens;
+use crate::store::{tokens, users};
 use crate::{clock, seed};
 
 #[derive(Debug, Parser)]
@@ -45,6 +45,9 @@ enum Command {
     /// Manage API tokens.
     #[command(subcommand)]
     Token(TokenCommand),
+    /// Manage the logins of the web UI.
+    #[command(subcommand)]
+    User(UserCommand),
 }
 
 #[derive(Debug, Args)]
@@ -75,6 +78,36 @@ enum TokenCommand {
     },
     /// Revoke a token by its id; it stops working within seconds, also on a running server.
     Revoke { id: String },
+}
+
+#[derive(Debug, Subcommand)]
+enum UserCommand {
+    /// Make a login for the web UI (the password is stored only as an argon2id hash).
+    Add {
+        /// The login name: letters a-z, digits, '.', '_' and '-'.
+        name: String,
+        #[arg(long, value_enum)]
+        role: UserRoleArg,
+        /// Read the password from the first line of stdin instead of prompting for it.
+        #[arg(long)]
+        password_stdin: bool,
+    },
+}
+
+/// The roles a person can have; robots use tokens.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum UserRoleArg {
+    Caretaker,
+    Admin,
+}
+
+impl From<UserRoleArg> for Role {
+    fn from(role: UserRoleArg) -> Self {
+        match role {
+            UserRoleArg::Caretaker => Role::Caretaker,
+            UserRoleArg::Admin => Role::Admin,
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -149,6 +182,7 @@ impl Cli {
             }
             Command::Import { file } => import(&db, file).await,
             Command::Token(command) => token(&db, command).await,
+            Command::User(command) => user(&db, command).await,
         };
         db.close().await;
         result
@@ -228,6 +262,48 @@ async fn token(db: &Db, command: TokenCommand) -> anyhow::Result<()> {
     Ok(())
 }
 
+async fn user(db: &Db, command: UserCommand) -> anyhow::Result<()> {
+    let UserCommand::Add { name, role, password_stdin } = command;
+    let name = UserName::parse(&name).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let password = if password_stdin { first_line_of_stdin()? } else { prompt_password(&name)? };
+    if let Some(problem) = password::problem(&password) {
+        bail!("{problem}");
+    }
+    let hash = password::hash(&password)?;
+    match users::create(db, &name, role.into(), &hash).await {
+        Ok(user) => {
+            eprintln!(
+                "user {} ({}) created; they can log in at the registry's web page",
+                user.name, user.role
+            );
+            Ok(())
+        }
+        Err(error) if crate::error::is_unique_violation(&error) => {
+            bail!("there is already a user named {name}")
+        }
+        Err(error) => Err(error.into()),
+    }
+}
+
+/// The password as a script pipes it in: the first line, without its line ending.
+fn first_line_of_stdin() -> anyhow::Result<String> {
+    let mut line = String::new();
+    std::io::stdin().read_line(&mut line).context("cannot read the password from stdin")?;
+    let line = line.strip_suffix('\n').unwrap_or(&line);
+    Ok(line.strip_suffix('\r').unwrap_or(line).to_owned())
+}
+
+/// Asks twice on the terminal, without echo.
+fn prompt_password(name: &UserName) -> anyhow::Result<String> {
+    let first = rpassword::prompt_password(format!("Password for {name}: "))
+        .context("cannot read a password from the terminal (use --password-stdin in scripts)")?;
+    let again = rpassword::prompt_password("The same password again: ")?;
+    if first != again {
+        bail!("the two passwords differ; nothing was changed");
+    }
+    Ok(first)
+}
+
 async fn serve(db: Db, args: ServeArgs) -> anyhow::Result<()> {
     let seeded = seed::seed_if_empty(&db).await?;
     if seeded > 0 {
@@ -238,7 +314,10 @@ async fn serve(db: Db, args: ServeArgs) -> anyhow::Result<()> {
         .with_context(|| format!("cannot listen on {}", args.listen))?;
     let address = listener.local_addr()?;
     let url = format!("http://{address}/");
-    if !tokens::live_admin_exists(db.reader()).await? {
+    // An admin login for the web UI counts as an admin credential, as an admin token does.
+    let admin_exists =
+        tokens::live_admin_exists(db.reader()).await? || users::admin_exists(db.reader()).await?;
+    if !admin_exists {
         let minted = tokens::create(&db, Role::Admin, "first admin", None).await?;
         print_first_admin_banner(&url, &minted.token);
     }
@@ -253,7 +332,8 @@ fn print_first_admin_banner(url: &str, token: &str) {
     let rule = "=".repeat(78);
     eprintln!(
         "\n{rule}\n  PPS-tag registry at {url}\n\n  No admin credential existed, so one was made. It is shown only now and\n  \
-         stored only as a hash; keep it safe:\n\n    {token}\n\n  Try it:  curl -H \"Authorization: Bearer {token}\" {url}api/v1/tags\n{rule}\n"
+         stored only as a hash; keep it safe:\n\n    {token}\n\n  Try it:  curl -H \"Authorization: Bearer {token}\" {url}api/v1/tags\n\n  \
+         For the web UI, make a login:  pps-server user add NAME --role admin\n{rule}\n"
     );
 }
 

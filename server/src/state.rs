@@ -3,17 +3,48 @@
 use std::sync::Arc;
 
 use crate::auth::TokenCache;
+use crate::auth::login_throttle::LoginThrottle;
 use crate::db::Db;
+use crate::effective_cache::EffectiveCache;
+use crate::feed::ChangeFeed;
+use crate::metrics::Metrics;
+use crate::presence::Presence;
+use crate::sightings::Sightings;
+use crate::trial_writer::TrialWriter;
 
 /// Cheap to clone: everything inside is shared.
 #[derive(Debug, Clone)]
 pub struct AppState {
     pub db: Db,
     pub tokens: Arc<TokenCache>,
+    /// Recent failed password logins, to slow down guessing.
+    pub login_throttle: Arc<LoginThrottle>,
+    /// Merged entries served on the robots' hot path.
+    pub effective: Arc<EffectiveCache>,
+    pub feed: Arc<ChangeFeed>,
+    pub presence: Arc<Presence>,
+    /// Unknown EPCs robots read, on their way to the inbox.
+    pub sightings: Arc<Sightings>,
+    pub trials: TrialWriter,
+    pub metrics: Arc<Metrics>,
 }
 
 impl AppState {
+    /// The state for a registry on `db`; starts the trial writer, so it needs a Tokio runtime.
     pub fn new(db: Db) -> Self {
-        Self { db, tokens: Arc::default() }
+        let feed = Arc::new(ChangeFeed::default());
+        let effective = Arc::new(EffectiveCache::default());
+        let trials = TrialWriter::start(db.clone(), feed.clone(), effective.clone());
+        Self {
+            db,
+            tokens: Arc::default(),
+            login_throttle: Arc::default(),
+            effective,
+            feed,
+            presence: Arc::default(),
+            sightings: Arc::default(),
+            trials,
+            metrics: Arc::default(),
+        }
     }
 }

@@ -1,18 +1,23 @@
-//! Authentication and authorisation: bearer tokens (and, later, browser sessions) turned into
-//! a [`Principal`], and the role rules of DESIGN §4.
+//! Authentication and authorisation: bearer tokens and browser sessions turned into a
+//! [`Principal`], and the role rules of DESIGN §4.
 //!
 //! Nothing here writes to the database on a successful check: the hot path stays read-only.
 
 mod cache;
+pub mod login_throttle;
+pub mod password;
 mod principal;
 mod role;
 pub mod secret;
+pub mod session;
+mod user_name;
 
 use axum::http::HeaderMap;
 use axum::http::header::AUTHORIZATION;
 pub use cache::{RECHECK_AFTER as TOKEN_RECHECK_AFTER, TokenCache};
 pub use principal::Principal;
 pub use role::Role;
+pub use user_name::UserName;
 
 use crate::error::ApiError;
 use crate::state::AppState;
@@ -21,9 +26,14 @@ use crate::store;
 /// Checks the request's credential.
 pub async fn authenticate(state: &AppState, headers: &HeaderMap) -> Result<Principal, ApiError> {
     let Some(value) = headers.get(AUTHORIZATION) else {
+        // A browser authenticates with its session cookie; unsafe methods are additionally
+        // checked for forgery by `http::csrf` before any handler runs.
+        if let Some(session_secret) = session::cookie_secret(headers) {
+            return session::authenticate(state, &session_secret).await;
+        }
         return Err(ApiError::Unauthorized(
             "this needs a credential: send `Authorization: Bearer <token>` (an admin makes \
-             tokens with `pps-server token create`)"
+             tokens with `pps-server token create`), or log in at /"
                 .into(),
         ));
     };

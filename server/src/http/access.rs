@@ -22,6 +22,8 @@ pub enum Access {
     Admin,
     /// A robot (for its own records, checked by the handler), caretakers and admins.
     RobotOrEditors,
+    /// Robots only (acting as themselves, checked by the handler).
+    Robot,
 }
 
 impl Access {
@@ -31,6 +33,7 @@ impl Access {
             Self::Open | Self::Anyone | Self::RobotOrEditors => true,
             Self::Editors => matches!(role, Role::Caretaker | Role::Admin),
             Self::Admin => role == Role::Admin,
+            Self::Robot => role == Role::Robot,
         }
     }
 }
@@ -51,6 +54,7 @@ pub async fn check(
     if !access.admits(principal.role) {
         let needed = match access {
             Access::Admin => "an admin",
+            Access::Robot => "a robot",
             _ => "a caretaker or admin",
         };
         return ApiError::Forbidden(format!(
@@ -58,6 +62,9 @@ pub async fn check(
             principal.role
         ))
         .into_response();
+    }
+    if let Some(robot) = &principal.robot {
+        state.presence.saw(robot);
     }
     request.extensions_mut().insert(principal);
     next.run(request).await

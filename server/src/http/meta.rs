@@ -20,3 +20,12 @@ pub async fn schema(Path(name): Path<String>) -> Result<Json<Value>, ApiError> {
         ))
     })
 }
+
+pub async fn metrics(
+    axum::extract::State(state): axum::extract::State<crate::state::AppState>,
+) -> impl axum::response::IntoResponse {
+    (
+        [(axum::http::header::CONTENT_TYPE, "text/plain; version=0.0.4; charset=utf-8")],
+        state.metrics.render(state.feed.clients()),
+    )
+}

@@ -1,12 +1,23 @@
 //! The HTTP API: one route table, read top to bottom, with each route's access next to it.
 
 pub mod access;
+mod csrf;
+mod effective;
+mod events;
 pub mod extract;
 mod fallback;
+mod inbox;
 mod meta;
 pub mod page;
 pub mod precondition;
+mod retag;
+mod robots;
+mod session;
+mod stats;
 mod tags;
+mod trials;
+mod typed_json;
+mod users;
 mod web;
 
 use axum::Router;
@@ -67,13 +78,35 @@ pub fn router_with_routes(state: AppState) -> (Router, Vec<RouteSpec>) {
         .add(Method::PUT, "/api/v1/tags/{epc}", Editors, tags::put)
         .add(Method::DELETE, "/api/v1/tags/{epc}", Editors, tags::archive)
         .add(get(), "/api/v1/tags/{epc}/revisions", Editors, tags::revisions)
-        .add(Method::POST, "/api/v1/validate/tag", Editors, tags::validate);
+        .add(get(), "/metrics", Open, meta::metrics)
+        .add(get(), "/api/v1/tags/{epc}/stats", Anyone, stats::get)
+        .add(Method::POST, "/api/v1/tags/{epc}/retag", Editors, retag::retag)
+        .add(Method::POST, "/api/v1/validate/tag", Editors, tags::validate)
+        .add(get(), "/api/v1/robots", Anyone, robots::list)
+        .add(get(), "/api/v1/robots/{robot}", Anyone, robots::get)
+        .add(Method::PUT, "/api/v1/robots/{robot}", Admin, robots::put)
+        .add(get(), "/api/v1/robots/{robot}/tags/{epc}", RobotOrEditors, effective::get)
+        .add(get(), "/api/v1/inbox", Editors, inbox::list)
+        .add(Method::PUT, "/api/v1/trials/{id}", Robot, trials::put)
+        .add(get(), "/api/v1/trials/{id}", RobotOrEditors, trials::get)
+        .add(Method::PATCH, "/api/v1/trials/{id}", RobotOrEditors, trials::patch)
+        .add(get(), "/api/v1/trials", RobotOrEditors, trials::list)
+        .add(get(), "/api/v1/events", Anyone, events::stream)
+        .add(Method::POST, "/api/v1/session", Open, session::login)
+        .add(get(), "/api/v1/session", Anyone, session::current)
+        .add(Method::DELETE, "/api/v1/session", Anyone, session::logout)
+        .add(get(), "/api/v1/users", Admin, users::list)
+        .add(Method::POST, "/api/v1/users", Admin, users::create)
+        .add(Method::DELETE, "/api/v1/users/{name}", Admin, users::delete)
+        .add(Method::PUT, "/api/v1/users/{name}/password", Anyone, users::set_password);
     let Routes { router, specs, .. } = routes;
     let router = router
         .merge(web::router())
         .fallback(fallback::not_found)
         .layer(axum::middleware::from_fn(fallback::method_not_allowed))
-        .layer(DefaultBodyLimit::max(extract::MAX_BODY_BYTES));
+        .layer(axum::middleware::from_fn(csrf::guard))
+        .layer(DefaultBodyLimit::max(extract::MAX_BODY_BYTES))
+        .layer(axum::middleware::from_fn_with_state(state.metrics.clone(), crate::metrics::track));
     let router =
         with_security_headers(router).layer(crate::telemetry::http_trace_layer()).with_state(state);
     (router, specs)

@@ -11,7 +11,7 @@ use serde_json::{Value, json};
 use crate::entry;
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, EpcPath, JsonBody};
-use crate::http::page::{self, Page};
+use crate::http::page::{self, Page, PageParams};
 use crate::http::precondition::{self, WriteCondition};
 use crate::state::AppState;
 use crate::store::tags::{self, StoredTag, TagFilter, TagWriteError};
@@ -75,7 +75,11 @@ pub async fn put(
         )
     })?;
     let (epc, entry) = entry::accept(Some(&epc), body)?;
-    match tags::put(&state.db, &epc, &entry, &condition, &caller.name).await {
+    let written = tags::put(&state.db, &epc, &entry, &condition, &caller.name).await;
+    if written.is_ok() {
+        changed(&state, &epc);
+    }
+    match written {
         Ok((tag, true)) => {
             let mut response = with_etag(StatusCode::CREATED, &tag);
             if let Ok(location) = HeaderValue::from_str(&format!("/api/v1/tags/{}", tag.epc)) {
@@ -105,16 +109,12 @@ pub async fn archive(
         }
     };
     match tags::archive(&state.db, &epc, &condition, &caller.name).await {
-        Ok(tag) => Ok(with_etag(StatusCode::OK, &tag)),
+        Ok(tag) => {
+            changed(&state, &epc);
+            Ok(with_etag(StatusCode::OK, &tag))
+        }
         Err(error) => Err(write_error(&epc, &condition, error)),
     }
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct PageParams {
-    limit: Option<u32>,
-    cursor: Option<String>,
 }
 
 pub async fn revisions(
@@ -137,6 +137,12 @@ pub async fn revisions(
 pub async fn validate(JsonBody(body): JsonBody) -> Result<Json<Value>, ApiError> {
     entry::accept(None, body)?;
     Ok(Json(json!({ "valid": true, "errors": [] })))
+}
+
+/// After a committed change: robots must see it on their next read, and the feed must tell.
+fn changed(state: &AppState, epc: &pps_schema::Epc) {
+    state.effective.forget_tag(epc.as_hex());
+    state.feed.committed();
 }
 
 fn with_etag(status: StatusCode, tag: &StoredTag) -> Response {

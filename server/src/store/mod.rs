@@ -1,4 +1,12 @@
 //! The registry's SQL, one module per resource. Nothing above this layer writes SQL.
 
+pub mod events;
+pub mod inbox;
+pub mod learning;
+pub mod retired;
+pub mod robots;
+pub mod sessions;
 pub mod tags;
 pub mod tokens;
+pub mod trials;
+pub mod users;

@@ -4,12 +4,14 @@
 //! current revision, so of two caretakers saving the same revision exactly one wins.
 
 use pps_schema::Epc;
-use serde_json::{Map, Value};
+use serde_json::{Map, Value, json};
 use sqlx::SqlitePool;
 
 use crate::clock;
 use crate::db::Db;
 use crate::http::precondition::WriteCondition;
+use crate::store::events::{self, EventKind};
+use crate::store::inbox;
 
 /// A tag as stored, with the metadata the registry keeps about it.
 #[derive(Debug, Clone)]
@@ -269,6 +271,12 @@ async fn write(tx: &mut sqlx::SqliteConnection, tag: &StoredTag, change: &str) -
     .bind(&tag.updated_by)
     .execute(&mut *tx)
     .await?;
+    let kind = if change == "archive" { EventKind::TagArchived } else { EventKind::TagChanged };
+    events::append(tx, kind, json!({ "epc": tag.epc, "revision": tag.revision, "change": change }))
+        .await?;
+    if change == "create" {
+        inbox::forget(tx, &tag.epc).await?;
+    }
     Ok(())
 }
 
@@ -316,4 +324,34 @@ pub async fn all(pool: &SqlitePool) -> sqlx::Result<Vec<StoredTag>> {
     .fetch_all(pool)
     .await?;
     rows.into_iter().map(StoredTag::try_from).collect()
+}
+
+/// Moves a tag and its whole history to a new EPC (a worn tag replaced), as a new revision.
+pub async fn move_to(
+    tx: &mut sqlx::SqliteConnection,
+    current: &StoredTag,
+    new: &Epc,
+    by: &str,
+) -> sqlx::Result<StoredTag> {
+    sqlx::query("update tag_revisions set epc = ? where epc = ?")
+        .bind(new.as_hex())
+        .bind(&current.epc)
+        .execute(&mut *tx)
+        .await?;
+    sqlx::query("delete from tags where epc = ?").bind(&current.epc).execute(&mut *tx).await?;
+    let mut entry = current.entry.clone();
+    if let Some(object) = entry.as_object_mut() {
+        object.insert("epc".into(), new.as_hex().into());
+    }
+    let moved = StoredTag {
+        epc: new.as_hex().to_owned(),
+        entry,
+        revision: current.revision + 1,
+        archived: current.archived,
+        updated_at: clock::now(),
+        updated_by: by.to_owned(),
+    };
+    write(tx, &moved, "retag").await?;
+    inbox::forget(tx, new.as_hex()).await?;
+    Ok(moved)
 }

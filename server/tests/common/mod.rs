@@ -25,19 +25,35 @@ pub struct TestServer {
 impl TestServer {
     /// A seeded registry with one admin token.
     pub async fn start() -> Self {
-        if std::env::var_os("TEST_LOG").is_some() {
-            pps_server::telemetry::init();
-        }
         let dir = tempfile::tempdir().unwrap();
         let db_path = dir.path().join("pps.db");
         let db = Db::open(&db_path).await.unwrap();
         pps_server::seed::seed_if_empty(&db).await.unwrap();
         let admin = tokens::create(&db, Role::Admin, "test admin", None).await.unwrap().token;
+        let (url, shutdown) = Self::serve(db.clone()).await;
+        std::mem::forget(shutdown);
+        Self { url, db, db_path, admin, client: reqwest::Client::new(), _dir: dir }
+    }
+
+    /// Serves `db` on a new port until the returned sender is dropped.
+    async fn serve(db: Db) -> (String, tokio::sync::oneshot::Sender<()>) {
+        if std::env::var_os("TEST_LOG").is_some() {
+            pps_server::telemetry::init();
+        }
         let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
         let url = format!("http://{}", listener.local_addr().unwrap());
-        let state = AppState::new(db.clone());
-        tokio::spawn(pps_server::serve(listener, state, std::future::pending()));
-        Self { url, db, db_path, admin, client: reqwest::Client::new(), _dir: dir }
+        let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
+        let state = AppState::new(db);
+        tokio::spawn(pps_server::serve(listener, state, async move {
+            let _ = stopped.await;
+        }));
+        (url, stop)
+    }
+
+    /// A second server on the same database file, as after a restart; stops when dropped.
+    pub async fn restarted(&self) -> (String, tokio::sync::oneshot::Sender<()>) {
+        let db = Db::open(&self.db_path).await.unwrap();
+        Self::serve(db).await
     }
 
     /// Mints a token as the CLI would, straight into the database.
@@ -105,4 +121,104 @@ pub fn new_entry(epc: &str, name: &str) -> Value {
     entry["epc"] = epc.into();
     entry["properties"]["name"] = name.into();
     entry
+}
+
+/// Registers a robot as an admin.
+pub async fn register_robot(
+    server: &TestServer,
+    id: &str,
+    class: &str,
+    capabilities: &[&str],
+    max_force: f64,
+) {
+    let robot = serde_json::json!({
+        "id": id, "class": class, "name": id.to_uppercase(),
+        "capabilities": capabilities, "limits": { "max_force": max_force }
+    });
+    let response = server.put(&format!("/api/v1/robots/{id}"), &server.admin, &robot, None).await;
+    assert!(response.status().is_success(), "{}", response.text().await.unwrap());
+}
+
+/// A valid trial body.
+pub fn trial(
+    id: &str,
+    epc: &str,
+    robot: &str,
+    action: &str,
+    behavior: &str,
+    outcome: &str,
+) -> Value {
+    serde_json::json!({
+        "id": id, "epc": epc, "robot": robot, "action": action, "behavior": behavior,
+        "started_at": "2026-11-22T10:00:00Z", "finished_at": "2026-11-22T10:00:30Z",
+        "outcome": outcome, "confirmed": null, "detector": { "kind": "test" },
+        "forces": [], "measurements": {}
+    })
+}
+
+/// A Server-Sent Events client reading one response.
+pub struct SseClient {
+    pub response: Response,
+    pub buffer: String,
+}
+
+/// One event as received.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SseEvent {
+    pub id: i64,
+    pub kind: String,
+    pub data: Value,
+}
+
+impl SseClient {
+    pub async fn connect(server: &TestServer, token: &str, last_event_id: Option<i64>) -> Self {
+        let mut request = server.request(Method::GET, "/api/v1/events", Some(token));
+        if let Some(id) = last_event_id {
+            request = request.header("last-event-id", id.to_string());
+        }
+        let response = request.send().await.unwrap();
+        assert_eq!(response.status(), StatusCode::OK);
+        assert!(
+            response.headers()["content-type"].to_str().unwrap().starts_with("text/event-stream")
+        );
+        Self { response, buffer: String::new() }
+    }
+
+    /// The next event (skipping heartbeats), or `None` if none arrives within `wait`.
+    pub async fn next(&mut self, wait: std::time::Duration) -> Option<SseEvent> {
+        let deadline = tokio::time::Instant::now() + wait;
+        loop {
+            if let Some(end) = self.buffer.find("\n\n") {
+                let block: String = self.buffer.drain(..end + 2).collect();
+                let (mut id, mut kind, mut data) = (None, String::new(), String::new());
+                for line in block.lines() {
+                    if let Some(v) = line.strip_prefix("id:") {
+                        id = v.trim().parse().ok();
+                    } else if let Some(v) = line.strip_prefix("event:") {
+                        kind = v.trim().to_owned();
+                    } else if let Some(v) = line.strip_prefix("data:") {
+                        data.push_str(v.trim());
+                    }
+                }
+                if let Some(id) = id {
+                    return Some(SseEvent { id, kind, data: serde_json::from_str(&data).unwrap() });
+                }
+                continue;
+            }
+            let chunk =
+                tokio::time::timeout_at(deadline, self.response.chunk()).await.ok()?.unwrap()?;
+            self.buffer.push_str(&String::from_utf8_lossy(&chunk));
+        }
+    }
+
+    /// Events until one of `kind` about `key` = `value` arrives.
+    pub async fn until(&mut self, kind: &str, key: &str, value: &str) -> SseEvent {
+        loop {
+            let event =
+                self.next(std::time::Duration::from_secs(10)).await.expect("the event arrived");
+            if event.kind == kind && event.data[key] == value {
+                return event;
+            }
+        }
+    }
 }

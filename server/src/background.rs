@@ -1,0 +1,88 @@
+//! The registry's background work: fanning out the change feed, and flushing what the hot
+//! path only noted in memory (robots' last-seen times, unknown EPCs for the inbox).
+
+use std::time::Duration;
+
+use serde_json::Value;
+
+use crate::state::AppState;
+use crate::store::events::{self, Event, EventKind};
+use crate::store::{inbox, robots};
+
+/// Unknown EPCs reach the inbox within this (DESIGN §4: "within a second").
+const SIGHTINGS_EVERY: Duration = Duration::from_millis(400);
+const PRESENCE_EVERY: Duration = Duration::from_secs(5);
+
+/// Starts the background tasks; they run until the runtime stops.
+pub async fn start(state: &AppState) -> anyhow::Result<()> {
+    state.presence.load(robots::presence(state.db.reader()).await?);
+    let after = events::last_id(state.db.reader()).await?;
+
+    let pump = state.clone();
+    tokio::spawn(async move {
+        let feed = pump.feed.clone();
+        feed.pump(pump.db.clone(), after, |event| invalidate(&pump, event)).await;
+    });
+
+    let flusher = state.clone();
+    tokio::spawn(async move {
+        let mut sightings = tokio::time::interval(SIGHTINGS_EVERY);
+        let mut presence = tokio::time::interval(PRESENCE_EVERY);
+        loop {
+            tokio::select! {
+                _ = sightings.tick() => flush_sightings(&flusher).await,
+                _ = presence.tick() => flush_presence(&flusher).await,
+            }
+        }
+    });
+    Ok(())
+}
+
+/// Flushes what is still only in memory (at shutdown).
+pub async fn flush(state: &AppState) {
+    flush_sightings(state).await;
+    flush_presence(state).await;
+}
+
+/// Keeps caches right when the change came from another process (the CLI) as well.
+fn invalidate(state: &AppState, event: &Event) {
+    let epc = |key: &str| event.data.get(key).and_then(Value::as_str).map(str::to_owned);
+    match event.kind {
+        EventKind::TagChanged | EventKind::TagArchived | EventKind::TagRetagged => {
+            for epc in [epc("epc"), epc("new_epc")].into_iter().flatten() {
+                state.effective.forget_tag(&epc);
+            }
+        }
+        EventKind::RobotChanged => state.effective.clear(),
+        _ => {}
+    }
+}
+
+async fn flush_sightings(state: &AppState) {
+    let sightings = state.sightings.take();
+    if sightings.is_empty() {
+        return;
+    }
+    let result = async {
+        let mut tx = state.db.begin_write().await?;
+        inbox::record(&mut tx, &sightings).await?;
+        tx.commit().await
+    }
+    .await;
+    match result {
+        Ok(()) => state.feed.committed(),
+        Err(error) => {
+            tracing::warn!(%error, n = sightings.len(), "could not record unknown EPCs in the inbox")
+        }
+    }
+}
+
+async fn flush_presence(state: &AppState) {
+    let seen = state.presence.take_unflushed();
+    if seen.is_empty() {
+        return;
+    }
+    if let Err(error) = robots::record_presence(&state.db, &seen).await {
+        tracing::warn!(%error, "could not store when robots were last seen");
+    }
+}

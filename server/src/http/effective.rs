@@ -1,0 +1,91 @@
+//! `GET /api/v1/robots/{robot}/tags/{epc}`: the robots' hot path, right after an RFID read.
+//!
+//! Served from memory when it can be; a miss reads the database once and caches the result.
+//! A read never writes: an unknown EPC is noted for the inbox in memory.
+
+use std::sync::Arc;
+
+use axum::body::Body;
+use axum::extract::{Path, State};
+use axum::http::header::{CONTENT_TYPE, ETAG};
+use axum::http::{HeaderMap, HeaderValue, StatusCode};
+use axum::response::{IntoResponse, Response};
+use sha2::{Digest, Sha256};
+
+use crate::effective::merge;
+use crate::effective_cache::CachedEffective;
+use crate::error::ApiError;
+use crate::http::extract::{Caller, parse_epc};
+use crate::http::precondition;
+use crate::http::robots::parse_robot_id;
+use crate::state::AppState;
+use crate::store::{learning, retired, robots, tags};
+
+pub async fn get(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    Path((robot, epc)): Path<(String, String)>,
+    headers: HeaderMap,
+) -> Result<Response, ApiError> {
+    let robot = parse_robot_id(&robot)?;
+    let epc = parse_epc(&epc)?;
+    caller.require_robot_or_editor(robot.as_str())?;
+    let entry = match state.effective.get(epc.as_hex(), robot.as_str()) {
+        Some(entry) => entry,
+        None => compute(&state, epc.as_hex(), robot.as_str()).await?,
+    };
+    if precondition::not_modified(&headers, &entry.etag) {
+        return Ok((StatusCode::NOT_MODIFIED, [(ETAG, entry.etag.clone())]).into_response());
+    }
+    let mut response = Response::new(Body::from(entry.body.clone()));
+    let headers = response.headers_mut();
+    headers.insert(CONTENT_TYPE, HeaderValue::from_static("application/json"));
+    if let Ok(etag) = HeaderValue::from_str(&entry.etag) {
+        headers.insert(ETAG, etag);
+    }
+    Ok(response)
+}
+
+/// Merges the entry from the database and caches it.
+async fn compute(
+    state: &AppState,
+    epc: &str,
+    robot: &str,
+) -> Result<Arc<CachedEffective>, ApiError> {
+    let generation = state.effective.generation();
+    let pool = state.db.reader();
+    let parsed = pps_schema::Epc::parse(epc).map_err(|e| anyhow::anyhow!(e))?;
+    let tag = match tags::get(pool, &parsed).await? {
+        Some(tag) if !tag.archived => tag,
+        Some(_) => {
+            return Err(ApiError::NotFound(format!(
+                "the tag {epc} is archived; a caretaker can restore it"
+            )));
+        }
+        None => return Err(unknown(state, epc, robot).await?),
+    };
+    let stored_robot = robots::get(pool, robot).await?;
+    let class = stored_robot.as_ref().and_then(|r| r.class.clone()).unwrap_or_default();
+    let learned = learning::learned_for(pool, epc, &class).await?;
+    let merged = merge(epc, tag.revision, &tag.entry, robot, stored_robot.as_ref(), &learned);
+    let body = serde_json::to_vec(&merged).map_err(anyhow::Error::from)?;
+    // The ETag is the content's hash, so it is stable across restarts and changes with it.
+    let etag = format!("\"e{}\"", &hex::encode(Sha256::digest(&body))[..20]);
+    let entry = Arc::new(CachedEffective { etag, body: body.into() });
+    state.effective.insert(generation, epc, robot, entry.clone());
+    Ok(entry)
+}
+
+/// The answer for an EPC no active tag has; a never-registered one goes to the inbox.
+async fn unknown(state: &AppState, epc: &str, robot: &str) -> Result<ApiError, ApiError> {
+    let mut conn = state.db.reader().acquire().await?;
+    if let Some(successor) = retired::successor(&mut conn, epc).await? {
+        return Ok(ApiError::NotFound(format!(
+            "the EPC {epc} was retired when its worn tag was replaced; the tag now has the EPC {successor}"
+        )));
+    }
+    state.sightings.note(epc, robot);
+    Ok(ApiError::NotFound(format!(
+        "no tag has the EPC {epc}; it is now in the inbox for a caretaker to register"
+    )))
+}

@@ -1,0 +1,143 @@
+//! `GET /api/v1/events`: the change feed as Server-Sent Events.
+//!
+//! Event ids are the stored events' ids: a client that reconnects with `Last-Event-ID` first
+//! gets what it missed from the database, then live events, each exactly once, also across a
+//! server restart. Without `Last-Event-ID` it starts with the next change.
+
+use std::convert::Infallible;
+use std::time::Duration;
+
+use axum::extract::State;
+use axum::http::HeaderMap;
+use axum::response::sse::{Event as SseEvent, KeepAlive, Sse};
+use futures_util::Stream;
+use tokio::sync::{OwnedSemaphorePermit, broadcast, mpsc};
+
+use crate::auth::Principal;
+use crate::error::ApiError;
+use crate::http::extract::Caller;
+use crate::state::AppState;
+use crate::store::events::{self, Event, EventKind};
+
+/// A comment line this often keeps idle connections (and proxies) from timing out.
+const HEARTBEAT: Duration = Duration::from_secs(15);
+
+pub async fn stream(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    headers: HeaderMap,
+) -> Result<Sse<impl Stream<Item = Result<SseEvent, Infallible>>>, ApiError> {
+    let permit = state.feed.join().ok_or_else(|| {
+        ApiError::Unavailable(format!(
+            "the change feed already serves {} clients; retry in a minute",
+            crate::feed::MAX_CLIENTS
+        ))
+    })?;
+    let resume = match headers.get("last-event-id").map(|v| v.to_str().map(str::trim)) {
+        Some(Ok(text)) => Some(text.parse::<i64>().map_err(|_| {
+            ApiError::BadRequest(format!(
+                "Last-Event-ID must be an event id from this feed, not {text:?}"
+            ))
+        })?),
+        Some(Err(_)) => {
+            return Err(ApiError::BadRequest("Last-Event-ID is not readable text".into()));
+        }
+        None => None,
+    };
+    // Subscribe before reading the backlog, so nothing committed in between is missed.
+    let live = state.feed.subscribe();
+    let start = match resume {
+        Some(id) => id,
+        None => events::last_id(state.db.reader()).await?,
+    };
+    let (sender, receiver) = mpsc::channel(64);
+    tokio::spawn(forward(state, caller, start, live, sender, permit));
+    let stream = futures_util::stream::unfold(receiver, |mut receiver| async move {
+        receiver.recv().await.map(|event| (Ok(event), receiver))
+    });
+    Ok(Sse::new(stream).keep_alive(KeepAlive::new().interval(HEARTBEAT)))
+}
+
+/// Sends the backlog after `cursor`, then live events, until the client goes away.
+async fn forward(
+    state: AppState,
+    caller: Principal,
+    mut cursor: i64,
+    mut live: broadcast::Receiver<std::sync::Arc<Event>>,
+    sender: mpsc::Sender<SseEvent>,
+    _permit: OwnedSemaphorePermit,
+) {
+    if catch_up(&state, &caller, &mut cursor, &sender).await.is_err() {
+        return;
+    }
+    loop {
+        let received = tokio::select! {
+            () = sender.closed() => return,
+            () = state.feed.closed() => return,
+            received = live.recv() => received,
+        };
+        let sent = match received {
+            Ok(event) if event.id <= cursor => Ok(()),
+            Ok(event) => {
+                cursor = event.id;
+                send(&caller, &event, &sender).await
+            }
+            // Too slow for the live buffer: read what was missed from the database.
+            Err(broadcast::error::RecvError::Lagged(_)) => {
+                catch_up(&state, &caller, &mut cursor, &sender).await
+            }
+            Err(broadcast::error::RecvError::Closed) => return,
+        };
+        if sent.is_err() {
+            return;
+        }
+    }
+}
+
+async fn catch_up(
+    state: &AppState,
+    caller: &Principal,
+    cursor: &mut i64,
+    sender: &mpsc::Sender<SseEvent>,
+) -> Result<(), ()> {
+    loop {
+        let batch = events::after(state.db.reader(), *cursor, 500).await.map_err(|error| {
+            tracing::warn!(%error, "cannot read the change feed for a client");
+        })?;
+        let done = batch.len() < 500;
+        for event in batch {
+            *cursor = event.id;
+            send(caller, &event, sender).await?;
+        }
+        if done {
+            return Ok(());
+        }
+    }
+}
+
+async fn send(
+    caller: &Principal,
+    event: &Event,
+    sender: &mpsc::Sender<SseEvent>,
+) -> Result<(), ()> {
+    if !visible_to(caller, event) {
+        return Ok(());
+    }
+    let sse = SseEvent::default()
+        .id(event.id.to_string())
+        .event(event.kind.as_str())
+        .data(event.data.to_string());
+    sender.send(sse).await.map_err(|_| ())
+}
+
+/// A robot sees tag events and its own trials; people see everything.
+fn visible_to(caller: &Principal, event: &Event) -> bool {
+    let Some(robot) = &caller.robot else { return true };
+    match event.kind {
+        kind if kind.is_tag_event() => true,
+        EventKind::TrialRecorded | EventKind::TrialUpdated => {
+            event.data.get("robot").and_then(|r| r.as_str()) == Some(robot.as_str())
+        }
+        _ => false,
+    }
+}

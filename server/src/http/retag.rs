@@ -1,0 +1,71 @@
+//! `POST /api/v1/tags/{epc}/retag`: a worn tag replaced by a new one keeps its entry, history,
+//! trials and learned values under the new EPC; the old EPC is remembered as retired.
+
+use axum::Json;
+use axum::extract::State;
+use axum::http::HeaderMap;
+use axum::http::header::ETAG;
+use axum::response::{IntoResponse, Response};
+use serde_json::{Value, json};
+
+use crate::error::ApiError;
+use crate::http::extract::{Caller, EpcPath, JsonBody, parse_epc};
+use crate::http::precondition::{self, WriteCondition};
+use crate::state::AppState;
+use crate::store::events::{self, EventKind};
+use crate::store::{learning, retired, tags, trials};
+
+pub async fn retag(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    EpcPath(old): EpcPath,
+    headers: HeaderMap,
+    JsonBody(body): JsonBody,
+) -> Result<Response, ApiError> {
+    let Some(new) = body.get("new_epc").and_then(Value::as_str) else {
+        return Err(ApiError::invalid_at(
+            "/new_epc",
+            "say which EPC the new tag has: {\"new_epc\": \"E2...\"}",
+        ));
+    };
+    let new = parse_epc(new).map_err(|e| ApiError::invalid_at("/new_epc", e.to_string()))?;
+    if new == old {
+        return Err(ApiError::invalid_at("/new_epc", "the new EPC is the one the tag already has"));
+    }
+    let condition = precondition::write_condition(&headers)?.unwrap_or(WriteCondition::AnyRevision);
+    let mut tx = state.db.begin_write().await?;
+    let Some(current) = tags::current(&mut tx, &old).await? else {
+        return Err(ApiError::NotFound(format!("no tag has the EPC {old}")));
+    };
+    if !condition.allows(current.revision) {
+        return Err(ApiError::PreconditionFailed(format!(
+            "the tag changed since you read it; it is now at revision {}",
+            current.revision
+        )));
+    }
+    if tags::current(&mut tx, &new).await?.is_some() {
+        return Err(ApiError::Conflict(format!(
+            "the EPC {new} already belongs to another tag; archive or retag that one first"
+        )));
+    }
+    if retired::successor(&mut tx, new.as_hex()).await?.is_some() {
+        return Err(ApiError::Conflict(format!(
+            "the EPC {new} was retired; a retired EPC is never reused"
+        )));
+    }
+    let moved = tags::move_to(&mut tx, &current, &new, &caller.name).await?;
+    let trials_moved = trials::move_to(&mut tx, old.as_hex(), new.as_hex()).await?;
+    learning::move_to(&mut tx, old.as_hex(), new.as_hex()).await?;
+    retired::retire(&mut tx, old.as_hex(), new.as_hex(), &caller.name).await?;
+    events::append(
+        &mut tx,
+        EventKind::TagRetagged,
+        json!({ "epc": old.as_hex(), "new_epc": new.as_hex(), "trials": trials_moved }),
+    )
+    .await?;
+    tx.commit().await?;
+    state.effective.forget_tag(old.as_hex());
+    state.effective.forget_tag(new.as_hex());
+    state.feed.committed();
+    Ok(([(ETAG, precondition::tag_etag(moved.revision))], Json(moved.to_json())).into_response())
+}

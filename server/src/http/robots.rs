@@ -1,0 +1,86 @@
+//! `/api/v1/robots`: the robot registry.
+
+use axum::Json;
+use axum::extract::{Path, State};
+use axum::http::StatusCode;
+use axum::response::{IntoResponse, Response};
+use pps_schema::{READ_ONLY_ROBOT_FIELDS, RobotId, Validator, strip_fields};
+use serde_json::Value;
+
+use crate::error::ApiError;
+use crate::http::extract::{ApiQuery, Caller, JsonBody};
+use crate::http::page::{self, Page, PageParams};
+use crate::state::AppState;
+use crate::store::robots::{self, RobotWrite, StoredRobot};
+
+pub async fn list(
+    State(state): State<AppState>,
+    ApiQuery(params): ApiQuery<PageParams>,
+) -> Result<Json<Page<Value>>, ApiError> {
+    let limit = page::limit(params.limit)?;
+    let after = params.cursor.as_deref().map(page::decode_cursor).transpose()?;
+    let rows = robots::list(state.db.reader(), after.as_deref(), limit + 1).await?;
+    let page = page::page(rows, limit, |robot| robot.id.clone());
+    let items = page.items.iter().map(|robot| with_presence(&state, robot)).collect();
+    Ok(Json(Page { items, next_cursor: page.next_cursor }))
+}
+
+pub async fn get(
+    State(state): State<AppState>,
+    Path(robot): Path<String>,
+) -> Result<Json<Value>, ApiError> {
+    let robot = parse_robot_id(&robot)?;
+    let stored = robots::get(state.db.reader(), robot.as_str()).await?.ok_or_else(|| {
+        ApiError::NotFound(format!(
+            "no robot has the id {robot}; an admin registers it with PUT /api/v1/robots/{robot}"
+        ))
+    })?;
+    Ok(Json(with_presence(&state, &stored)))
+}
+
+pub async fn put(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    Path(robot): Path<String>,
+    JsonBody(mut body): JsonBody,
+) -> Result<Response, ApiError> {
+    let robot = parse_robot_id(&robot)?;
+    strip_fields(&mut body, READ_ONLY_ROBOT_FIELDS);
+    if let Some(object) = body.as_object_mut() {
+        object.entry("id").or_insert_with(|| robot.as_str().into());
+    }
+    let mut errors: Vec<_> =
+        Validator::get().validate_robot(&body).err().map(|e| e.into_vec()).unwrap_or_default();
+    if body.get("id").and_then(Value::as_str).is_some_and(|id| id != robot.as_str()) {
+        errors.push(pps_schema::FieldError::new(
+            "/id",
+            format!("the robot's id differs from the id in the URL {robot}; they must be the same"),
+        ));
+    }
+    if !errors.is_empty() {
+        return Err(ApiError::Invalid(errors));
+    }
+    let written = robots::put(&state.db, robot.as_str(), &body, &caller.name).await?;
+    if written != RobotWrite::Unchanged {
+        // Class, capabilities and limits shape every effective entry this robot reads.
+        state.effective.clear();
+        state.feed.committed();
+    }
+    let stored = StoredRobot {
+        id: robot.as_str().to_owned(),
+        class: body.get("class").and_then(Value::as_str).map(str::to_owned),
+        document: Some(body),
+    };
+    let status = if written == RobotWrite::Created { StatusCode::CREATED } else { StatusCode::OK };
+    Ok((status, Json(with_presence(&state, &stored))).into_response())
+}
+
+fn with_presence(state: &AppState, robot: &StoredRobot) -> Value {
+    robot.to_json(state.presence.last_seen(&robot.id).as_deref())
+}
+
+/// Parses a robot id from a URL.
+pub fn parse_robot_id(raw: &str) -> Result<RobotId, ApiError> {
+    RobotId::parse(raw)
+        .map_err(|error| ApiError::BadRequest(format!("{raw:?} is not a robot id: {error}")))
+}

@@ -1,0 +1,139 @@
+//! `/api/v1/session`: browser login with a password, who is logged in, and logout.
+
+use std::net::SocketAddr;
+
+use axum::Json;
+use axum::extract::{ConnectInfo, State};
+use axum::http::header::{CACHE_CONTROL, RETRY_AFTER, SET_COOKIE};
+use axum::http::{HeaderMap, HeaderValue, StatusCode};
+use axum::response::{IntoResponse, Response};
+use axum::{Extension, body::Body};
+use serde::Deserialize;
+use serde_json::json;
+
+use crate::auth::{UserName, password, secret, session};
+use crate::clock;
+use crate::error::ApiError;
+use crate::http::extract::Caller;
+use crate::http::typed_json::TypedJson;
+use crate::state::AppState;
+use crate::store;
+
+/// Where a browser logs in and out.
+pub const PATH: &str = "/api/v1/session";
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Login {
+    username: String,
+    password: String,
+}
+
+/// `POST /api/v1/session`: checks the password and, when it is right, sets the session cookie.
+pub async fn login(
+    State(state): State<AppState>,
+    client: Option<Extension<ConnectInfo<SocketAddr>>>,
+    TypedJson(login): TypedJson<Login>,
+) -> Result<Response, ApiError> {
+    let name = UserName::parse(&login.username).ok();
+    let mut throttle_keys = vec![format!(
+        "user:{}",
+        name.as_ref().map_or_else(|| login.username.trim().to_lowercase(), |n| n.to_string())
+    )];
+    if let Some(Extension(ConnectInfo(address))) = client {
+        throttle_keys.push(format!("address:{}", address.ip()));
+    }
+    if let Some(wait) = state.login_throttle.must_wait(&throttle_keys) {
+        let seconds = wait.as_secs() + u64::from(wait.subsec_nanos() > 0);
+        let mut response = ApiError::TooManyRequests(format!(
+            "too many wrong passwords; wait {seconds} s before trying again"
+        ))
+        .into_response();
+        response.headers_mut().insert(RETRY_AFTER, HeaderValue::from(seconds));
+        return Ok(response);
+    }
+    let found = match &name {
+        Some(name) => store::users::find_with_hash(state.db.reader(), name).await?,
+        None => None,
+    };
+    let stored_hash = found.as_ref().map(|(_, hash)| hash.clone());
+    // An over-long password is never right; it is checked against the decoy so it costs the same.
+    let too_long = login.password.len() > password::MAX_BYTES;
+    let candidate = if too_long { String::new() } else { login.password };
+    let right = password::verify_off_runtime(candidate, stored_hash).await? && !too_long;
+    let (Some(name), Some((user, _)), true) = (name, found, right) else {
+        state.login_throttle.failed(&throttle_keys);
+        return Err(ApiError::Unauthorized("wrong user name or password".into()));
+    };
+    state.login_throttle.succeeded(&throttle_keys);
+
+    let session_secret = session::mint_secret();
+    let expires_at = clock::format(time::OffsetDateTime::now_utc() + session::LIFETIME);
+    store::sessions::create(&state.db, &secret::hash(&session_secret), &name, &expires_at).await?;
+    let body = json!({
+        "name": user.name,
+        "role": user.role,
+        "credential": "session",
+        "expires_at": expires_at,
+        "csrf_token": session::csrf_token(&session_secret),
+    });
+    let mut response = no_store(Json(body).into_response());
+    response.headers_mut().insert(SET_COOKIE, session::set_cookie(&session_secret));
+    Ok(response)
+}
+
+/// `GET /api/v1/session`: who the credential belongs to, and for a browser session its
+/// anti-forgery token and expiry (what the UI needs after a reload).
+pub async fn current(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    headers: HeaderMap,
+) -> Result<Response, ApiError> {
+    let body = match session::browser_secret(&headers) {
+        Some(session_secret) => {
+            let hash = secret::hash(&session_secret);
+            let live =
+                store::sessions::find_live(state.db.reader(), &hash).await?.ok_or_else(|| {
+                    ApiError::Unauthorized("your session has ended; log in again".into())
+                })?;
+            json!({
+                "name": caller.name,
+                "role": caller.role,
+                "credential": "session",
+                "expires_at": live.expires_at,
+                "csrf_token": session::csrf_token(&session_secret),
+            })
+        }
+        None => json!({
+            "name": caller.name,
+            "role": caller.role,
+            "credential": "token",
+            "robot": caller.robot,
+        }),
+    };
+    Ok(no_store(Json(body).into_response()))
+}
+
+/// `DELETE /api/v1/session`: ends this browser session and clears its cookie.
+pub async fn logout(
+    State(state): State<AppState>,
+    headers: HeaderMap,
+) -> Result<Response, ApiError> {
+    let Some(session_secret) = session::browser_secret(&headers) else {
+        return Err(ApiError::BadRequest(
+            "logout ends a browser session, and this request has none; an API token is \
+             revoked with DELETE /api/v1/tokens/{id} instead"
+                .into(),
+        ));
+    };
+    store::sessions::delete(&state.db, &secret::hash(&session_secret)).await?;
+    let mut response = no_store(StatusCode::NO_CONTENT.into_response());
+    response.headers_mut().insert(SET_COOKIE, session::clear_cookie());
+    Ok(response)
+}
+
+/// Answers about credentials are never cached, by the browser or anything in between.
+fn no_store(mut response: Response<Body>) -> Response<Body> {
+    response.headers_mut().insert(CACHE_CONTROL, HeaderValue::from_static("no-store"));
+    response
+}

@@ -1,0 +1,103 @@
+//! `GET /api/v1/tags/{epc}/stats`: how a tag's actions have gone, per robot class.
+
+use axum::Json;
+use axum::extract::State;
+use serde::Serialize;
+use serde_json::{Map, Value, json};
+
+use crate::error::ApiError;
+use crate::http::extract::EpcPath;
+use crate::learning::{RELIABILITY_WINDOW, is_reliable};
+use crate::state::AppState;
+use crate::store::{learning, tags};
+
+/// One action as done by one robot class.
+#[derive(Debug, Serialize)]
+pub struct GroupStats {
+    action: String,
+    /// `null` for robots registered without a class.
+    robot_class: Option<String>,
+    attempts: i64,
+    /// Trials the robot's own detector called a success.
+    detected_successes: i64,
+    /// Trials the person gave a verdict on, and how many they called a success.
+    confirmed: i64,
+    confirmed_successes: i64,
+    /// Share of verdicts that agree with the detector; `null` before any verdict.
+    agreement: Option<f64>,
+    /// Successes (the person's verdict where given, else the detector's) over attempts.
+    success_rate: Option<f64>,
+    /// The lab's rule over the most recent attempts: at least 20, at least 90 % successful.
+    reliable: bool,
+    last_attempt: Option<String>,
+    learned: Map<String, Value>,
+}
+
+type Row = (String, String, i64, i64, i64, i64, i64, i64, Option<String>);
+
+pub async fn get(
+    State(state): State<AppState>,
+    EpcPath(epc): EpcPath,
+) -> Result<Json<Value>, ApiError> {
+    let pool = state.db.reader();
+    if tags::get(pool, &epc).await?.is_none() {
+        return Err(ApiError::NotFound(format!("no tag has the EPC {epc}")));
+    }
+    let rows: Vec<Row> = sqlx::query_as(
+        "select action, coalesce(robot_class, ''), count(*),
+                sum(outcome = 'success'),
+                sum(confirmed is not null),
+                sum(confirmed = 1),
+                sum(confirmed is not null and confirmed = (outcome = 'success')),
+                sum(coalesce(confirmed, outcome = 'success')),
+                max(started_at)
+         from trials where epc = ? group by action, coalesce(robot_class, '')
+         order by action, coalesce(robot_class, '')",
+    )
+    .bind(epc.as_hex())
+    .fetch_all(pool)
+    .await?;
+    let learned = learning::learned_all(pool, epc.as_hex()).await?;
+    let mut groups = Vec::with_capacity(rows.len());
+    for (action, class, attempts, detected, confirmed, confirmed_ok, agreeing, successes, last) in
+        rows
+    {
+        let (recent, recent_ok): (i64, i64) = sqlx::query_as(
+            "select count(*), coalesce(sum(coalesce(confirmed, outcome = 'success')), 0) from (
+                 select confirmed, outcome from trials
+                 where epc = ? and action = ? and coalesce(robot_class, '') = ?
+                 order by seq desc limit ?)",
+        )
+        .bind(epc.as_hex())
+        .bind(&action)
+        .bind(&class)
+        .bind(RELIABILITY_WINDOW)
+        .fetch_one(pool)
+        .await?;
+        let learned_here = learned
+            .iter()
+            .filter(|(c, ..)| *c == class)
+            .map(|(_, pointer, value, trials)| {
+                (pointer.clone(), json!({ "value": value, "trials": trials }))
+            })
+            .collect();
+        groups.push(GroupStats {
+            action,
+            robot_class: (!class.is_empty()).then_some(class),
+            attempts,
+            detected_successes: detected,
+            confirmed,
+            confirmed_successes: confirmed_ok,
+            agreement: ratio(agreeing, confirmed),
+            success_rate: ratio(successes, attempts),
+            reliable: is_reliable(recent, recent_ok),
+            last_attempt: last,
+            learned: learned_here,
+        });
+    }
+    Ok(Json(json!({ "epc": epc.as_hex(), "groups": groups })))
+}
+
+fn ratio(part: i64, whole: i64) -> Option<f64> {
+    (whole > 0).then(|| (part as f64 / whole as f64 * 1000.0).round() / 1000.0)
+}

@@ -1,0 +1,270 @@
+//! `/api/v1/trials`: what robots did, written by them once per attempt (idempotently, by a
+//! UUID they choose) and read by caretakers, the UI and learning.
+
+use axum::Json;
+use axum::extract::{Path, State};
+use axum::http::StatusCode;
+use axum::response::{IntoResponse, Response};
+use pps_schema::{MAX_FORCE_SAMPLES, READ_ONLY_TRIAL_FIELDS, Validator, strip_fields};
+use serde::Deserialize;
+use serde_json::{Value, json};
+use uuid::Uuid;
+
+use crate::auth::{Principal, Role};
+use crate::error::ApiError;
+use crate::http::extract::{ApiQuery, Caller, JsonBody, parse_epc};
+use crate::http::page::{self, Page};
+use crate::learning::{self, TrialGroup};
+use crate::state::AppState;
+use crate::store::events::{self, EventKind};
+use crate::store::trials::{self, TrialFilter, TrialRow};
+use crate::trial_writer::{CheckedTrial, Recorded, TrialRejection};
+
+pub async fn put(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    Path(id): Path<String>,
+    JsonBody(mut body): JsonBody,
+) -> Result<Response, ApiError> {
+    let id = parse_trial_id(&id)?;
+    let samples = body.get("forces").and_then(Value::as_array).map_or(0, Vec::len);
+    if samples > MAX_FORCE_SAMPLES {
+        return Err(ApiError::PayloadTooLarge(format!(
+            "a trial carries at most {MAX_FORCE_SAMPLES} force samples; this one has {samples}: \
+             downsample them or keep a summary in measurements"
+        )));
+    }
+    strip_fields(&mut body, READ_ONLY_TRIAL_FIELDS);
+    if let Some(object) = body.as_object_mut() {
+        object.entry("id").or_insert_with(|| id.clone().into());
+    }
+    let mut errors =
+        Validator::get().validate_trial(&body).err().map(|e| e.into_vec()).unwrap_or_default();
+    if body
+        .get("id")
+        .and_then(Value::as_str)
+        .is_some_and(|body_id| !body_id.eq_ignore_ascii_case(&id))
+    {
+        errors.push(pps_schema::FieldError::new(
+            "/id",
+            format!("the trial's id differs from the id in the URL {id}"),
+        ));
+    }
+    if !errors.is_empty() {
+        return Err(ApiError::Invalid(errors));
+    }
+    let trial: pps_schema::Trial = serde_json::from_value(body.clone()).map_err(|error| {
+        ApiError::invalid_at("", format!("the trial does not fit its type: {error}"))
+    })?;
+    if caller.robot.as_deref() != Some(trial.robot.as_str()) {
+        return Err(ApiError::Forbidden(format!(
+            "a robot records only its own trials: this token is bound to {:?}, the trial names {:?}",
+            caller.robot.as_deref().unwrap_or(""),
+            trial.robot.as_str()
+        )));
+    }
+    let checked = CheckedTrial {
+        id: trial.id.to_string(),
+        epc: trial.epc.as_hex().to_owned(),
+        robot: trial.robot.as_str().to_owned(),
+        action: trial.action.clone(),
+        behavior: trial.behavior.clone(),
+        outcome: trial.outcome.as_str().to_owned(),
+        confirmed: trial.confirmed,
+        started_at: crate::clock::format(trial.started_at),
+        finished_at: crate::clock::format(trial.finished_at),
+        body,
+    };
+    match state.trials.record(checked).await {
+        Ok(Recorded::New(row)) => {
+            state.metrics.trial_recorded();
+            Ok((StatusCode::CREATED, Json(row.to_json())).into_response())
+        }
+        Ok(Recorded::Repeat(row)) => Ok((StatusCode::OK, Json(row.to_json())).into_response()),
+        Err(rejection) => Err(rejection_error(&trial.epc, rejection)),
+    }
+}
+
+fn rejection_error(epc: &pps_schema::Epc, rejection: TrialRejection) -> ApiError {
+    match rejection {
+        TrialRejection::Conflict(existing) => ApiError::Conflict(format!(
+            "another trial is already stored under this id (received {}); a retry must send \
+             exactly the same body, and a new attempt needs a new UUID",
+            existing.received_at
+        )),
+        TrialRejection::UnknownTag => ApiError::invalid_at(
+            "/epc",
+            format!("no tag has the EPC {epc}; register the tag before recording trials on it"),
+        ),
+        TrialRejection::ArchivedTag => ApiError::invalid_at(
+            "/epc",
+            format!("the tag {epc} is archived; restore it to record trials on it"),
+        ),
+        TrialRejection::RetiredTag(successor) => ApiError::invalid_at(
+            "/epc",
+            format!(
+                "the EPC {epc} was retired when its tag was replaced; record the trial on {successor}"
+            ),
+        ),
+        TrialRejection::Database(error) => {
+            ApiError::Internal(anyhow::anyhow!("storing a trial: {error}"))
+        }
+        TrialRejection::ShuttingDown => {
+            ApiError::Unavailable("the registry is shutting down; retry in a moment".into())
+        }
+    }
+}
+
+pub async fn get(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    Path(id): Path<String>,
+) -> Result<Json<Value>, ApiError> {
+    let row = find_visible(&state, &caller, &id).await?;
+    Ok(Json(row.to_json()))
+}
+
+/// A trial the caller may see: a robot sees only its own.
+async fn find_visible(
+    state: &AppState,
+    caller: &Principal,
+    id: &str,
+) -> Result<TrialRow, ApiError> {
+    let id = parse_trial_id(id)?;
+    let row = trials::get(state.db.reader(), &id)
+        .await?
+        .ok_or_else(|| ApiError::NotFound(format!("no trial has the id {id}")))?;
+    caller.require_robot_or_editor(&row.robot)?;
+    Ok(row)
+}
+
+pub async fn patch(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    Path(id): Path<String>,
+    JsonBody(body): JsonBody,
+) -> Result<Json<Value>, ApiError> {
+    let row = find_visible(&state, &caller, &id).await?;
+    let Some(patch) = body.as_object() else {
+        return Err(ApiError::invalid_at(
+            "",
+            "a merge patch is a JSON object, e.g. {\"confirmed\": true}",
+        ));
+    };
+    let mut errors = Vec::new();
+    for key in patch.keys().filter(|key| *key != "confirmed") {
+        errors.push(pps_schema::FieldError::new(
+            pps_schema::pointer::join("", key),
+            format!("{key} cannot be changed after the trial is recorded; only confirmed (the person's verdict) can"),
+        ));
+    }
+    let confirmed = match patch.get("confirmed") {
+        None => row.confirmed,
+        Some(Value::Bool(verdict)) => Some(*verdict),
+        Some(Value::Null) => None,
+        Some(_) => {
+            errors.push(pps_schema::FieldError::new(
+                "/confirmed",
+                "confirmed is true, false or null",
+            ));
+            None
+        }
+    };
+    if !errors.is_empty() {
+        return Err(ApiError::Invalid(errors));
+    }
+    if confirmed == row.confirmed {
+        return Ok(Json(row.to_json()));
+    }
+    let mut tx = state.db.begin_write().await?;
+    trials::set_confirmed(&mut tx, &row.id, confirmed).await?;
+    events::append(
+        &mut tx,
+        EventKind::TrialUpdated,
+        json!({ "trial": row.id, "epc": row.epc, "robot": row.robot, "confirmed": confirmed }),
+    )
+    .await?;
+    let behavior =
+        row.submitted().get("behavior").and_then(Value::as_str).unwrap_or_default().to_owned();
+    let group = TrialGroup {
+        epc: row.epc.clone(),
+        action: row.action.clone(),
+        behavior,
+        robot_class: row.robot_class.clone().unwrap_or_default(),
+    };
+    let relearned = learning::update(&mut tx, &[group].into()).await?;
+    tx.commit().await?;
+    for epc in relearned {
+        state.effective.forget_tag(&epc);
+    }
+    state.feed.committed();
+    Ok(Json(TrialRow { confirmed, ..row }.to_json()))
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ListParams {
+    epc: Option<String>,
+    robot: Option<String>,
+    action: Option<String>,
+    outcome: Option<String>,
+    since: Option<String>,
+    limit: Option<u32>,
+    cursor: Option<String>,
+}
+
+pub async fn list(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    ApiQuery(params): ApiQuery<ListParams>,
+) -> Result<Json<Page<Value>>, ApiError> {
+    let limit = page::limit(params.limit)?;
+    let after = match params.cursor.as_deref().map(page::decode_cursor).transpose()? {
+        Some(text) => text.parse().map_err(|_| {
+            ApiError::BadRequest("this cursor is not one the registry gave out".into())
+        })?,
+        None => 0,
+    };
+    let robot = match (caller.role, params.robot) {
+        (Role::Robot, Some(asked)) if Some(&asked) != caller.robot.as_ref() => {
+            return Err(ApiError::Forbidden("a robot lists only its own trials".into()));
+        }
+        (Role::Robot, _) => caller.robot.clone(),
+        (_, asked) => asked,
+    };
+    if let Some(outcome) = &params.outcome
+        && !pps_schema::Outcome::ALL.iter().any(|o| o.as_str() == outcome)
+    {
+        return Err(ApiError::BadRequest(format!(
+            "outcome is one of success, failure, aborted, error; not {outcome:?}"
+        )));
+    }
+    let since = match params.since.as_deref() {
+        Some(text) => Some(crate::clock::format(crate::clock::parse(text).ok_or_else(|| {
+            ApiError::BadRequest(format!(
+                "since must be an RFC 3339 time such as 2026-11-22T09:00:00Z, not {text:?}"
+            ))
+        })?)),
+        None => None,
+    };
+    let filter = TrialFilter {
+        epc: params.epc.as_deref().map(parse_epc).transpose()?.map(|e| e.as_hex().to_owned()),
+        robot,
+        action: params.action,
+        outcome: params.outcome,
+        since,
+    };
+    let rows = trials::list(state.db.reader(), &filter, after, limit + 1).await?;
+    let page = page::page(rows, limit, |row| row.seq.to_string());
+    Ok(Json(Page {
+        items: page.items.iter().map(TrialRow::to_json).collect(),
+        next_cursor: page.next_cursor,
+    }))
+}
+
+/// Trial ids are UUIDs, stored in their lower-case hyphenated form.
+fn parse_trial_id(raw: &str) -> Result<String, ApiError> {
+    Uuid::parse_str(raw).map(|id| id.hyphenated().to_string()).map_err(|error| {
+        ApiError::BadRequest(format!("{raw:?} is not a trial id (a UUID): {error}"))
+    })
+}

@@ -1,0 +1,181 @@
+//! `/api/v1/users`: the logins of the web UI, managed by admins; and password changes, one's
+//! own with the current password or anyone's as an admin.
+
+use axum::Json;
+use axum::extract::{Path, State};
+use axum::http::header::LOCATION;
+use axum::http::{HeaderMap, HeaderValue, StatusCode};
+use axum::response::{IntoResponse, Response};
+use pps_schema::FieldError;
+use serde::Deserialize;
+
+use crate::auth::{Principal, Role, UserName, password, secret, session};
+use crate::error::{ApiError, is_unique_violation};
+use crate::http::extract::{ApiQuery, Caller};
+use crate::http::page::{self, Page};
+use crate::http::typed_json::TypedJson;
+use crate::state::AppState;
+use crate::store::users::{self, UserRecord};
+use crate::store::{self};
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ListParams {
+    limit: Option<u32>,
+    cursor: Option<String>,
+}
+
+/// `GET /api/v1/users`: every login, without password hashes.
+pub async fn list(
+    State(state): State<AppState>,
+    ApiQuery(params): ApiQuery<ListParams>,
+) -> Result<Json<Page<UserRecord>>, ApiError> {
+    let limit = page::limit(params.limit)?;
+    let after = params.cursor.as_deref().map(page::decode_cursor).transpose()?;
+    let rows = users::list(state.db.reader(), after.as_deref(), limit + 1).await?;
+    Ok(Json(page::page(rows, limit, |user| user.name.clone())))
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NewUser {
+    name: String,
+    role: String,
+    password: String,
+}
+
+/// `POST /api/v1/users`: makes a login; 409 when the name is taken.
+pub async fn create(
+    State(state): State<AppState>,
+    TypedJson(new): TypedJson<NewUser>,
+) -> Result<Response, ApiError> {
+    let mut errors = Vec::new();
+    let name = UserName::parse(&new.name)
+        .map_err(|message| errors.push(FieldError { pointer: "/name".into(), message }))
+        .ok();
+    let role = match Role::parse(&new.role) {
+        Some(role @ (Role::Admin | Role::Caretaker)) => Some(role),
+        _ => {
+            errors.push(FieldError {
+                pointer: "/role".into(),
+                message: format!(
+                    "a user is a \"caretaker\" or an \"admin\", not {:?} (robots use tokens)",
+                    new.role
+                ),
+            });
+            None
+        }
+    };
+    if let Some(message) = password::problem(&new.password) {
+        errors.push(FieldError { pointer: "/password".into(), message });
+    }
+    let (Some(name), Some(role), true) = (name, role, errors.is_empty()) else {
+        return Err(ApiError::Invalid(errors));
+    };
+    let hash = password::hash_off_runtime(new.password).await?;
+    let record = users::create(&state.db, &name, role, &hash).await.map_err(|error| {
+        if is_unique_violation(&error) {
+            ApiError::Conflict(format!("there is already a user named {name}"))
+        } else {
+            error.into()
+        }
+    })?;
+    let mut response = (StatusCode::CREATED, Json(&record)).into_response();
+    if let Ok(location) = HeaderValue::from_str(&format!("/api/v1/users/{name}")) {
+        response.headers_mut().insert(LOCATION, location);
+    }
+    Ok(response)
+}
+
+/// `DELETE /api/v1/users/{name}`: removes a login and ends its sessions.
+pub async fn delete(
+    State(state): State<AppState>,
+    Path(name): Path<String>,
+) -> Result<StatusCode, ApiError> {
+    let name = parse_path_name(&name)?;
+    if users::delete(&state.db, &name).await? {
+        Ok(StatusCode::NO_CONTENT)
+    } else {
+        Err(no_such_user(&name))
+    }
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PasswordChange {
+    password: String,
+    current_password: Option<String>,
+}
+
+/// `PUT /api/v1/users/{name}/password`: one's own password with the current one, or anyone's as
+/// an admin. The user's other sessions end; the session that made the change stays.
+pub async fn set_password(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    Path(name): Path<String>,
+    headers: HeaderMap,
+    TypedJson(change): TypedJson<PasswordChange>,
+) -> Result<StatusCode, ApiError> {
+    let name = parse_path_name(&name)?;
+    let own = caller.name == name.as_str() && caller.role != Role::Robot;
+    if caller.role != Role::Admin && !own {
+        return Err(ApiError::Forbidden(format!(
+            "you may change only your own password; {name}'s needs an admin"
+        )));
+    }
+    if let Some(message) = password::problem(&change.password) {
+        return Err(ApiError::invalid_at("/password", message));
+    }
+    let (_, stored) = users::find_with_hash(state.db.reader(), &name)
+        .await?
+        .ok_or_else(|| no_such_user(&name))?;
+    if caller.role != Role::Admin {
+        check_current_password(&state, &caller, &name, change.current_password, stored).await?;
+    }
+    let hash = password::hash_off_runtime(change.password).await?;
+    if !users::set_password(&state.db, &name, &hash).await? {
+        return Err(no_such_user(&name));
+    }
+    let keep = session::browser_secret(&headers).map(|s| secret::hash(&s));
+    store::sessions::delete_for_user(&state.db, &name, keep.as_deref()).await?;
+    Ok(StatusCode::NO_CONTENT)
+}
+
+/// A non-admin proves they are the user by the current password, slowed down like a login.
+async fn check_current_password(
+    state: &AppState,
+    caller: &Principal,
+    name: &UserName,
+    current: Option<String>,
+    stored: String,
+) -> Result<(), ApiError> {
+    let Some(current) = current else {
+        return Err(ApiError::invalid_at(
+            "/current_password",
+            "give your current password to set a new one",
+        ));
+    };
+    let keys = [format!("user:{name}")];
+    if state.login_throttle.must_wait(&keys).is_some() {
+        return Err(ApiError::TooManyRequests(format!(
+            "too many wrong passwords for {}; wait a minute before trying again",
+            caller.name
+        )));
+    }
+    if password::verify_off_runtime(current, Some(stored)).await? {
+        state.login_throttle.succeeded(&keys);
+        Ok(())
+    } else {
+        state.login_throttle.failed(&keys);
+        Err(ApiError::invalid_at("/current_password", "this is not your current password"))
+    }
+}
+
+fn parse_path_name(raw: &str) -> Result<UserName, ApiError> {
+    UserName::parse(raw)
+        .map_err(|message| ApiError::BadRequest(format!("{raw:?} is not a user name: {message}")))
+}
+
+fn no_such_user(name: &UserName) -> ApiError {
+    ApiError::NotFound(format!("there is no user named {name}; GET /api/v1/users lists them"))
+}

@@ -1,0 +1,192 @@
+//! Learning from trials (the paper's "resource for self-guided learning"): parameter values
+//! observed by a robot class, and whether an action has proven reliable for it.
+//!
+//! Runs inside the transaction that records or changes trials, so what was learned commits
+//! with the evidence it rests on.
+
+use std::collections::BTreeSet;
+
+use pps_schema::BehaviorKind;
+use pps_schema::pointer::escape;
+use serde_json::{Value, json};
+use sqlx::SqliteConnection;
+
+use crate::store::events::{self, EventKind};
+use crate::store::learning;
+
+/// A parameter a behaviour's trials measure: its learned value is the median of the
+/// measurement over the class's successful trials.
+#[derive(Debug)]
+struct LearningRule {
+    behavior: BehaviorKind,
+    measurement: &'static str,
+    parameter: &'static str,
+}
+
+/// The paper's pull back records the drawer's observed displacement "for future use".
+const RULES: [LearningRule; 1] = [LearningRule {
+    behavior: BehaviorKind::PullBack,
+    measurement: "displacement",
+    parameter: "pull_distance",
+}];
+
+/// Successful trials a learned value is computed from (the most recent ones).
+const LEARNING_WINDOW: i64 = 100;
+
+/// The lab's rule: reliable after at least 20 attempts with at least 90 % success, judged over
+/// the most recent attempts so that a tag wearing out stops being reliable.
+pub const RELIABLE_MIN_ATTEMPTS: i64 = 20;
+pub const RELIABLE_MIN_SUCCESS: f64 = 0.9;
+pub const RELIABILITY_WINDOW: i64 = 50;
+
+pub fn is_reliable(attempts: i64, successes: i64) -> bool {
+    attempts >= RELIABLE_MIN_ATTEMPTS && successes as f64 >= RELIABLE_MIN_SUCCESS * attempts as f64
+}
+
+pub fn median(mut values: Vec<f64>) -> Option<f64> {
+    values.retain(|v| v.is_finite());
+    if values.is_empty() {
+        return None;
+    }
+    values.sort_by(f64::total_cmp);
+    let middle = values.len() / 2;
+    Some(if values.len() % 2 == 1 {
+        values[middle]
+    } else {
+        (values[middle - 1] + values[middle]) / 2.0
+    })
+}
+
+/// Trials of one tag, action and robot class (`""` when the robot has no class).
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
+pub struct TrialGroup {
+    pub epc: String,
+    pub action: String,
+    pub behavior: String,
+    pub robot_class: String,
+}
+
+/// Recomputes what the groups' trials teach; returns the EPCs whose learned values changed.
+pub async fn update(
+    conn: &mut SqliteConnection,
+    groups: &BTreeSet<TrialGroup>,
+) -> sqlx::Result<BTreeSet<String>> {
+    let mut changed = BTreeSet::new();
+    for group in groups {
+        if update_learned(conn, group).await? {
+            changed.insert(group.epc.clone());
+        }
+        update_reliability(conn, group).await?;
+    }
+    Ok(changed)
+}
+
+async fn update_learned(conn: &mut SqliteConnection, group: &TrialGroup) -> sqlx::Result<bool> {
+    let entry: Option<String> = sqlx::query_scalar("select entry from tags where epc = ?")
+        .bind(&group.epc)
+        .fetch_optional(&mut *conn)
+        .await?;
+    let Some(entry) = entry.and_then(|e| serde_json::from_str::<Value>(&e).ok()) else {
+        return Ok(false);
+    };
+    let kind = entry
+        .pointer(&format!("/behaviors/{}/behavior", escape(&group.behavior)))
+        .and_then(Value::as_str)
+        .and_then(|k| k.parse::<BehaviorKind>().ok());
+    let mut changed = false;
+    for rule in RULES.iter().filter(|rule| Some(rule.behavior) == kind) {
+        let path = format!("$.measurements.{}", rule.measurement);
+        // A trial the person said failed teaches nothing, whatever the detector thought.
+        let values: Vec<Option<f64>> = sqlx::query_scalar(
+            "select json_extract(body, ?1) from trials
+             where epc = ?2 and coalesce(robot_class, '') = ?3 and behavior = ?4
+               and outcome = 'success' and coalesce(confirmed, 1) = 1
+             order by seq desc limit ?5",
+        )
+        .bind(&path)
+        .bind(&group.epc)
+        .bind(&group.robot_class)
+        .bind(&group.behavior)
+        .bind(LEARNING_WINDOW)
+        .fetch_all(&mut *conn)
+        .await?;
+        let values: Vec<f64> = values.into_iter().flatten().collect();
+        let pointer = format!("/behaviors/{}/{}", escape(&group.behavior), rule.parameter);
+        changed |= match median(values.clone()) {
+            Some(value) => {
+                let rounded = (value * 1000.0).round() / 1000.0;
+                learning::store_learned(
+                    conn,
+                    &group.epc,
+                    &group.robot_class,
+                    &pointer,
+                    rounded,
+                    values.len() as i64,
+                )
+                .await?
+            }
+            None => {
+                learning::forget_learned(conn, &group.epc, &group.robot_class, &pointer).await?
+            }
+        };
+    }
+    Ok(changed)
+}
+
+async fn update_reliability(conn: &mut SqliteConnection, group: &TrialGroup) -> sqlx::Result<()> {
+    let (attempts, successes): (i64, i64) = sqlx::query_as(
+        "select count(*), coalesce(sum(success), 0) from (
+             select coalesce(confirmed, outcome = 'success') as success from trials
+             where epc = ? and action = ? and coalesce(robot_class, '') = ?
+             order by seq desc limit ?)",
+    )
+    .bind(&group.epc)
+    .bind(&group.action)
+    .bind(&group.robot_class)
+    .bind(RELIABILITY_WINDOW)
+    .fetch_one(&mut *conn)
+    .await?;
+    let reliable = is_reliable(attempts, successes);
+    let before = learning::reliability(conn, &group.epc, &group.action, &group.robot_class).await?;
+    if before == Some(reliable) || (before.is_none() && !reliable) {
+        if before.is_none() {
+            learning::store_reliability(
+                conn,
+                &group.epc,
+                &group.action,
+                &group.robot_class,
+                reliable,
+            )
+            .await?;
+        }
+        return Ok(());
+    }
+    learning::store_reliability(conn, &group.epc, &group.action, &group.robot_class, reliable)
+        .await?;
+    let data = json!({
+        "epc": group.epc,
+        "action": group.action,
+        "robot_class": group.robot_class,
+        "reliable": reliable,
+        "attempts": attempts,
+        "successes": successes,
+    });
+    events::append(conn, EventKind::ReliabilityChanged, data).await?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn median_and_reliability_rule() {
+        assert_eq!(median(vec![]), None);
+        assert_eq!(median(vec![0.3, 0.1, 0.2]), Some(0.2));
+        assert_eq!(median(vec![0.4, 0.1, 0.2, 0.3]), Some(0.25));
+        assert!(!is_reliable(19, 19));
+        assert!(is_reliable(20, 18));
+        assert!(!is_reliable(20, 17));
+        assert!(is_reliable(50, 45));
+    }
+}

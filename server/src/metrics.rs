@@ -1,0 +1,170 @@
+//! Prometheus metrics: requests by route and status, a latency histogram per route, trials
+//! recorded and SSE clients, served as text at `GET /metrics`.
+//!
+//! Counting is a read lock and a few atomic increments, cheap enough for the hot path.
+
+use std::collections::HashMap;
+use std::fmt::Write;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, RwLock};
+use std::time::Instant;
+
+use axum::extract::{MatchedPath, Request, State};
+use axum::http::Method;
+use axum::middleware::Next;
+use axum::response::Response;
+
+/// Upper bounds of the latency buckets, in seconds.
+const BUCKETS: [f64; 12] =
+    [0.0005, 0.001, 0.0025, 0.005, 0.01, 0.025, 0.05, 0.1, 0.25, 0.5, 1.0, 2.5];
+
+#[derive(Debug)]
+struct RouteMetrics {
+    /// Responses by status code, indexed by `status - 100`.
+    statuses: Vec<AtomicU64>,
+    buckets: [AtomicU64; BUCKETS.len()],
+    count: AtomicU64,
+    sum_micros: AtomicU64,
+}
+
+impl Default for RouteMetrics {
+    fn default() -> Self {
+        Self {
+            statuses: (100..600).map(|_| AtomicU64::new(0)).collect(),
+            buckets: Default::default(),
+            count: AtomicU64::new(0),
+            sum_micros: AtomicU64::new(0),
+        }
+    }
+}
+
+#[derive(Debug, Default)]
+pub struct Metrics {
+    routes: RwLock<HashMap<String, HashMap<Method, Arc<RouteMetrics>>>>,
+    trials_recorded: AtomicU64,
+}
+
+impl Metrics {
+    pub fn trial_recorded(&self) {
+        self.trials_recorded.fetch_add(1, Ordering::Relaxed);
+    }
+
+    fn route(&self, route: &str, method: &Method) -> Arc<RouteMetrics> {
+        if let Some(found) = self
+            .routes
+            .read()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(route)
+            .and_then(|m| m.get(method))
+        {
+            return found.clone();
+        }
+        let mut routes = self.routes.write().unwrap_or_else(|e| e.into_inner());
+        routes.entry(route.to_owned()).or_default().entry(method.clone()).or_default().clone()
+    }
+
+    fn observe(&self, route: &str, method: &Method, status: u16, seconds: f64) {
+        let metrics = self.route(route, method);
+        if let Some(counter) = metrics.statuses.get(usize::from(status).saturating_sub(100)) {
+            counter.fetch_add(1, Ordering::Relaxed);
+        }
+        if let Some(bucket) = BUCKETS.iter().position(|bound| seconds <= *bound) {
+            metrics.buckets[bucket].fetch_add(1, Ordering::Relaxed);
+        }
+        metrics.count.fetch_add(1, Ordering::Relaxed);
+        metrics.sum_micros.fetch_add((seconds * 1e6) as u64, Ordering::Relaxed);
+    }
+
+    /// The Prometheus text exposition.
+    pub fn render(&self, sse_clients: usize) -> String {
+        let mut out = String::new();
+        let routes = self.routes.read().unwrap_or_else(|e| e.into_inner());
+        let mut sorted: Vec<(&String, &Method, &Arc<RouteMetrics>)> = routes
+            .iter()
+            .flat_map(|(route, methods)| methods.iter().map(move |(m, r)| (route, m, r)))
+            .collect();
+        sorted.sort_by(|a, b| (a.0, a.1.as_str()).cmp(&(b.0, b.1.as_str())));
+        out.push_str(
+            "# HELP pps_http_requests_total HTTP responses by matched route, method and status.\n",
+        );
+        out.push_str("# TYPE pps_http_requests_total counter\n");
+        for (route, method, metrics) in &sorted {
+            for (offset, counter) in metrics.statuses.iter().enumerate() {
+                let n = counter.load(Ordering::Relaxed);
+                if n > 0 {
+                    let _ = writeln!(
+                        out,
+                        "pps_http_requests_total{{route=\"{route}\",method=\"{method}\",status=\"{}\"}} {n}",
+                        offset + 100
+                    );
+                }
+            }
+        }
+        out.push_str(
+            "# HELP pps_http_request_duration_seconds Time to the response head, by route.\n",
+        );
+        out.push_str("# TYPE pps_http_request_duration_seconds histogram\n");
+        for (route, method, metrics) in &sorted {
+            let labels = format!("route=\"{route}\",method=\"{method}\"");
+            let mut cumulative = 0;
+            for (bound, bucket) in BUCKETS.iter().zip(&metrics.buckets) {
+                cumulative += bucket.load(Ordering::Relaxed);
+                let _ = writeln!(
+                    out,
+                    "pps_http_request_duration_seconds_bucket{{{labels},le=\"{bound}\"}} {cumulative}"
+                );
+            }
+            let count = metrics.count.load(Ordering::Relaxed);
+            let _ = writeln!(
+                out,
+                "pps_http_request_duration_seconds_bucket{{{labels},le=\"+Inf\"}} {count}"
+            );
+            let sum = metrics.sum_micros.load(Ordering::Relaxed) as f64 / 1e6;
+            let _ = writeln!(out, "pps_http_request_duration_seconds_sum{{{labels}}} {sum}");
+            let _ = writeln!(out, "pps_http_request_duration_seconds_count{{{labels}}} {count}");
+        }
+        let trials = self.trials_recorded.load(Ordering::Relaxed);
+        let _ = write!(
+            out,
+            "# HELP pps_trials_recorded_total Trials stored since the server started (repeats not counted).\n\
+             # TYPE pps_trials_recorded_total counter\npps_trials_recorded_total {trials}\n\
+             # HELP pps_sse_clients Clients connected to the change feed.\n\
+             # TYPE pps_sse_clients gauge\npps_sse_clients {sse_clients}\n"
+        );
+        out
+    }
+}
+
+/// Middleware counting every response by its matched route.
+pub async fn track(State(metrics): State<Arc<Metrics>>, request: Request, next: Next) -> Response {
+    let started = Instant::now();
+    let method = request.method().clone();
+    let route = request.extensions().get::<MatchedPath>().map(|p| p.as_str().to_owned());
+    let response = next.run(request).await;
+    let route = route.as_deref().unwrap_or("unmatched");
+    metrics.observe(route, &method, response.status().as_u16(), started.elapsed().as_secs_f64());
+    response
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn renders_counters_and_cumulative_buckets() {
+        let metrics = Metrics::default();
+        metrics.observe("/api/v1/tags", &Method::GET, 200, 0.0007);
+        metrics.observe("/api/v1/tags", &Method::GET, 200, 0.02);
+        metrics.observe("/api/v1/tags", &Method::GET, 401, 0.0001);
+        metrics.trial_recorded();
+        let text = metrics.render(2);
+        assert!(text.contains(
+            "pps_http_requests_total{route=\"/api/v1/tags\",method=\"GET\",status=\"200\"} 2"
+        ));
+        assert!(text.contains("status=\"401\"} 1"));
+        assert!(text.contains("le=\"0.001\"} 2"));
+        assert!(text.contains("le=\"+Inf\"} 3"));
+        assert!(text.contains("pps_trials_recorded_total 1"));
+        assert!(text.contains("pps_sse_clients 2"));
+    }
+}

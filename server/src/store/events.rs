@@ -1,0 +1,103 @@
+//! The change feed's rows: appended in the same transaction as the change they describe.
+
+use serde::Serialize;
+use serde_json::Value;
+use sqlx::{SqliteConnection, SqlitePool};
+
+use crate::clock;
+
+/// What changed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EventKind {
+    TagChanged,
+    TagArchived,
+    TagRetagged,
+    TrialRecorded,
+    TrialUpdated,
+    RobotChanged,
+    InboxChanged,
+    ReliabilityChanged,
+}
+
+impl EventKind {
+    pub const ALL: [EventKind; 8] = [
+        Self::TagChanged,
+        Self::TagArchived,
+        Self::TagRetagged,
+        Self::TrialRecorded,
+        Self::TrialUpdated,
+        Self::RobotChanged,
+        Self::InboxChanged,
+        Self::ReliabilityChanged,
+    ];
+
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::TagChanged => "tag_changed",
+            Self::TagArchived => "tag_archived",
+            Self::TagRetagged => "tag_retagged",
+            Self::TrialRecorded => "trial_recorded",
+            Self::TrialUpdated => "trial_updated",
+            Self::RobotChanged => "robot_changed",
+            Self::InboxChanged => "inbox_changed",
+            Self::ReliabilityChanged => "reliability_changed",
+        }
+    }
+
+    pub fn parse(text: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|kind| kind.as_str() == text)
+    }
+
+    /// Whether the event is about a tag (as opposed to trials, robots, the inbox).
+    pub fn is_tag_event(self) -> bool {
+        matches!(self, Self::TagChanged | Self::TagArchived | Self::TagRetagged)
+    }
+}
+
+/// One stored event.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Event {
+    pub id: i64,
+    pub kind: EventKind,
+    pub data: Value,
+}
+
+/// Appends an event inside the caller's transaction.
+pub async fn append(tx: &mut SqliteConnection, kind: EventKind, data: Value) -> sqlx::Result<i64> {
+    let id = sqlx::query_scalar(
+        "insert into events (kind, data, created_at) values (?, ?, ?) returning id",
+    )
+    .bind(kind.as_str())
+    .bind(data.to_string())
+    .bind(clock::now())
+    .fetch_one(&mut *tx)
+    .await?;
+    Ok(id)
+}
+
+/// Events with ids above `after`, oldest first.
+#[tracing::instrument(skip_all)]
+pub async fn after(pool: &SqlitePool, after: i64, limit: u32) -> sqlx::Result<Vec<Event>> {
+    let rows: Vec<(i64, String, String)> =
+        sqlx::query_as("select id, kind, data from events where id > ? order by id limit ?")
+            .bind(after)
+            .bind(i64::from(limit))
+            .fetch_all(pool)
+            .await?;
+    Ok(rows
+        .into_iter()
+        .filter_map(|(id, kind, data)| {
+            Some(Event {
+                id,
+                kind: EventKind::parse(&kind)?,
+                data: serde_json::from_str(&data).ok()?,
+            })
+        })
+        .collect())
+}
+
+/// The newest event's id, 0 when there are none.
+pub async fn last_id(pool: &SqlitePool) -> sqlx::Result<i64> {
+    sqlx::query_scalar("select coalesce(max(id), 0) from events").fetch_one(pool).await
+}

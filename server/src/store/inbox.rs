@@ -1,0 +1,117 @@
+//! EPCs robots read that nobody registered, so a caretaker can register them in one click.
+
+use serde::Serialize;
+use serde_json::{Value, json};
+use sqlx::{SqliteConnection, SqlitePool};
+
+use crate::store::events::{self, EventKind};
+
+/// Sightings of one unknown EPC gathered in memory since the last flush.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Sighting {
+    pub epc: String,
+    pub robots: Vec<String>,
+    pub first_seen: String,
+    pub last_seen: String,
+    pub count: i64,
+}
+
+/// One inbox row as listed.
+#[derive(Debug, Clone, Serialize)]
+pub struct InboxItem {
+    pub epc: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub epc_uri: Option<String>,
+    pub robots: Vec<String>,
+    pub first_seen: String,
+    pub last_seen: String,
+    pub count: i64,
+}
+
+/// Adds sightings to the inbox (skipping EPCs registered meanwhile), with one event each.
+#[tracing::instrument(skip_all, fields(n = sightings.len()))]
+pub async fn record(tx: &mut SqliteConnection, sightings: &[Sighting]) -> sqlx::Result<usize> {
+    let mut recorded = 0;
+    for sighting in sightings {
+        let registered: bool =
+            sqlx::query_scalar("select exists (select 1 from tags where epc = ?)")
+                .bind(&sighting.epc)
+                .fetch_one(&mut *tx)
+                .await?;
+        if registered {
+            continue;
+        }
+        let existing: Option<(String, String, i64)> =
+            sqlx::query_as("select robots, first_seen, count from inbox where epc = ?")
+                .bind(&sighting.epc)
+                .fetch_optional(&mut *tx)
+                .await?;
+        let (robots, first_seen, count) = match existing {
+            Some((robots, first_seen, count)) => {
+                let mut known: Vec<String> = serde_json::from_str(&robots).unwrap_or_default();
+                for robot in &sighting.robots {
+                    if !known.contains(robot) {
+                        known.push(robot.clone());
+                    }
+                }
+                (known, first_seen, count + sighting.count)
+            }
+            None => (sighting.robots.clone(), sighting.first_seen.clone(), sighting.count),
+        };
+        sqlx::query(
+            "insert into inbox (epc, robots, first_seen, last_seen, count) values (?, ?, ?, ?, ?)
+             on conflict (epc) do update set robots = excluded.robots,
+                 last_seen = excluded.last_seen, count = excluded.count",
+        )
+        .bind(&sighting.epc)
+        .bind(Value::from(robots).to_string())
+        .bind(first_seen)
+        .bind(&sighting.last_seen)
+        .bind(count)
+        .execute(&mut *tx)
+        .await?;
+        events::append(tx, EventKind::InboxChanged, json!({ "epc": sighting.epc, "count": count }))
+            .await?;
+        recorded += 1;
+    }
+    Ok(recorded)
+}
+
+/// Drops an EPC from the inbox once it is registered.
+pub async fn forget(tx: &mut SqliteConnection, epc: &str) -> sqlx::Result<()> {
+    let removed =
+        sqlx::query("delete from inbox where epc = ?").bind(epc).execute(&mut *tx).await?;
+    if removed.rows_affected() > 0 {
+        events::append(tx, EventKind::InboxChanged, json!({ "epc": epc, "registered": true }))
+            .await?;
+    }
+    Ok(())
+}
+
+/// Inbox rows after the EPC `after`, most recently seen first would reorder under writes, so
+/// the list is in EPC order like every other cursor list.
+pub async fn list(
+    pool: &SqlitePool,
+    after: Option<&str>,
+    limit: u32,
+) -> sqlx::Result<Vec<InboxItem>> {
+    let rows: Vec<(String, String, String, String, i64)> = sqlx::query_as(
+        "select epc, robots, first_seen, last_seen, count from inbox
+         where (?1 is null or epc > ?1) order by epc limit ?2",
+    )
+    .bind(after)
+    .bind(i64::from(limit))
+    .fetch_all(pool)
+    .await?;
+    Ok(rows
+        .into_iter()
+        .map(|(epc, robots, first_seen, last_seen, count)| InboxItem {
+            epc_uri: pps_schema::Epc::parse(&epc).ok().and_then(|e| e.pure_identity_uri()),
+            robots: serde_json::from_str(&robots).unwrap_or_default(),
+            epc,
+            first_seen,
+            last_seen,
+            count,
+        })
+        .collect())
+}

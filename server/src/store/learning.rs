@@ -1,0 +1,135 @@
+//! What the registry learned from trials: learned parameter values and the last reliability
+//! verdict per action and robot class.
+
+use sqlx::{SqliteConnection, SqlitePool};
+
+use crate::clock;
+use crate::effective::Learned;
+
+/// Learned values for one tag and robot class (`""` for robots without a class).
+pub async fn learned_for(
+    pool: &SqlitePool,
+    epc: &str,
+    robot_class: &str,
+) -> sqlx::Result<Vec<Learned>> {
+    let rows: Vec<(String, f64)> = sqlx::query_as(
+        "select pointer, value from learned_values where epc = ? and robot_class = ? order by pointer",
+    )
+    .bind(epc)
+    .bind(robot_class)
+    .fetch_all(pool)
+    .await?;
+    Ok(rows.into_iter().map(|(pointer, value)| Learned { pointer, value }).collect())
+}
+
+/// Every learned value of a tag: (robot class, pointer, value, trials).
+pub async fn learned_all(
+    pool: &SqlitePool,
+    epc: &str,
+) -> sqlx::Result<Vec<(String, String, f64, i64)>> {
+    sqlx::query_as(
+        "select robot_class, pointer, value, trials from learned_values where epc = ? order by robot_class, pointer",
+    )
+    .bind(epc)
+    .fetch_all(pool)
+    .await
+}
+
+/// Stores a learned value; true when it differs from what was stored.
+pub async fn store_learned(
+    conn: &mut SqliteConnection,
+    epc: &str,
+    robot_class: &str,
+    pointer: &str,
+    value: f64,
+    trials: i64,
+) -> sqlx::Result<bool> {
+    let previous: Option<f64> = sqlx::query_scalar(
+        "select value from learned_values where epc = ? and robot_class = ? and pointer = ?",
+    )
+    .bind(epc)
+    .bind(robot_class)
+    .bind(pointer)
+    .fetch_optional(&mut *conn)
+    .await?;
+    sqlx::query(
+        "insert into learned_values (epc, robot_class, pointer, value, trials, updated_at)
+         values (?, ?, ?, ?, ?, ?)
+         on conflict (epc, robot_class, pointer) do update set value = excluded.value,
+             trials = excluded.trials, updated_at = excluded.updated_at",
+    )
+    .bind(epc)
+    .bind(robot_class)
+    .bind(pointer)
+    .bind(value)
+    .bind(trials)
+    .bind(clock::now())
+    .execute(conn)
+    .await?;
+    Ok(previous != Some(value))
+}
+
+/// Drops a learned value no trial supports any more; true when one was dropped.
+pub async fn forget_learned(
+    conn: &mut SqliteConnection,
+    epc: &str,
+    robot_class: &str,
+    pointer: &str,
+) -> sqlx::Result<bool> {
+    let done =
+        sqlx::query("delete from learned_values where epc = ? and robot_class = ? and pointer = ?")
+            .bind(epc)
+            .bind(robot_class)
+            .bind(pointer)
+            .execute(conn)
+            .await?;
+    Ok(done.rows_affected() > 0)
+}
+
+/// The stored reliability verdict, if one was ever made.
+pub async fn reliability(
+    conn: &mut SqliteConnection,
+    epc: &str,
+    action: &str,
+    robot_class: &str,
+) -> sqlx::Result<Option<bool>> {
+    sqlx::query_scalar(
+        "select reliable from reliability where epc = ? and action = ? and robot_class = ?",
+    )
+    .bind(epc)
+    .bind(action)
+    .bind(robot_class)
+    .fetch_optional(conn)
+    .await
+}
+
+pub async fn store_reliability(
+    conn: &mut SqliteConnection,
+    epc: &str,
+    action: &str,
+    robot_class: &str,
+    reliable: bool,
+) -> sqlx::Result<()> {
+    sqlx::query(
+        "insert into reliability (epc, action, robot_class, reliable) values (?, ?, ?, ?)
+         on conflict (epc, action, robot_class) do update set reliable = excluded.reliable",
+    )
+    .bind(epc)
+    .bind(action)
+    .bind(robot_class)
+    .bind(reliable)
+    .execute(conn)
+    .await?;
+    Ok(())
+}
+
+/// Moves learned values and verdicts of a retagged tag to its new EPC.
+pub async fn move_to(conn: &mut SqliteConnection, from: &str, to: &str) -> sqlx::Result<()> {
+    for statement in [
+        "update learned_values set epc = ?1 where epc = ?2",
+        "update reliability set epc = ?1 where epc = ?2",
+    ] {
+        sqlx::query(statement).bind(to).bind(from).execute(&mut *conn).await?;
+    }
+    Ok(())
+}

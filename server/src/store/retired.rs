@@ -1,0 +1,45 @@
+//! EPCs retired when a worn tag was replaced, each pointing at its successor.
+
+use sqlx::SqliteConnection;
+
+use crate::clock;
+
+/// The EPC that replaced `epc`, following a chain of replacements to the current one.
+pub async fn successor(conn: &mut SqliteConnection, epc: &str) -> sqlx::Result<Option<String>> {
+    let mut current: Option<String> = None;
+    let mut next = epc.to_owned();
+    // A chain longer than this would mean a cycle, which retagging never creates.
+    for _ in 0..64 {
+        let found: Option<String> =
+            sqlx::query_scalar("select successor from retired_epcs where epc = ?")
+                .bind(&next)
+                .fetch_optional(&mut *conn)
+                .await?;
+        match found {
+            Some(successor) => {
+                current = Some(successor.clone());
+                next = successor;
+            }
+            None => break,
+        }
+    }
+    Ok(current)
+}
+
+pub async fn retire(
+    conn: &mut SqliteConnection,
+    epc: &str,
+    successor: &str,
+    by: &str,
+) -> sqlx::Result<()> {
+    sqlx::query(
+        "insert into retired_epcs (epc, successor, retired_at, retired_by) values (?, ?, ?, ?)",
+    )
+    .bind(epc)
+    .bind(successor)
+    .bind(clock::now())
+    .bind(by)
+    .execute(conn)
+    .await?;
+    Ok(())
+}

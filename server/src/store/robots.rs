@@ -1,0 +1,137 @@
+//! The robot registry: who the robots are, their class, capabilities and limits.
+
+use serde_json::{Value, json};
+use sqlx::SqlitePool;
+
+use crate::clock;
+use crate::db::Db;
+use crate::store::events::{self, EventKind};
+
+/// A robot as the registry knows it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StoredRobot {
+    pub id: String,
+    pub class: Option<String>,
+    /// The robot as PUT; `None` for a robot known only from its token, not yet registered.
+    pub document: Option<Value>,
+}
+
+impl StoredRobot {
+    /// The robot as returned by the API, with `last_seen` when known.
+    pub fn to_json(&self, last_seen: Option<&str>) -> Value {
+        let mut robot = self.document.clone().unwrap_or_else(|| {
+            // Minted a token before an admin registered it: it shows up without a class.
+            json!({ "id": self.id, "class": null, "name": self.id, "capabilities": [] })
+        });
+        if let Some(object) = robot.as_object_mut() {
+            object.insert("last_seen".into(), last_seen.map_or(Value::Null, Value::from));
+        }
+        robot
+    }
+}
+
+/// What a PUT did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RobotWrite {
+    Created,
+    Replaced,
+    Unchanged,
+}
+
+type Row = (String, Option<String>, Option<String>);
+
+fn from_row((id, class, document): Row) -> StoredRobot {
+    StoredRobot { id, class, document: document.and_then(|d| serde_json::from_str(&d).ok()) }
+}
+
+#[tracing::instrument(skip_all)]
+pub async fn get(pool: &SqlitePool, id: &str) -> sqlx::Result<Option<StoredRobot>> {
+    let row: Option<Row> = sqlx::query_as("select id, class, document from robots where id = ?")
+        .bind(id)
+        .fetch_optional(pool)
+        .await?;
+    if let Some(row) = row {
+        return Ok(Some(from_row(row)));
+    }
+    let has_token: bool = sqlx::query_scalar(
+        "select exists (select 1 from tokens where robot_id = ? and revoked_at is null)",
+    )
+    .bind(id)
+    .fetch_one(pool)
+    .await?;
+    Ok(has_token.then(|| StoredRobot { id: id.to_owned(), class: None, document: None }))
+}
+
+/// Registered robots and robots that only have a token, in id order after `after`.
+#[tracing::instrument(skip_all)]
+pub async fn list(
+    pool: &SqlitePool,
+    after: Option<&str>,
+    limit: u32,
+) -> sqlx::Result<Vec<StoredRobot>> {
+    let rows: Vec<Row> = sqlx::query_as(
+        "select id, class, document from (
+             select id, class, document from robots
+             union
+             select distinct robot_id, null, null from tokens
+             where robot_id is not null and revoked_at is null
+               and robot_id not in (select id from robots))
+         where (?1 is null or id > ?1) order by id limit ?2",
+    )
+    .bind(after)
+    .bind(i64::from(limit))
+    .fetch_all(pool)
+    .await?;
+    Ok(rows.into_iter().map(from_row).collect())
+}
+
+/// Registers or changes a robot; the same document again changes nothing.
+#[tracing::instrument(skip_all, fields(robot = id))]
+pub async fn put(db: &Db, id: &str, document: &Value, by: &str) -> sqlx::Result<RobotWrite> {
+    let mut tx = db.begin_write().await?;
+    let current: Option<String> = sqlx::query_scalar("select document from robots where id = ?")
+        .bind(id)
+        .fetch_optional(&mut *tx)
+        .await?;
+    let current: Option<Value> = current.and_then(|d| serde_json::from_str(&d).ok());
+    if current.as_ref() == Some(document) {
+        return Ok(RobotWrite::Unchanged);
+    }
+    let class = document.get("class").and_then(Value::as_str);
+    sqlx::query(
+        "insert into robots (id, class, document, updated_at, updated_by) values (?, ?, ?, ?, ?)
+         on conflict (id) do update set class = excluded.class, document = excluded.document,
+             updated_at = excluded.updated_at, updated_by = excluded.updated_by",
+    )
+    .bind(id)
+    .bind(class)
+    .bind(document.to_string())
+    .bind(clock::now())
+    .bind(by)
+    .execute(&mut *tx)
+    .await?;
+    events::append(&mut tx, EventKind::RobotChanged, json!({ "robot": id })).await?;
+    tx.commit().await?;
+    Ok(if current.is_some() { RobotWrite::Replaced } else { RobotWrite::Created })
+}
+
+/// When each robot was last seen, as last flushed.
+pub async fn presence(pool: &SqlitePool) -> sqlx::Result<Vec<(String, String)>> {
+    sqlx::query_as("select robot, last_seen from robot_presence").fetch_all(pool).await
+}
+
+/// Stores last-seen times gathered in memory.
+pub async fn record_presence(db: &Db, seen: &[(String, String)]) -> sqlx::Result<()> {
+    let mut tx = db.begin_write().await?;
+    for (robot, at) in seen {
+        sqlx::query(
+            "insert into robot_presence (robot, last_seen) values (?, ?)
+             on conflict (robot) do update set last_seen = max(last_seen, excluded.last_seen)",
+        )
+        .bind(robot)
+        .bind(at)
+        .execute(&mut *tx)
+        .await?;
+    }
+    tx.commit().await
+}

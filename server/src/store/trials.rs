@@ -1,0 +1,160 @@
+//! Trials in the database: one row per attempt, in the order the registry received them.
+
+use serde_json::{Value, json};
+use sqlx::{SqliteConnection, SqlitePool};
+
+/// A stored trial.
+#[derive(Debug, Clone, PartialEq, sqlx::FromRow)]
+pub struct TrialRow {
+    pub seq: i64,
+    pub id: String,
+    pub epc: String,
+    pub robot: String,
+    pub robot_class: Option<String>,
+    pub action: String,
+    pub outcome: String,
+    pub confirmed: Option<bool>,
+    pub received_at: String,
+    pub body: String,
+}
+
+impl TrialRow {
+    /// The trial as submitted, as the API returns it: with the verdict as it is now and the
+    /// registry's `received_at` and `seq`.
+    pub fn to_json(&self) -> Value {
+        let mut trial: Value = serde_json::from_str(&self.body).unwrap_or_else(|_| json!({}));
+        if let Some(object) = trial.as_object_mut() {
+            object.insert("confirmed".into(), self.confirmed.map_or(Value::Null, Value::from));
+            object.insert("received_at".into(), self.received_at.clone().into());
+            object.insert("seq".into(), self.seq.into());
+        }
+        trial
+    }
+
+    /// The trial as first submitted (the idempotency key's content).
+    pub fn submitted(&self) -> Value {
+        serde_json::from_str(&self.body).unwrap_or(Value::Null)
+    }
+}
+
+/// Which trials a list wants.
+#[derive(Debug, Default, Clone)]
+pub struct TrialFilter {
+    pub epc: Option<String>,
+    pub robot: Option<String>,
+    pub action: Option<String>,
+    pub outcome: Option<String>,
+    /// Trials that started at or after this RFC 3339 time.
+    pub since: Option<String>,
+}
+
+pub async fn find(conn: &mut SqliteConnection, id: &str) -> sqlx::Result<Option<TrialRow>> {
+    sqlx::query_as(
+        "select seq, id, epc, robot, robot_class, action, outcome, confirmed, received_at, body
+         from trials where id = ?",
+    )
+    .bind(id)
+    .fetch_optional(conn)
+    .await
+}
+
+#[tracing::instrument(skip_all)]
+pub async fn get(pool: &SqlitePool, id: &str) -> sqlx::Result<Option<TrialRow>> {
+    let mut conn = pool.acquire().await?;
+    find(&mut conn, id).await
+}
+
+/// The fields a new trial row is made of.
+#[derive(Debug)]
+pub struct NewTrial<'a> {
+    pub id: &'a str,
+    pub epc: &'a str,
+    pub robot: &'a str,
+    pub robot_class: Option<&'a str>,
+    pub action: &'a str,
+    pub behavior: &'a str,
+    pub outcome: &'a str,
+    pub confirmed: Option<bool>,
+    pub started_at: &'a str,
+    pub finished_at: &'a str,
+    pub received_at: &'a str,
+    pub body: &'a str,
+}
+
+/// Inserts a trial and returns its sequence number.
+pub async fn insert(conn: &mut SqliteConnection, trial: &NewTrial<'_>) -> sqlx::Result<i64> {
+    sqlx::query_scalar(
+        "insert into trials (id, epc, robot, robot_class, action, behavior, outcome, confirmed,
+                             started_at, finished_at, received_at, body)
+         values (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) returning seq",
+    )
+    .bind(trial.id)
+    .bind(trial.epc)
+    .bind(trial.robot)
+    .bind(trial.robot_class)
+    .bind(trial.action)
+    .bind(trial.behavior)
+    .bind(trial.outcome)
+    .bind(trial.confirmed)
+    .bind(trial.started_at)
+    .bind(trial.finished_at)
+    .bind(trial.received_at)
+    .bind(trial.body)
+    .fetch_one(conn)
+    .await
+}
+
+/// Trials after sequence number `after`, oldest first.
+#[tracing::instrument(skip_all)]
+pub async fn list(
+    pool: &SqlitePool,
+    filter: &TrialFilter,
+    after: i64,
+    limit: u32,
+) -> sqlx::Result<Vec<TrialRow>> {
+    sqlx::query_as(
+        "select seq, id, epc, robot, robot_class, action, outcome, confirmed, received_at, body
+         from trials
+         where seq > ?1
+           and (?2 is null or epc = ?2)
+           and (?3 is null or robot = ?3)
+           and (?4 is null or action = ?4)
+           and (?5 is null or outcome = ?5)
+           and (?6 is null or started_at >= ?6)
+         order by seq
+         limit ?7",
+    )
+    .bind(after)
+    .bind(&filter.epc)
+    .bind(&filter.robot)
+    .bind(&filter.action)
+    .bind(&filter.outcome)
+    .bind(&filter.since)
+    .bind(i64::from(limit))
+    .fetch_all(pool)
+    .await
+}
+
+/// Sets the person's verdict; false when no trial has this id.
+pub async fn set_confirmed(
+    conn: &mut SqliteConnection,
+    id: &str,
+    confirmed: Option<bool>,
+) -> sqlx::Result<bool> {
+    let done = sqlx::query("update trials set confirmed = ? where id = ?")
+        .bind(confirmed)
+        .bind(id)
+        .execute(conn)
+        .await?;
+    Ok(done.rows_affected() == 1)
+}
+
+/// Moves every trial of a retagged tag to its new EPC.
+pub async fn move_to(conn: &mut SqliteConnection, from: &str, to: &str) -> sqlx::Result<u64> {
+    Ok(sqlx::query("update trials set epc = ? where epc = ?")
+        .bind(to)
+        .bind(from)
+        .execute(conn)
+        .await?
+        .rows_affected())
+}

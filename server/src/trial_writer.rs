@@ -1,0 +1,208 @@
+//! Durable trial writes with group commit.
+//!
+//! Every trial is acknowledged only after the transaction holding it has committed (and, with
+//! `synchronous=FULL`, reached the disk). One task owns the writing: it takes every trial that
+//! queued up while the previous commit was being flushed and commits them together, so many
+//! robots writing at once share each fsync instead of paying one each.
+
+use std::collections::BTreeSet;
+use std::sync::Arc;
+
+use serde_json::{Value, json};
+use tokio::sync::{mpsc, oneshot};
+
+use crate::db::Db;
+use crate::effective_cache::EffectiveCache;
+use crate::feed::ChangeFeed;
+use crate::learning::{self, TrialGroup};
+use crate::store::events::{self, EventKind};
+use crate::store::trials::{self, NewTrial, TrialRow};
+use crate::{clock, store};
+
+/// Trials committed together at most.
+const MAX_BATCH: usize = 512;
+/// Trials waiting for the writer before new requests wait for room.
+const QUEUE: usize = 4096;
+
+/// A trial that passed validation, ready to store.
+#[derive(Debug, Clone)]
+pub struct CheckedTrial {
+    pub id: String,
+    pub epc: String,
+    pub robot: String,
+    pub action: String,
+    pub behavior: String,
+    pub outcome: String,
+    pub confirmed: Option<bool>,
+    pub started_at: String,
+    pub finished_at: String,
+    /// The trial as submitted; a retry must match it exactly.
+    pub body: Value,
+}
+
+/// A trial that is stored.
+#[derive(Debug)]
+pub enum Recorded {
+    New(TrialRow),
+    /// The same trial was stored before: the retry changed nothing.
+    Repeat(TrialRow),
+}
+
+/// Why a trial was not stored.
+#[derive(Debug, thiserror::Error)]
+pub enum TrialRejection {
+    #[error("another trial is stored under this id")]
+    Conflict(TrialRow),
+    #[error("no tag has this EPC")]
+    UnknownTag,
+    #[error("the tag is archived")]
+    ArchivedTag,
+    #[error("the EPC was retired; the tag now has EPC {0}")]
+    RetiredTag(String),
+    #[error("the trial could not be stored: {0}")]
+    Database(Arc<sqlx::Error>),
+    #[error("the registry is shutting down")]
+    ShuttingDown,
+}
+
+type Reply = oneshot::Sender<Result<Recorded, TrialRejection>>;
+
+#[derive(Debug, Clone)]
+pub struct TrialWriter {
+    queue: mpsc::Sender<(CheckedTrial, Reply)>,
+}
+
+impl TrialWriter {
+    /// Starts the writing task (needs a Tokio runtime).
+    pub fn start(db: Db, feed: Arc<ChangeFeed>, cache: Arc<EffectiveCache>) -> Self {
+        let (queue, incoming) = mpsc::channel(QUEUE);
+        tokio::spawn(run(db, incoming, feed, cache));
+        Self { queue }
+    }
+
+    /// Stores a trial; returns once it is durable.
+    pub async fn record(&self, trial: CheckedTrial) -> Result<Recorded, TrialRejection> {
+        let (reply, answer) = oneshot::channel();
+        self.queue.send((trial, reply)).await.map_err(|_| TrialRejection::ShuttingDown)?;
+        answer.await.map_err(|_| TrialRejection::ShuttingDown)?
+    }
+}
+
+async fn run(
+    db: Db,
+    mut incoming: mpsc::Receiver<(CheckedTrial, Reply)>,
+    feed: Arc<ChangeFeed>,
+    cache: Arc<EffectiveCache>,
+) {
+    let mut batch = Vec::with_capacity(MAX_BATCH);
+    while incoming.recv_many(&mut batch, MAX_BATCH).await > 0 {
+        let trials: Vec<&CheckedTrial> = batch.iter().map(|(trial, _)| trial).collect();
+        match commit(&db, &trials).await {
+            Ok((results, relearned)) => {
+                for epc in relearned {
+                    cache.forget_tag(&epc);
+                }
+                feed.committed();
+                for ((_, reply), result) in batch.drain(..).zip(results) {
+                    let _ = reply.send(result);
+                }
+            }
+            Err(error) => {
+                tracing::error!(%error, trials = batch.len(), "a batch of trials could not be committed");
+                let error = Arc::new(error);
+                for (_, reply) in batch.drain(..) {
+                    let _ = reply.send(Err(TrialRejection::Database(error.clone())));
+                }
+            }
+        }
+    }
+}
+
+/// Stores a batch in one transaction; per-trial rejections do not fail the others.
+async fn commit(
+    db: &Db,
+    batch: &[&CheckedTrial],
+) -> sqlx::Result<(Vec<Result<Recorded, TrialRejection>>, BTreeSet<String>)> {
+    let mut tx = db.begin_write().await?;
+    let received_at = clock::now();
+    let mut results = Vec::with_capacity(batch.len());
+    let mut groups = BTreeSet::new();
+    for trial in batch {
+        if let Some(existing) = trials::find(&mut tx, &trial.id).await? {
+            results.push(if existing.submitted() == trial.body {
+                Ok(Recorded::Repeat(existing))
+            } else {
+                Err(TrialRejection::Conflict(existing))
+            });
+            continue;
+        }
+        if let Err(rejection) = check_tag(&mut tx, &trial.epc).await? {
+            results.push(Err(rejection));
+            continue;
+        }
+        let robot_class: Option<String> =
+            sqlx::query_scalar("select class from robots where id = ?")
+                .bind(&trial.robot)
+                .fetch_optional(&mut *tx)
+                .await?
+                .flatten();
+        let body = trial.body.to_string();
+        let new = NewTrial {
+            id: &trial.id,
+            epc: &trial.epc,
+            robot: &trial.robot,
+            robot_class: robot_class.as_deref(),
+            action: &trial.action,
+            behavior: &trial.behavior,
+            outcome: &trial.outcome,
+            confirmed: trial.confirmed,
+            started_at: &trial.started_at,
+            finished_at: &trial.finished_at,
+            received_at: &received_at,
+            body: &body,
+        };
+        let seq = trials::insert(&mut tx, &new).await?;
+        let data = json!({ "trial": trial.id, "epc": trial.epc, "robot": trial.robot, "action": trial.action, "outcome": trial.outcome, "seq": seq });
+        events::append(&mut tx, EventKind::TrialRecorded, data).await?;
+        groups.insert(TrialGroup {
+            epc: trial.epc.clone(),
+            action: trial.action.clone(),
+            behavior: trial.behavior.clone(),
+            robot_class: robot_class.clone().unwrap_or_default(),
+        });
+        results.push(Ok(Recorded::New(TrialRow {
+            seq,
+            id: trial.id.clone(),
+            epc: trial.epc.clone(),
+            robot: trial.robot.clone(),
+            robot_class,
+            action: trial.action.clone(),
+            outcome: trial.outcome.clone(),
+            confirmed: trial.confirmed,
+            received_at: received_at.clone(),
+            body,
+        })));
+    }
+    let relearned = learning::update(&mut tx, &groups).await?;
+    tx.commit().await?;
+    Ok((results, relearned))
+}
+
+/// A trial must name a registered, active tag.
+async fn check_tag(
+    conn: &mut sqlx::SqliteConnection,
+    epc: &str,
+) -> sqlx::Result<Result<(), TrialRejection>> {
+    let archived: Option<bool> = sqlx::query_scalar("select archived from tags where epc = ?")
+        .bind(epc)
+        .fetch_optional(&mut *conn)
+        .await?;
+    Ok(match archived {
+        Some(false) => Ok(()),
+        Some(true) => Err(TrialRejection::ArchivedTag),
+        None => match store::retired::successor(conn, epc).await? {
+            Some(successor) => Err(TrialRejection::RetiredTag(successor)),
+            None => Err(TrialRejection::UnknownTag),
+        },
+    })
+}
