@@ -107,3 +107,47 @@ async fn only_hashes_of_tokens_are_stored() {
         );
     }
 }
+
+#[tokio::test]
+async fn admins_manage_tokens_over_the_api_and_revocation_is_immediate() {
+    let server = TestServer::start().await;
+    let created = server
+        .request(Method::POST, "/api/v1/tokens", Some(&server.admin))
+        .json(&serde_json::json!({ "role": "robot", "name": "el-e-1", "expires_in_days": 30 }))
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(created.status(), StatusCode::CREATED);
+    let created: serde_json::Value = created.json().await.unwrap();
+    let token = created["token"].as_str().unwrap().to_owned();
+    assert_eq!(created["robot_id"], "el-e-1");
+    assert!(created["expires_at"].is_string());
+    assert_eq!(server.get("/api/v1/tags", &token).await.status(), StatusCode::OK);
+
+    let listed: serde_json::Value =
+        server.get("/api/v1/tokens", &server.admin).await.json().await.unwrap();
+    assert!(!listed.to_string().contains(&token), "secrets are shown once");
+    problem(server.get("/api/v1/tokens", &token).await, StatusCode::FORBIDDEN).await;
+    let bad = server
+        .request(Method::POST, "/api/v1/tokens", Some(&server.admin))
+        .json(&serde_json::json!({ "role": "robot", "name": "Not Valid" }))
+        .send()
+        .await
+        .unwrap();
+    problem(bad, StatusCode::UNPROCESSABLE_ENTITY).await;
+
+    let id = created["id"].as_str().unwrap();
+    let revoked = server
+        .request(Method::DELETE, &format!("/api/v1/tokens/{id}"), Some(&server.admin))
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(revoked.status(), StatusCode::OK);
+    problem(server.get("/api/v1/tags", &token).await, StatusCode::UNAUTHORIZED).await;
+    let again = server
+        .request(Method::DELETE, &format!("/api/v1/tokens/{id}"), Some(&server.admin))
+        .send()
+        .await
+        .unwrap();
+    problem(again, StatusCode::NOT_FOUND).await;
+}

@@ -15,6 +15,7 @@ mod robots;
 mod session;
 mod stats;
 mod tags;
+mod tokens;
 mod trials;
 mod typed_json;
 mod users;
@@ -92,6 +93,9 @@ pub fn router_with_routes(state: AppState) -> (Router, Vec<RouteSpec>) {
         .add(Method::PATCH, "/api/v1/trials/{id}", RobotOrEditors, trials::patch)
         .add(get(), "/api/v1/trials", RobotOrEditors, trials::list)
         .add(get(), "/api/v1/events", Anyone, events::stream)
+        .add(get(), "/api/v1/tokens", Admin, tokens::list)
+        .add(Method::POST, "/api/v1/tokens", Admin, tokens::create)
+        .add(Method::DELETE, "/api/v1/tokens/{id}", Admin, tokens::revoke)
         .add(Method::POST, "/api/v1/session", Open, session::login)
         .add(get(), "/api/v1/session", Anyone, session::current)
         .add(Method::DELETE, "/api/v1/session", Anyone, session::logout)

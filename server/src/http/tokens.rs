@@ -1,0 +1,72 @@
+//! `/api/v1/tokens`: API tokens for robots and scripts, managed by admins. A token's secret is
+//! shown once, in the answer that creates it.
+
+use axum::Json;
+use axum::extract::{Path, State};
+use axum::http::StatusCode;
+use axum::response::{IntoResponse, Response};
+use serde::Deserialize;
+use serde_json::Value;
+
+use crate::auth::Role;
+use crate::error::ApiError;
+use crate::http::extract::JsonBody;
+use crate::http::page::Page;
+use crate::state::AppState;
+use crate::store::tokens::{self, TokenRecord};
+
+pub async fn list(State(state): State<AppState>) -> Result<Json<Page<TokenRecord>>, ApiError> {
+    Ok(Json(Page { items: tokens::list(state.db.reader()).await?, next_cursor: None }))
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct NewToken {
+    role: Role,
+    name: String,
+    /// Days until it stops working; without it the token does not expire.
+    expires_in_days: Option<f64>,
+}
+
+pub async fn create(
+    State(state): State<AppState>,
+    JsonBody(body): JsonBody,
+) -> Result<Response, ApiError> {
+    let request: NewToken = serde_json::from_value(body).map_err(|error| {
+        ApiError::invalid_at("", format!("a token needs role (admin, caretaker or robot), name and optionally expires_in_days: {error}"))
+    })?;
+    let name = request.name.trim();
+    if request.role == Role::Robot {
+        pps_schema::RobotId::parse(name).map_err(|e| {
+            ApiError::invalid_at("/name", format!("a robot token's name is the robot's id: {e}"))
+        })?;
+    } else if name.is_empty() || name.chars().count() > 100 {
+        return Err(ApiError::invalid_at("/name", "name is 1 to 100 characters"));
+    }
+    let expires_at = match request.expires_in_days {
+        Some(days) if !(days > 0.0 && days <= 3650.0) => {
+            return Err(ApiError::invalid_at(
+                "/expires_in_days",
+                "expires_in_days is more than 0 and at most 3650",
+            ));
+        }
+        Some(days) => Some(crate::clock::format(
+            time::OffsetDateTime::now_utc() + time::Duration::seconds_f64(days * 86_400.0),
+        )),
+        None => None,
+    };
+    let minted = tokens::create(&state.db, request.role, name, expires_at).await?;
+    Ok((StatusCode::CREATED, Json(minted)).into_response())
+}
+
+pub async fn revoke(
+    State(state): State<AppState>,
+    Path(id): Path<String>,
+) -> Result<Json<Value>, ApiError> {
+    if !tokens::revoke(&state.db, &id).await? {
+        return Err(ApiError::NotFound(format!("no live token has the id {id:?}")));
+    }
+    // Revocation through the API bites at once, not after the cache's re-check interval.
+    state.tokens.clear();
+    Ok(Json(serde_json::json!({ "id": id, "revoked": true })))
+}
