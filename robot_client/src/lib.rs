@@ -1,2 +1,20 @@
 //! The robot side of PPS-tags: the paper's perception, navigation and manipulation behind
 //! hardware traits, with a deterministic simulator so all of it runs without a robot.
+//!
+//! - [`hal`]: one trait per hardware capability; a real robot or [`sim`] implements them.
+//! - [`perception`]: the paper's §III-B, finding the red tag in a registered image and cloud.
+//! - [`navigation`]: the paper's §IV-B.1 geometry: volume of interest, planes, backing plane,
+//!   waypoint, collision check, and which RFID tag was read.
+//! - [`recording`]: the files recorded sensor data travels in (PNG, PLY, camera JSON).
+//! - [`registry`]: the registry client, its entry cache and the durable trial outbox.
+//! - [`sim`]: a seeded room with the paper's five tagged devices, rendered for the sensors.
+//! - [`cli`]: the `pps-robot` subcommands.
+
+pub mod cli;
+pub mod hal;
+pub mod navigation;
+pub mod perception;
+pub mod recording;
+pub mod registry;
+pub mod sim;
+pub mod timings;

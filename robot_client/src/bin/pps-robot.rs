@@ -1,1 +1,16 @@
-fn main() {}
+//! `pps-robot`: parses the command line and hands it to the library.
+
+use std::process::ExitCode;
+
+use clap::Parser;
+use pps_robot::cli::{Cli, run};
+
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("error: {error:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

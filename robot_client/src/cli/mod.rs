@@ -1,0 +1,40 @@
+//! The `pps-robot` command line: one module per subcommand, each an `Args` struct and a `run`.
+//! The binary only parses and dispatches, so adding a subcommand is one variant here.
+
+mod bench;
+mod perceive;
+mod scene;
+
+use clap::{Parser, Subcommand};
+
+pub use bench::BenchArgs;
+pub use perceive::{PerceiveArgs, PerceiveReport};
+pub use scene::SceneArgs;
+
+/// The robot side of PPS-tags.
+#[derive(Debug, Parser)]
+#[command(name = "pps-robot", version, about)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Perception and navigation geometry on a recorded image, cloud and camera calibration.
+    Perceive(PerceiveArgs),
+    /// Export a simulated scene (image.png, cloud.ply, camera.json, scene.json) to try
+    /// `perceive` on.
+    Scene(SceneArgs),
+    /// Time each perception step and the whole chain on the fixed benchmark scene.
+    BenchPerception(BenchArgs),
+}
+
+/// Runs one parsed command line.
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Perceive(args) => perceive::run(&args),
+        Command::Scene(args) => scene::run(&args),
+        Command::BenchPerception(args) => bench::run(&args),
+    }
+}

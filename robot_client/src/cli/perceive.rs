@@ -1,0 +1,199 @@
+//! `pps-robot perceive`: the tag, its backing plane and the approach waypoint from a recorded
+//! image, cloud and camera calibration (DESIGN §6).
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::Context;
+use clap::Args;
+use nalgebra::Point3;
+use pps_schema::ColorSegmentation;
+use serde::Serialize;
+
+use crate::navigation::{ApproachParams, ApproachPlan, Clearance, plan_approach};
+use crate::perception::{HsvThresholds, TagDetection, TagSighting};
+use crate::recording::{read_camera_file, read_ply, read_png};
+use crate::timings::StepTimings;
+
+#[derive(Debug, Args)]
+pub struct PerceiveArgs {
+    /// Colour image (PNG) taken by the calibrated camera.
+    #[arg(long)]
+    pub image: PathBuf,
+    /// Laser point cloud (PLY, vertices x y z in the base frame, metres).
+    #[arg(long)]
+    pub cloud: PathBuf,
+    /// Camera calibration JSON: width, height, fx, fy, cx, cy, base_from_camera.
+    #[arg(long)]
+    pub camera: PathBuf,
+    /// The designated target X,Y,Z in the base frame, metres.
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = parse_target)]
+    pub target: Point3<f64>,
+    /// Tag colour HMIN,HMAX,SMIN,SMAX,VMIN,VMAX: hue in degrees (may wrap, 340,20), saturation
+    /// and value 0..1. Default 340,20,0.6,1.0,0.15,1.0.
+    #[arg(long, value_name = "HMIN,HMAX,SMIN,SMAX,VMIN,VMAX", allow_hyphen_values = true, value_parser = parse_hsv)]
+    pub hsv: Option<HsvThresholds>,
+    /// Print one JSON document on stdout and nothing else.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn parse_numbers(text: &str, count: usize, what: &str) -> Result<Vec<f64>, String> {
+    let numbers: Vec<f64> = text
+        .split(',')
+        .map(|s| s.trim().parse::<f64>().map_err(|_| format!("`{}` is not a number", s.trim())))
+        .collect::<Result<_, _>>()?;
+    if numbers.len() != count {
+        return Err(format!("{what} takes {count} comma-separated numbers, got {}", numbers.len()));
+    }
+    if let Some(bad) = numbers.iter().find(|v| !v.is_finite()) {
+        return Err(format!("{bad} is not a finite number"));
+    }
+    Ok(numbers)
+}
+
+fn parse_target(text: &str) -> Result<Point3<f64>, String> {
+    let v = parse_numbers(text, 3, "--target")?;
+    Ok(Point3::new(v[0], v[1], v[2]))
+}
+
+fn parse_hsv(text: &str) -> Result<HsvThresholds, String> {
+    let v = parse_numbers(text, 6, "--hsv")?;
+    HsvThresholds::new(&ColorSegmentation {
+        hue_deg: [v[0], v[1]],
+        saturation: [v[2], v[3]],
+        value: [v[4], v[5]],
+    })
+    .map_err(|e| e.to_string())
+}
+
+/// The `--json` document.
+#[derive(Debug, Serialize)]
+pub struct PerceiveReport {
+    pub tag: Option<TagJson>,
+    pub backing_plane: Option<PlaneJson>,
+    pub waypoint: Option<WaypointJson>,
+    pub load_ms: f64,
+    pub timings_ms: StepTimings,
+}
+
+#[derive(Debug, Serialize)]
+pub struct TagJson {
+    pub centroid: [f64; 3],
+    pub points: usize,
+    /// Present only when another tag was about as near the target.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ambiguous_with: Option<Box<TagJson>>,
+}
+
+#[derive(Debug, Serialize)]
+pub struct PlaneJson {
+    pub normal: [f64; 3],
+    pub offset: f64,
+    pub points: usize,
+}
+
+#[derive(Debug, Serialize)]
+pub struct WaypointJson {
+    pub position: [f64; 3],
+    pub yaw: f64,
+    /// Whether the robot, arm extended, fits there without touching the cloud.
+    pub clear: bool,
+}
+
+fn tag_json(tag: &TagDetection) -> TagJson {
+    TagJson { centroid: tag.centroid.coords.into(), points: tag.points, ambiguous_with: None }
+}
+
+impl PerceiveReport {
+    pub fn new(plan: &ApproachPlan, load_ms: f64) -> Self {
+        let tag = plan.tag.as_ref().map(|sighting| match sighting {
+            TagSighting::Found(tag) => tag_json(tag),
+            TagSighting::Ambiguous { nearest, other } => {
+                TagJson { ambiguous_with: Some(Box::new(tag_json(other))), ..tag_json(nearest) }
+            }
+        });
+        Self {
+            tag,
+            backing_plane: plan.backing_plane.as_ref().map(|p| PlaneJson {
+                normal: p.normal.into(),
+                offset: p.offset,
+                points: p.points,
+            }),
+            waypoint: plan.waypoint.as_ref().map(|w| WaypointJson {
+                position: w.position.coords.into(),
+                yaw: w.yaw,
+                clear: !matches!(plan.clearance, Some(Clearance::Blocked { .. })),
+            }),
+            load_ms,
+            timings_ms: plan.timings.clone(),
+        }
+    }
+}
+
+pub fn run(args: &PerceiveArgs) -> anyhow::Result<()> {
+    let start = Instant::now();
+    let image = read_png(&args.image)?;
+    let cloud = read_ply(&args.cloud)?;
+    let calibration = read_camera_file(&args.camera)?;
+    let load_ms = start.elapsed().as_secs_f64() * 1e3;
+    let mut params = ApproachParams::default();
+    if let Some(hsv) = args.hsv {
+        params.tag.thresholds = hsv;
+    }
+    let plan = plan_approach(&image, &cloud, &calibration, &args.target, &params)
+        .context("cannot run perception on these files")?;
+    let report = PerceiveReport::new(&plan, load_ms);
+    if args.json {
+        println!("{}", serde_json::to_string(&report)?);
+    } else {
+        print_summary(&report, &plan, cloud.len());
+    }
+    Ok(())
+}
+
+fn print_summary(report: &PerceiveReport, plan: &ApproachPlan, cloud_points: usize) {
+    let f3 = |v: [f64; 3]| format!("({:.3}, {:.3}, {:.3})", v[0], v[1], v[2]);
+    println!(
+        "cloud: {cloud_points} points, {} in the volume of interest, {} planes",
+        plan.voi_points, plan.planes
+    );
+    match &report.tag {
+        Some(tag) => {
+            println!("tag: centroid {} m from {} points", f3(tag.centroid), tag.points);
+            if let Some(other) = &tag.ambiguous_with {
+                println!(
+                    "  ambiguous: another tag at {} is about as near the target",
+                    f3(other.centroid)
+                );
+            }
+        }
+        None => println!("tag: none found near the target"),
+    }
+    match &report.backing_plane {
+        Some(p) => println!(
+            "backing plane: normal {} toward the robot, offset {:.3} m, {} points",
+            f3(p.normal),
+            p.offset,
+            p.points
+        ),
+        None => println!("backing plane: none"),
+    }
+    match &report.waypoint {
+        Some(w) => println!(
+            "waypoint: {} m, yaw {:.1}°, {}",
+            f3(w.position),
+            w.yaw.to_degrees(),
+            if w.clear { "clear" } else { "BLOCKED" }
+        ),
+        None => println!("waypoint: none"),
+    }
+    let steps: Vec<String> =
+        report.timings_ms.steps().iter().map(|(n, ms)| format!("{n} {ms:.2}")).collect();
+    println!(
+        "load {:.1} ms; compute {:.2} ms: {}",
+        report.load_ms,
+        report.timings_ms.total_ms(),
+        steps.join(", ")
+    );
+}

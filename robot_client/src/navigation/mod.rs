@@ -1,0 +1,33 @@
+//! Navigation geometry (paper §IV-B.1): from a target point, an image and a cloud to where the
+//! base should stand; and, once there, which RFID tag the fingers are reading.
+//!
+//! In the paper's order: [`VolumeOfInterest`] (a vertical cylinder around the target),
+//! [`find_planes`] (every plane in it, dropping those under 100 points and slabs that are not
+//! surfaces), [`choose_backing_plane`] (the surface behind the tag; the paper's nearest-plane rule
+//! is kept as [`nearest_plane_to_target`]), [`approach_waypoint`] (50 cm out along its normal,
+//! facing the tag), [`check_clearance`] (the robot with its arm extended against the cloud);
+//! [`plan_approach`] runs them all. [`identify_tag`] picks the strongest RFID read.
+//!
+//! Like perception, navigation geometry works on data and never on devices or the simulator.
+
+mod approach;
+mod backing_plane;
+mod plane;
+mod plane_evidence;
+mod ransac;
+mod rfid_choice;
+mod voi;
+mod waypoint;
+
+pub use approach::{ApproachParams, ApproachPlan, plan_approach};
+pub use backing_plane::{
+    BackingPlane, BackingPlaneRule, choose_backing_plane, nearest_plane_to_target,
+};
+pub use plane::Plane;
+pub use plane_evidence::{PlanarPatch, PlaneEvidenceRule, assess_plane};
+pub use ransac::{DetectedPlane, PlaneSearchParams, find_planes};
+pub use rfid_choice::{RfidIdentity, TagSignal, identify_tag};
+pub use voi::VolumeOfInterest;
+pub use waypoint::{
+    ApproachWaypoint, Clearance, RobotFootprint, approach_waypoint, check_clearance,
+};

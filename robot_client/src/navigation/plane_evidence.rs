@@ -1,0 +1,355 @@
+//! Telling real planes from slabs that merely hold many points.
+//!
+//! In a dense cloud, any 2 cm slab through clutter, through volumetric noise, or across a wall
+//! at an angle holds well over the paper's 100 points. What such slabs lack is what a surface
+//! has: (1) thinness: widening a real plane's band from ±t to ±2t adds little, since its points
+//! hug the plane, while a slab through a volume grows in proportion; (2) connectivity: a surface
+//! is one connected patch in the plane's own coordinates; (3) extent in both in-plane
+//! directions: a band across a wall is long but only as wide as the slab; (4) flatness: averaged
+//! over a few centimetres, a plane's residuals vanish, while a slab tangent to a curved surface
+//! (a lamp shade) has residuals that rise and fall across it; (5) fill: a surface covers the
+//! rectangle it spans, while thin things that happen to line up (a pole and a chain) do not.
+
+use nalgebra::{Matrix2, Matrix3, Point3, SymmetricEigen, Vector2, Vector3};
+
+use super::plane::Plane;
+
+/// Thresholds of the plane evidence test.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlaneEvidenceRule {
+    /// Points a plane must hold after the test (the paper's 100).
+    pub min_points: usize,
+    /// Most the ±2t band may hold relative to the ±t band (1.0 for a perfect surface, 2.0 for
+    /// uniform volume noise).
+    pub max_thickness_ratio: f64,
+    /// In-plane cell size for the connectivity test, metres: larger than the laser's spacing on
+    /// a surface seen at a slant.
+    pub cell: f64,
+    /// Least width of the patch across its narrowest in-plane direction, metres.
+    pub min_extent: f64,
+    /// Largest RMS of the cells' mean residuals about their linear trend, metres: noise averages
+    /// out within a cell of a plane, the bulge of a curved surface does not.
+    pub max_waviness: f64,
+    /// Least fraction of the rectangle a patch spans that its cells occupy: a surface is filled,
+    /// a lamp pole and a pull chain that happen to be coplanar are not.
+    pub min_fill: f64,
+}
+
+impl Default for PlaneEvidenceRule {
+    fn default() -> Self {
+        Self {
+            min_points: 100,
+            max_thickness_ratio: 1.3,
+            cell: 0.04,
+            min_extent: 0.06,
+            max_waviness: 0.004,
+            min_fill: 0.5,
+        }
+    }
+}
+
+/// A plane that passed the test: its points and shape.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlanarPatch {
+    /// Indices of the points in the largest connected patch within ±t of the plane.
+    pub inliers: Vec<u32>,
+    /// Indices of every point within ±2t over the patch's cells: the surface and its noise.
+    pub band: Vec<u32>,
+    /// Widths along the patch's major and minor in-plane axes, metres.
+    pub extent: [f64; 2],
+    pub thickness_ratio: f64,
+    pub waviness: f64,
+    pub fill: f64,
+}
+
+/// Applies the rule to `plane` over the `alive` points; `None` when it is not a surface.
+pub fn assess_plane(
+    points: &[Point3<f32>],
+    alive: &[bool],
+    plane: &Plane,
+    inlier_distance: f64,
+    rule: &PlaneEvidenceRule,
+) -> Option<PlanarPatch> {
+    let (u, v) = plane.basis();
+    // Points of the ±2t band with their in-plane coordinates and signed residual.
+    let mut band = Vec::new();
+    for (i, p) in points.iter().enumerate() {
+        if !alive[i] {
+            continue;
+        }
+        let p: Point3<f64> = p.cast();
+        let d = plane.signed_distance(&p);
+        if d.abs() < 2.0 * inlier_distance {
+            band.push((i as u32, Vector2::new(u.dot(&p.coords), v.dot(&p.coords)), d));
+        }
+    }
+    if band.len() < rule.min_points {
+        return None;
+    }
+    // Raster the near points in the plane, then label 8-connected occupied cells.
+    let (mut lo, mut hi) = (Vector2::repeat(f64::INFINITY), Vector2::repeat(f64::NEG_INFINITY));
+    for (_, q, _) in &band {
+        lo = lo.inf(q);
+        hi = hi.sup(q);
+    }
+    let cols = (((hi.x - lo.x) / rule.cell) as usize + 1).min(4096);
+    let rows = (((hi.y - lo.y) / rule.cell) as usize + 1).min(4096);
+    let cell_of = |q: &Vector2<f64>| {
+        let c = (((q.x - lo.x) / rule.cell) as usize).min(cols - 1);
+        let r = (((q.y - lo.y) / rule.cell) as usize).min(rows - 1);
+        r * cols + c
+    };
+    let mut count = vec![0u32; cols * rows];
+    let near = |d: f64| d.abs() < inlier_distance;
+    for (_, q, d) in &band {
+        if near(*d) {
+            count[cell_of(q)] += 1;
+        }
+    }
+    let mut label = vec![u32::MAX; cols * rows];
+    let (mut best_label, mut best_count) = (u32::MAX, 0u32);
+    let mut stack = Vec::new();
+    for seed in 0..count.len() {
+        if count[seed] == 0 || label[seed] != u32::MAX {
+            continue;
+        }
+        let id = seed as u32;
+        label[seed] = id;
+        stack.push(seed);
+        let mut total = 0;
+        while let Some(cell) = stack.pop() {
+            total += count[cell];
+            let (r, c) = ((cell / cols) as isize, (cell % cols) as isize);
+            for dr in -1..=1 {
+                for dc in -1..=1 {
+                    let (rr, cc) = (r + dr, c + dc);
+                    if rr < 0 || cc < 0 || rr >= rows as isize || cc >= cols as isize {
+                        continue;
+                    }
+                    let n = rr as usize * cols + cc as usize;
+                    if count[n] > 0 && label[n] == u32::MAX {
+                        label[n] = id;
+                        stack.push(n);
+                    }
+                }
+            }
+        }
+        if total > best_count {
+            (best_label, best_count) = (id, total);
+        }
+    }
+    if (best_count as usize) < rule.min_points {
+        return None;
+    }
+    // Over the patch's cells (and their neighbours, where its edge noise falls), compare bands.
+    let in_patch = |cell: usize| {
+        let (r, c) = ((cell / cols) as isize, (cell % cols) as isize);
+        (-1..=1).any(|dr| {
+            (-1..=1).any(|dc| {
+                let (rr, cc) = (r + dr, c + dc);
+                rr >= 0
+                    && cc >= 0
+                    && rr < rows as isize
+                    && cc < cols as isize
+                    && label[rr as usize * cols + cc as usize] == best_label
+            })
+        })
+    };
+    let mut inliers = Vec::with_capacity(best_count as usize);
+    let mut wide = Vec::new();
+    let (mut sum, mut outer) = (Vector2::zeros(), Matrix2::zeros());
+    // Per cell: the sums of in-plane position and residual of its near points.
+    let mut cell_sums = vec![(Vector2::zeros(), 0.0); cols * rows];
+    for (i, q, d) in &band {
+        let cell = cell_of(q);
+        if near(*d) && label[cell] == best_label {
+            inliers.push(*i);
+            sum += q;
+            outer += q * q.transpose();
+            cell_sums[cell].0 += q;
+            cell_sums[cell].1 += d;
+        }
+        if in_patch(cell) {
+            wide.push(*i);
+        }
+    }
+    let thickness_ratio = wide.len() as f64 / inliers.len() as f64;
+    let cell_means: Vec<(Vector2<f64>, f64)> = cell_sums
+        .iter()
+        .zip(&count)
+        .enumerate()
+        .filter(|&(cell, (_, &n))| n >= 4 && label[cell] == best_label)
+        .map(|(_, (&(q, d), &n))| (q / f64::from(n), d / f64::from(n)))
+        .collect();
+    let waviness = waviness(&cell_means);
+    let n = inliers.len() as f64;
+    let mean = sum / n;
+    let covariance = outer / n - mean * mean.transpose();
+    let eigen = SymmetricEigen::new(covariance);
+    // Width of a uniform spread with this variance: √12 σ.
+    let widths = eigen.eigenvalues.map(|l| (12.0 * l.max(0.0)).sqrt());
+    let extent = [widths.max(), widths.min()];
+    // Fill: the patch's cells against the rectangle its points span, along the principal axes or
+    // along the plane's own (a square patch has no principal axes to speak of).
+    let axes = [
+        eigen.eigenvectors.column(0).into_owned(),
+        eigen.eigenvectors.column(1).into_owned(),
+        Vector2::x(),
+        Vector2::y(),
+    ];
+    let mut span = [(f64::INFINITY, f64::NEG_INFINITY); 4];
+    for (_, q, d) in &band {
+        if near(*d) && label[cell_of(q)] == best_label {
+            for (axis, (lo, hi)) in axes.iter().zip(span.iter_mut()) {
+                let x = axis.dot(q);
+                (*lo, *hi) = (lo.min(x), hi.max(x));
+            }
+        }
+    }
+    let side = |i: usize| span[i].1 - span[i].0 + rule.cell;
+    let rectangle = (side(0) * side(1)).min(side(2) * side(3));
+    let patch_cells = label.iter().filter(|&&l| l == best_label).count() as f64;
+    let fill = patch_cells * rule.cell * rule.cell / rectangle;
+    let surface = thickness_ratio <= rule.max_thickness_ratio
+        && extent[1] >= rule.min_extent
+        && waviness <= rule.max_waviness
+        && fill >= rule.min_fill;
+    surface.then_some(PlanarPatch { inliers, band: wide, extent, thickness_ratio, waviness, fill })
+}
+
+/// RMS of the cells' mean residuals about the best linear trend through them: the trend is a
+/// slightly misfitted plane, what remains is curvature.
+fn waviness(cells: &[(Vector2<f64>, f64)]) -> f64 {
+    if cells.len() < 4 {
+        return 0.0;
+    }
+    let (mut normal, mut rhs) = (Matrix3::zeros(), Vector3::zeros());
+    for (q, d) in cells {
+        let x = Vector3::new(1.0, q.x, q.y);
+        normal += x * x.transpose();
+        rhs += x * *d;
+    }
+    let trend = normal.try_inverse().map_or(Vector3::zeros(), |inverse| inverse * rhs);
+    let square_sum: f64 =
+        cells.iter().map(|(q, d)| (d - trend.dot(&Vector3::new(1.0, q.x, q.y))).powi(2)).sum();
+    (square_sum / cells.len() as f64).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Vector3;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    fn gaussian(rng: &mut ChaCha8Rng) -> f64 {
+        let (a, b): (f64, f64) = (rng.random_range(1e-12..1.0), rng.random());
+        (-2.0 * a.ln()).sqrt() * (std::f64::consts::TAU * b).cos()
+    }
+
+    fn random_unit(rng: &mut ChaCha8Rng) -> Vector3<f64> {
+        loop {
+            let v = Vector3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+            );
+            if v.norm() > 0.1 && v.norm() <= 1.0 {
+                return v.normalize();
+            }
+        }
+    }
+
+    #[test]
+    fn slabs_through_dense_noise_are_not_planes() {
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        // 40 000 points in a 1 m cube: any 2 cm slab through it holds ~800 of them.
+        let points: Vec<Point3<f32>> = (0..40_000)
+            .map(|_| {
+                Point3::new(
+                    rng.random_range(0.0..1.0),
+                    rng.random_range(0.0..1.0),
+                    rng.random_range(0.0..1.0),
+                )
+            })
+            .collect();
+        let alive = vec![true; points.len()];
+        for _ in 0..100 {
+            let normal = random_unit(&mut rng);
+            let through = Point3::new(
+                rng.random_range(0.3..0.7),
+                rng.random_range(0.3..0.7),
+                rng.random_range(0.3..0.7),
+            );
+            let plane = Plane { normal, offset: -normal.dot(&through.coords) };
+            let held =
+                points.iter().filter(|p| plane.signed_distance(&p.cast()).abs() < 0.01).count();
+            assert!(held >= 100, "the slab holds {held} points");
+            assert_eq!(
+                assess_plane(&points, &alive, &plane, 0.01, &PlaneEvidenceRule::default()),
+                None
+            );
+        }
+    }
+
+    #[test]
+    fn slabs_across_a_wall_are_not_planes_but_the_wall_is() {
+        let mut rng = ChaCha8Rng::seed_from_u64(12);
+        let mut accepted = 0;
+        for _ in 0..100 {
+            // A 1 m × 1 m surface in any orientation, laser noise of 6 mm along its normal.
+            let normal = random_unit(&mut rng);
+            let wall = Plane { normal, offset: rng.random_range(-1.0..1.0) };
+            let (u, v) = wall.basis();
+            let origin = Point3::from(-normal * wall.offset);
+            let points: Vec<Point3<f32>> = (0..8000)
+                .map(|_| {
+                    (origin
+                        + u * rng.random_range(-0.5..0.5)
+                        + v * rng.random_range(-0.5..0.5)
+                        + normal * 0.006 * gaussian(&mut rng))
+                    .cast()
+                })
+                .collect();
+            let alive = vec![true; points.len()];
+            let patch = assess_plane(&points, &alive, &wall, 0.015, &PlaneEvidenceRule::default());
+            accepted += usize::from(patch.is_some_and(|p| p.inliers.len() > 7000));
+            // A slab crossing it at 30° to 90° holds a band of hundreds of its points.
+            let across = loop {
+                let candidate = random_unit(&mut rng);
+                if candidate.dot(&normal).abs() <= 0.5 {
+                    break candidate;
+                }
+            };
+            let cut = Plane { normal: across, offset: -across.dot(&origin.coords) };
+            assert_eq!(
+                assess_plane(&points, &alive, &cut, 0.01, &PlaneEvidenceRule::default()),
+                None
+            );
+        }
+        assert_eq!(accepted, 100, "every wall is a plane");
+    }
+
+    #[test]
+    fn a_slab_tangent_to_a_lamp_shade_is_not_a_plane() {
+        let mut rng = ChaCha8Rng::seed_from_u64(13);
+        for _ in 0..20 {
+            // A vertical cylinder of radius 17 cm seen from -x: points on its front half.
+            let radius = 0.17;
+            let points: Vec<Point3<f32>> = (0..6000)
+                .map(|_| {
+                    let a: f64 = rng.random_range(-1.5..1.5);
+                    let r = radius + 0.006 * gaussian(&mut rng);
+                    Point3::new(2.0 - r * a.cos(), r * a.sin(), rng.random_range(1.3..1.55)).cast()
+                })
+                .collect();
+            let alive = vec![true; points.len()];
+            let depth = rng.random_range(0.0..0.015);
+            let tangent = Plane { normal: -Vector3::x(), offset: 2.0 - radius + depth };
+            assert_eq!(
+                assess_plane(&points, &alive, &tangent, 0.015, &PlaneEvidenceRule::default()),
+                None
+            );
+        }
+    }
+}

@@ -1,0 +1,201 @@
+//! Colour segmentation by minimum and maximum HSV thresholds (paper §III-B, after [7]).
+//!
+//! Thresholds come from the tag entry's robot-specific `color_segmentation`; hue is in degrees
+//! and wraps around 0, because the red of the tags straddles it (340..20).
+
+use pps_schema::ColorSegmentation;
+
+use super::mask::Mask;
+use crate::hal::ColorImage;
+
+/// Minimum and maximum hue (degrees), saturation and value (0..=1) of the tag's colour.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HsvThresholds {
+    /// Lower hue bound in 0..360; above `hue_to` when the range wraps through 0.
+    hue_from: f32,
+    hue_to: f32,
+    every_hue: bool,
+    saturation: [f32; 2],
+    value: [f32; 2],
+}
+
+/// Why thresholds cannot be used.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ThresholdError {
+    #[error("hue, saturation and value thresholds must be finite numbers")]
+    NotFinite,
+    #[error("saturation and value are fractions 0..1 (got {0}); hue alone is in degrees")]
+    NotAFraction(f64),
+}
+
+impl HsvThresholds {
+    /// Thresholds from a tag entry, checked: saturation and value must be fractions.
+    pub fn new(segmentation: &ColorSegmentation) -> Result<Self, ThresholdError> {
+        let all = [segmentation.hue_deg, segmentation.saturation, segmentation.value].concat();
+        if !all.iter().all(|v| v.is_finite()) {
+            return Err(ThresholdError::NotFinite);
+        }
+        for v in segmentation.saturation.iter().chain(&segmentation.value) {
+            if !(0.0..=1.0).contains(v) {
+                return Err(ThresholdError::NotAFraction(*v));
+            }
+        }
+        let [from, to] = segmentation.hue_deg;
+        Ok(Self {
+            hue_from: from.rem_euclid(360.0) as f32,
+            hue_to: to.rem_euclid(360.0) as f32,
+            every_hue: to - from >= 360.0,
+            saturation: segmentation.saturation.map(|v| v as f32),
+            value: segmentation.value.map(|v| v as f32),
+        })
+    }
+
+    /// Whether a hue in degrees (0..360) is inside the range, wrapping through 0 when the lower
+    /// bound is above the upper one.
+    pub fn contains_hue(&self, hue: f32) -> bool {
+        if self.every_hue {
+            true
+        } else if self.hue_from <= self.hue_to {
+            (self.hue_from..=self.hue_to).contains(&hue)
+        } else {
+            hue >= self.hue_from || hue <= self.hue_to
+        }
+    }
+
+    /// Whether an 8-bit sRGB colour passes all three thresholds.
+    #[inline]
+    pub fn contains(&self, [r, g, b]: [u8; 3]) -> bool {
+        let max = r.max(g).max(b);
+        let min = r.min(g).min(b);
+        let value = f32::from(max) * (1.0 / 255.0);
+        if value < self.value[0] || value > self.value[1] {
+            return false;
+        }
+        let chroma = f32::from(max - min);
+        // Saturation = chroma / max; compared without dividing, since most pixels fail here.
+        let max_f = f32::from(max);
+        if max == 0 || chroma < self.saturation[0] * max_f || chroma > self.saturation[1] * max_f {
+            return false;
+        }
+        self.contains_hue(hue_deg([r, g, b], max, chroma))
+    }
+}
+
+impl Default for HsvThresholds {
+    fn default() -> Self {
+        Self::new(&ColorSegmentation::default()).expect("the default thresholds are valid")
+    }
+}
+
+/// Hue in degrees (0..360) of an sRGB colour with the given max channel and chroma.
+fn hue_deg([r, g, b]: [u8; 3], max: u8, chroma: f32) -> f32 {
+    if chroma == 0.0 {
+        return 0.0;
+    }
+    let (rf, gf, bf) = (f32::from(r), f32::from(g), f32::from(b));
+    let h = if max == r {
+        (gf - bf) / chroma
+    } else if max == g {
+        (bf - rf) / chroma + 2.0
+    } else {
+        (rf - gf) / chroma + 4.0
+    };
+    (h * 60.0).rem_euclid(360.0)
+}
+
+/// The pixels of `image` whose colour passes `thresholds`: the paper's raw segmented image.
+pub fn segment_color(image: &ColorImage, thresholds: &HsvThresholds) -> Mask {
+    let (width, height) = (image.width as usize, image.height as usize);
+    let mut mask = Mask::new(width, height);
+    for y in 0..height {
+        let pixels = &image.rgb[y * width * 3..(y + 1) * width * 3];
+        let row = mask.row_mut(y);
+        for (i, word) in row.iter_mut().enumerate() {
+            let mut bits = 0u64;
+            let chunk = &pixels[i * 64 * 3..((i + 1) * 64 * 3).min(pixels.len())];
+            for (k, px) in chunk.chunks_exact(3).enumerate() {
+                if thresholds.contains([px[0], px[1], px[2]]) {
+                    bits |= 1 << k;
+                }
+            }
+            *word = bits;
+        }
+    }
+    mask
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn hsv_to_rgb(h: f64, s: f64, v: f64) -> [u8; 3] {
+        let c = v * s;
+        let x = c * (1.0 - ((h / 60.0) % 2.0 - 1.0).abs());
+        let (r, g, b) = match (h / 60.0) as u32 {
+            0 => (c, x, 0.0),
+            1 => (x, c, 0.0),
+            2 => (0.0, c, x),
+            3 => (0.0, x, c),
+            4 => (x, 0.0, c),
+            _ => (c, 0.0, x),
+        };
+        let m = v - c;
+        [r, g, b].map(|ch| ((ch + m) * 255.0).round() as u8)
+    }
+
+    #[test]
+    fn red_hue_range_wraps_through_zero() {
+        let red = HsvThresholds::default();
+        for h in [340.5, 350.0, 359.9, 0.0, 5.0, 19.5] {
+            assert!(red.contains(hsv_to_rgb(h, 0.9, 0.8)), "hue {h} is red");
+        }
+        for h in [25.0, 60.0, 120.0, 200.0, 330.0] {
+            assert!(!red.contains(hsv_to_rgb(h, 0.9, 0.8)), "hue {h} is not red");
+        }
+        let green_to_blue =
+            HsvThresholds::new(&ColorSegmentation { hue_deg: [20.0, 340.0], ..Default::default() })
+                .unwrap();
+        assert!(green_to_blue.contains(hsv_to_rgb(120.0, 0.9, 0.8)));
+        assert!(!green_to_blue.contains(hsv_to_rgb(0.0, 0.9, 0.8)));
+        let negative_start =
+            HsvThresholds::new(&ColorSegmentation { hue_deg: [-20.0, 20.0], ..Default::default() })
+                .unwrap();
+        assert!(negative_start.contains(hsv_to_rgb(345.0, 0.9, 0.8)));
+        let every =
+            HsvThresholds::new(&ColorSegmentation { hue_deg: [0.0, 360.0], ..Default::default() })
+                .unwrap();
+        assert!(every.contains(hsv_to_rgb(200.0, 0.9, 0.8)));
+    }
+
+    #[test]
+    fn saturation_and_value_bound_the_red() {
+        let red = HsvThresholds::default();
+        assert!(!red.contains(hsv_to_rgb(0.0, 0.3, 0.8)), "pink is too pale");
+        assert!(!red.contains(hsv_to_rgb(0.0, 0.9, 0.1)), "too dark to trust");
+        assert!(!red.contains([240, 235, 225]), "off-white wall");
+        assert!(!red.contains([0, 0, 0]));
+        // Reddish-brown wood sits just past the hue bound.
+        assert!(!red.contains(hsv_to_rgb(24.0, 0.7, 0.5)));
+    }
+
+    #[test]
+    fn rejects_fractions_out_of_range() {
+        let opencv_style = ColorSegmentation {
+            hue_deg: [0.0, 10.0],
+            saturation: [157.0, 255.0],
+            value: [34.0, 255.0],
+        };
+        assert_eq!(HsvThresholds::new(&opencv_style), Err(ThresholdError::NotAFraction(157.0)));
+    }
+
+    #[test]
+    fn segments_pixel_by_pixel() {
+        let mut image = ColorImage::new(130, 2);
+        for x in [0usize, 63, 64, 129] {
+            image.rgb[(130 + x) * 3..(130 + x) * 3 + 3].copy_from_slice(&[200, 20, 30]);
+        }
+        let mask = segment_color(&image, &HsvThresholds::default());
+        assert_eq!(mask.count(), 4);
+        assert!(mask.get(0, 1) && mask.get(63, 1) && mask.get(64, 1) && mask.get(129, 1));
+    }
+}

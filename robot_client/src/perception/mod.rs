@@ -1,0 +1,26 @@
+//! Perception: finding a PPS-tag in a registered colour image and laser cloud (paper §III-B),
+//! and telling from brightness whether a light changed (§IV-B.2.b).
+//!
+//! The steps, in the paper's order: [`segment_color`] (HSV thresholds with hue wrap-around),
+//! [`Mask::fill_holes`], [`Mask::close`], [`Mask::open`], [`points_on_mask`] (project the cloud
+//! into the segmented image), [`OccupancyGrid`] (1 cm³), its connected components, and the one
+//! closest to the target; [`locate_tag`] runs them all.
+//!
+//! Perception works on data, never on devices: it takes images and clouds, not traits, and it
+//! never touches the simulator, so recorded data from a real robot runs through the same code.
+
+mod brightness;
+mod hsv;
+mod mask;
+mod occupancy;
+mod projection;
+mod tag;
+
+pub use brightness::{BrightnessChange, LightChange, brightness_change};
+pub use hsv::{HsvThresholds, ThresholdError, segment_color};
+pub use mask::Mask;
+pub use occupancy::{Component, OccupancyGrid};
+pub use projection::{OcclusionTest, points_on_mask};
+pub use tag::{
+    PerceptionError, TagDetection, TagSearchParams, TagSighting, choose_tag, locate_tag,
+};

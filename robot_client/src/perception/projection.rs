@@ -1,0 +1,117 @@
+//! Projecting the laser cloud into the segmented image (paper §III-B: "Points projected onto
+//! red-segmented regions are kept, all others are discarded").
+//!
+//! The camera and the laser sit apart, so the laser sees surfaces the camera does not (the wall
+//! behind a pull chain, say). Projected naively, such a point lands on the red of whatever hides
+//! it and is kept. So the cloud also acts as its own depth image: each small cell of the image
+//! remembers the nearest depth projected into it, and a red point much deeper than that is
+//! hidden from the camera and dropped.
+
+use nalgebra::{Matrix3, Point3, Vector3};
+
+use super::mask::Mask;
+use crate::hal::CameraCalibration;
+
+/// How the occlusion test sees the cloud.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OcclusionTest {
+    /// Angular size of a depth cell, radians: a few laser beam spacings, so that a cell holds a
+    /// point of the nearest surface even where the cloud is sparse.
+    pub cell_angle: f64,
+    /// How far behind the nearest depth of its cell a point may lie and still count as seen,
+    /// metres: the depth a tag spans plus the laser's noise.
+    pub tolerance: f32,
+}
+
+impl Default for OcclusionTest {
+    fn default() -> Self {
+        Self { cell_angle: 0.008, tolerance: 0.03 }
+    }
+}
+
+/// The points of `cloud` (base frame) that project onto set pixels of `mask` and are not hidden
+/// from the camera by nearer points.
+pub fn points_on_mask(
+    cloud: &[Point3<f32>],
+    mask: &Mask,
+    calibration: &CameraCalibration,
+    occlusion: &OcclusionTest,
+) -> Vec<Point3<f32>> {
+    let camera_from_base = calibration.base_from_camera.inverse();
+    let rotation: Matrix3<f32> = camera_from_base.rotation.to_rotation_matrix().matrix().cast();
+    let translation: Vector3<f32> = camera_from_base.translation.vector.cast();
+    let k = &calibration.intrinsics;
+    let (fx, fy, cx, cy) = (k.fx as f32, k.fy as f32, k.cx as f32, k.cy as f32);
+    let (width, height) = (mask.width(), mask.height());
+    let cell = ((k.fx.max(k.fy) * occlusion.cell_angle).round() as usize).max(1);
+    let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
+    let mut nearest = vec![f32::INFINITY; cols * rows];
+    // (index into cloud, depth, cell) of the points that land on red.
+    let mut on_red: Vec<(u32, f32, u32)> = Vec::new();
+    for (i, p) in cloud.iter().enumerate() {
+        let c = rotation * p.coords + translation;
+        if c.z <= 0.05 {
+            continue;
+        }
+        let u = fx * c.x / c.z + cx;
+        let v = fy * c.y / c.z + cy;
+        if !(u >= 0.0 && v >= 0.0 && (u as usize) < width && (v as usize) < height) {
+            continue;
+        }
+        let (x, y) = (u as usize, v as usize);
+        let at = (y / cell) * cols + x / cell;
+        if c.z < nearest[at] {
+            nearest[at] = c.z;
+        }
+        if mask.get(x, y) {
+            on_red.push((i as u32, c.z, at as u32));
+        }
+    }
+    on_red
+        .into_iter()
+        .filter(|&(_, depth, at)| depth <= nearest[at as usize] + occlusion.tolerance)
+        .map(|(i, _, _)| cloud[i as usize])
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::hal::CameraIntrinsics;
+    use nalgebra::{Isometry3, UnitQuaternion};
+
+    /// A camera at the base origin looking along +x (optical z = base x, x = -y, y = -z).
+    fn forward_camera() -> CameraCalibration {
+        let rotation =
+            UnitQuaternion::from_basis_unchecked(&[-Vector3::y(), -Vector3::z(), Vector3::x()]);
+        CameraCalibration {
+            intrinsics: CameraIntrinsics {
+                width: 100,
+                height: 100,
+                fx: 100.0,
+                fy: 100.0,
+                cx: 50.0,
+                cy: 50.0,
+            },
+            base_from_camera: Isometry3::from_parts(Vector3::zeros().into(), rotation),
+        }
+    }
+
+    #[test]
+    fn keeps_points_on_red_and_drops_the_hidden() {
+        let mut mask = Mask::new(100, 100);
+        for y in 40..60 {
+            for x in 40..60 {
+                mask.set(x, y, true);
+            }
+        }
+        let cloud = vec![
+            Point3::new(1.0, 0.0, 0.0),  // on red, nearest in its cell
+            Point3::new(1.5, 0.0, 0.0),  // behind it, hidden from the camera
+            Point3::new(1.0, 0.4, 0.0),  // left of the red patch
+            Point3::new(-1.0, 0.0, 0.0), // behind the camera
+        ];
+        let kept = points_on_mask(&cloud, &mask, &forward_camera(), &OcclusionTest::default());
+        assert_eq!(kept, vec![Point3::new(1.0, 0.0, 0.0)]);
+    }
+}

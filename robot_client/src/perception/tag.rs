@@ -1,0 +1,192 @@
+//! Finding the PPS-tag near a target point: the paper's §III-B, step by step.
+
+use nalgebra::Point3;
+
+use super::hsv::{HsvThresholds, segment_color};
+use super::occupancy::{Component, OccupancyGrid};
+use super::projection::{OcclusionTest, points_on_mask};
+use crate::hal::{CameraCalibration, ColorImage, PointCloud};
+use crate::timings::StepTimings;
+
+/// The knobs of the tag search. The defaults are the paper's where it gives a number (1 cm
+/// voxels) and EL-E-like otherwise.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TagSearchParams {
+    /// The tag's colour, from the entry's robot-specific `color_segmentation`.
+    pub thresholds: HsvThresholds,
+    /// Half-size of the square closing element, pixels: bridges folds and glints.
+    pub close_radius_px: usize,
+    /// Half-size of the square opening element, pixels: removes specks of noise.
+    pub open_radius_px: usize,
+    pub occlusion: OcclusionTest,
+    /// Edge of the occupancy grid's voxels, metres.
+    pub voxel_size: f32,
+    /// Fewest laser points a red component needs to count as a tag, not a speck.
+    pub min_points: usize,
+    /// A tag further than this from the target (metres, to its nearest point) is not the one the
+    /// person meant.
+    pub max_distance: f64,
+    /// Two tags whose distances to the target differ by less than this (metres) are ambiguous.
+    pub ambiguity_margin: f64,
+    /// Centroids closer than this (metres) are one tag cut in two by a depth step (its edge seen
+    /// against the surface behind), never two tags.
+    pub min_tag_separation: f64,
+}
+
+impl Default for TagSearchParams {
+    fn default() -> Self {
+        Self {
+            thresholds: HsvThresholds::default(),
+            close_radius_px: 2,
+            open_radius_px: 1,
+            occlusion: OcclusionTest::default(),
+            voxel_size: 0.01,
+            min_points: 10,
+            max_distance: 0.5,
+            ambiguity_margin: 0.08,
+            min_tag_separation: 0.12,
+        }
+    }
+}
+
+/// A red lump of laser points taken for a tag.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TagDetection {
+    /// Centroid of the tag's points, base frame, metres.
+    pub centroid: Point3<f64>,
+    /// Laser points and occupied voxels in the tag's component.
+    pub points: usize,
+    pub voxels: usize,
+    /// From the target to the tag's nearest point, metres.
+    pub distance_to_target: f64,
+}
+
+impl From<&Component> for TagDetection {
+    fn from(c: &Component) -> Self {
+        Self {
+            centroid: c.centroid,
+            points: c.points,
+            voxels: c.voxels,
+            distance_to_target: c.distance_to_target,
+        }
+    }
+}
+
+/// What the search saw near the target.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TagSighting {
+    /// One tag is clearly the nearest.
+    Found(TagDetection),
+    /// Two tags are about equally near: the caller should re-aim, read RFID closer, or cross-check.
+    Ambiguous { nearest: TagDetection, other: TagDetection },
+}
+
+impl TagSighting {
+    /// The tag nearest the target, ambiguous or not.
+    pub fn nearest(&self) -> &TagDetection {
+        match self {
+            Self::Found(tag) | Self::Ambiguous { nearest: tag, .. } => tag,
+        }
+    }
+
+    pub fn is_ambiguous(&self) -> bool {
+        matches!(self, Self::Ambiguous { .. })
+    }
+}
+
+/// Why the search could not run at all (as opposed to finding nothing).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PerceptionError {
+    #[error("the image is {image:?} pixels but the camera calibration is for {camera:?}")]
+    ImageSizeMismatch { image: (u32, u32), camera: (u32, u32) },
+}
+
+/// Finds the tag nearest `target` (base frame) in a registered image and cloud, timing each step
+/// into `timings`. `Ok(None)` when nothing red enough lies near the target.
+pub fn locate_tag(
+    image: &ColorImage,
+    cloud: &PointCloud,
+    calibration: &CameraCalibration,
+    target: &Point3<f64>,
+    params: &TagSearchParams,
+    timings: &mut StepTimings,
+) -> Result<Option<TagSighting>, PerceptionError> {
+    let k = &calibration.intrinsics;
+    if (image.width, image.height) != (k.width, k.height) {
+        return Err(PerceptionError::ImageSizeMismatch {
+            image: (image.width, image.height),
+            camera: (k.width, k.height),
+        });
+    }
+    // 1. 2D segmentation of red by minimum and maximum HSV thresholds.
+    let raw = timings.time("segment", || segment_color(image, &params.thresholds));
+    // 2. Morphology on the raw segmentation: hole filling, closing, then opening.
+    let red = timings.time("morphology", || {
+        raw.fill_holes().close(params.close_radius_px).open(params.open_radius_px)
+    });
+    // 3. Project the cloud into the segmented image; keep points that land on red.
+    let red_points = timings
+        .time("project", || points_on_mask(&cloud.points, &red, calibration, &params.occlusion));
+    // 4. A 1 cm³ occupancy grid of the red points.
+    let grid =
+        timings.time("occupancy_grid", || OccupancyGrid::new(&red_points, params.voxel_size));
+    // 5. 3D connected components; keep the one closest to the target.
+    Ok(timings.time("components", || choose_tag(grid.connected_components(target), params)))
+}
+
+/// The component closest to the target among those big enough to be a tag and near enough to be
+/// the one meant; ambiguous when another tag, apart from it, is nearly as close.
+pub fn choose_tag(components: Vec<Component>, params: &TagSearchParams) -> Option<TagSighting> {
+    let mut candidates: Vec<Component> = components
+        .into_iter()
+        .filter(|c| c.points >= params.min_points && c.distance_to_target <= params.max_distance)
+        .collect();
+    candidates.sort_by(|a, b| a.distance_to_target.total_cmp(&b.distance_to_target));
+    let nearest = TagDetection::from(candidates.first()?);
+    let rival = candidates[1..].iter().find(|c| {
+        (c.centroid - nearest.centroid).norm() >= params.min_tag_separation
+            && c.distance_to_target - nearest.distance_to_target < params.ambiguity_margin
+    });
+    Some(match rival {
+        Some(other) => TagSighting::Ambiguous { nearest, other: other.into() },
+        _ => TagSighting::Found(nearest),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn component(distance: f64, points: usize) -> Component {
+        Component {
+            centroid: Point3::new(distance, 0.0, 0.0),
+            points,
+            voxels: points / 2,
+            distance_to_target: distance,
+        }
+    }
+
+    #[test]
+    fn specks_and_far_lumps_are_not_tags() {
+        let params = TagSearchParams::default();
+        assert_eq!(choose_tag(vec![component(0.01, 3), component(0.9, 400)], &params), None);
+        let found =
+            choose_tag(vec![component(0.01, 3), component(0.05, 40), component(0.3, 400)], &params);
+        assert_eq!(found, Some(TagSighting::Found(TagDetection::from(&component(0.05, 40)))));
+    }
+
+    #[test]
+    fn two_tags_about_as_near_are_ambiguous_but_a_fringe_is_not_a_tag() {
+        let params = TagSearchParams::default();
+        let mut apart = component(0.15, 80);
+        apart.centroid = Point3::new(0.0, 0.3, 0.0);
+        let sighting = choose_tag(vec![component(0.12, 50), apart], &params).unwrap();
+        assert!(sighting.is_ambiguous());
+        assert_eq!(sighting.nearest().points, 50);
+        // A strip of the surface behind a tag's edge, 5 cm from its centroid.
+        let mut fringe = component(0.13, 15);
+        fringe.centroid = Point3::new(0.12, 0.05, 0.0);
+        let sighting = choose_tag(vec![component(0.12, 500), fringe], &params).unwrap();
+        assert!(!sighting.is_ambiguous());
+    }
+}

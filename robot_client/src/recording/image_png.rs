@@ -1,0 +1,88 @@
+//! Colour images as PNG. Reads any 8- or 16-bit grey, grey-alpha, RGB, RGBA or palette PNG into
+//! 8-bit RGB; writes 8-bit RGB.
+
+use std::fs::File;
+use std::io::{BufReader, BufWriter};
+use std::path::Path;
+
+use super::{RecordingError, io_error};
+use crate::hal::ColorImage;
+
+/// Reads a PNG into 8-bit RGB.
+pub fn read_png(path: &Path) -> Result<ColorImage, RecordingError> {
+    let file = File::open(path).map_err(|e| io_error(path, e))?;
+    let png_error =
+        |reason: String| RecordingError::Png { path: path.display().to_string(), reason };
+    let mut decoder = png::Decoder::new(BufReader::new(file));
+    // Palette and low bit depths become 8-bit channels; 16-bit keeps its high byte.
+    decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
+    let mut reader = decoder.read_info().map_err(|e| png_error(e.to_string()))?;
+    let mut buffer = vec![0; reader.output_buffer_size()];
+    let frame = reader.next_frame(&mut buffer).map_err(|e| png_error(e.to_string()))?;
+    buffer.truncate(frame.buffer_size());
+    let (width, height) = (frame.width, frame.height);
+    let pixels = width as usize * height as usize;
+    let channels = match frame.color_type {
+        png::ColorType::Grayscale => 1,
+        png::ColorType::GrayscaleAlpha => 2,
+        png::ColorType::Rgb => 3,
+        png::ColorType::Rgba => 4,
+        png::ColorType::Indexed => return Err(png_error("palette was not expanded".into())),
+    };
+    if frame.bit_depth != png::BitDepth::Eight || buffer.len() < pixels * channels {
+        return Err(png_error(format!("unexpected bit depth {:?}", frame.bit_depth)));
+    }
+    let rgb = match channels {
+        3 => buffer,
+        _ => {
+            let mut rgb = Vec::with_capacity(pixels * 3);
+            for px in buffer.chunks_exact(channels) {
+                if channels <= 2 {
+                    rgb.extend_from_slice(&[px[0]; 3]);
+                } else {
+                    rgb.extend_from_slice(&px[..3]);
+                }
+            }
+            rgb
+        }
+    };
+    Ok(ColorImage { width, height, rgb })
+}
+
+/// Writes 8-bit RGB PNG.
+pub fn write_png(path: &Path, image: &ColorImage) -> Result<(), RecordingError> {
+    let file = File::create(path).map_err(|e| io_error(path, e))?;
+    let to_io = |e: png::EncodingError| io_error(path, std::io::Error::other(e));
+    let mut encoder = png::Encoder::new(BufWriter::new(file), image.width, image.height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header().map_err(to_io)?;
+    writer.write_image_data(&image.rgb).map_err(to_io)?;
+    writer.finish().map_err(to_io)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_trips_rgb() {
+        let mut image = ColorImage::new(7, 5);
+        for (i, c) in image.rgb.iter_mut().enumerate() {
+            *c = (i * 37 % 256) as u8;
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("image.png");
+        write_png(&path, &image).unwrap();
+        assert_eq!(read_png(&path).unwrap(), image);
+    }
+
+    #[test]
+    fn rejects_what_is_not_a_png() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("image.png");
+        std::fs::write(&path, b"ply\nformat ascii 1.0\n").unwrap();
+        let message = read_png(&path).unwrap_err().to_string();
+        assert!(message.contains("not a PNG"), "{message}");
+    }
+}

@@ -1,0 +1,278 @@
+//! Typed calls to the registry for everything a robot does with it.
+
+use std::path::Path;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use pps_schema::{EffectiveEntry, Epc, RobotId, Trial};
+use reqwest::StatusCode;
+use reqwest::header::{ETAG, IF_NONE_MATCH};
+use serde_json::Value;
+
+use super::change_watch::ChangeWatch;
+use super::entry_cache::{CachedEntry, EntryCache};
+use super::error::RegistryError;
+use super::outbox::TrialOutbox;
+
+/// Where an effective entry came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Source {
+    /// Read from the registry just now.
+    Registry,
+    /// Cached, and the registry confirmed it is current (304).
+    Revalidated,
+    /// Cached, and the live change feed announced no change since.
+    Fresh,
+    /// Cached; the registry could not be reached, so it may be out of date.
+    Offline,
+}
+
+/// An effective entry and how it was obtained.
+#[derive(Debug, Clone)]
+pub struct Fetched {
+    pub entry: EffectiveEntry,
+    pub etag: String,
+    pub source: Source,
+}
+
+/// What one attempt to empty the outbox did.
+#[derive(Debug, Default, Clone, Copy, PartialEq, Eq)]
+pub struct FlushReport {
+    /// Stored by the registry now.
+    pub uploaded: usize,
+    /// The registry already had them (an earlier upload whose answer was lost).
+    pub already_stored: usize,
+    /// Refused for good and set aside in the outbox's `rejected/`.
+    pub rejected: usize,
+    /// Still waiting, because the registry could not be reached.
+    pub remaining: usize,
+}
+
+/// A robot's connection to the registry.
+#[derive(Debug, Clone)]
+pub struct RegistryClient {
+    http: reqwest::Client,
+    base: String,
+    token: String,
+    robot: RobotId,
+    cache: Arc<EntryCache>,
+    outbox: TrialOutbox,
+    feed_live: Arc<AtomicBool>,
+}
+
+impl RegistryClient {
+    /// A client for `robot` at `base_url`, keeping its cache and outbox under `state_dir`.
+    pub fn new(
+        base_url: &str,
+        token: &str,
+        robot: RobotId,
+        state_dir: &Path,
+    ) -> Result<Self, RegistryError> {
+        let http = reqwest::Client::builder()
+            .connect_timeout(std::time::Duration::from_secs(3))
+            .timeout(std::time::Duration::from_secs(15))
+            .build()
+            .map_err(RegistryError::Unreachable)?;
+        Ok(Self {
+            http,
+            base: base_url.trim_end_matches('/').to_owned(),
+            token: token.to_owned(),
+            robot,
+            cache: Arc::new(EntryCache::open(state_dir.join("entries"))?),
+            outbox: TrialOutbox::open(state_dir.join("outbox"))?,
+            feed_live: Arc::new(AtomicBool::new(false)),
+        })
+    }
+
+    /// Uses `http` for every call, e.g. one that trusts the LAN's own certificate authority.
+    pub fn with_http(mut self, http: reqwest::Client) -> Self {
+        self.http = http;
+        self
+    }
+
+    pub fn robot(&self) -> &RobotId {
+        &self.robot
+    }
+
+    pub fn outbox(&self) -> &TrialOutbox {
+        &self.outbox
+    }
+
+    /// The entry for `epc` as this robot should use it: from the cache when the change feed
+    /// vouches for it, revalidated otherwise, and from the cache when the registry is away.
+    pub async fn effective_entry(&self, epc: &Epc) -> Result<Fetched, RegistryError> {
+        let key = epc.as_hex();
+        let cached = self.cache.get(key);
+        if let Some((cached, true)) = &cached {
+            return Ok(Fetched {
+                entry: parse_entry(&cached.entry)?,
+                etag: cached.etag.clone(),
+                source: Source::Fresh,
+            });
+        }
+        let url = format!("{}/api/v1/robots/{}/tags/{key}", self.base, self.robot);
+        let mut request = self.http.get(url).bearer_auth(&self.token);
+        if let Some((cached, _)) = &cached {
+            request = request.header(IF_NONE_MATCH, &cached.etag);
+        }
+        let live = self.feed_live.load(Ordering::Acquire);
+        let response = match request.send().await {
+            Ok(response) => response,
+            Err(error) => {
+                return match cached {
+                    Some((cached, _)) => Ok(Fetched {
+                        entry: parse_entry(&cached.entry)?,
+                        etag: cached.etag,
+                        source: Source::Offline,
+                    }),
+                    None => Err(RegistryError::Unreachable(error)),
+                };
+            }
+        };
+        match response.status() {
+            StatusCode::NOT_MODIFIED => {
+                let (cached, _) = cached.ok_or_else(|| {
+                    RegistryError::Malformed("304 for an entry never read".into())
+                })?;
+                self.cache.confirm(key, live);
+                Ok(Fetched {
+                    entry: parse_entry(&cached.entry)?,
+                    etag: cached.etag,
+                    source: Source::Revalidated,
+                })
+            }
+            StatusCode::OK => {
+                let etag = response
+                    .headers()
+                    .get(ETAG)
+                    .and_then(|v| v.to_str().ok())
+                    .unwrap_or_default()
+                    .to_owned();
+                let entry: Value =
+                    response.json().await.map_err(|e| RegistryError::Malformed(e.to_string()))?;
+                let parsed = parse_entry(&entry)?;
+                self.cache.put(key, CachedEntry { etag: etag.clone(), entry }, live)?;
+                Ok(Fetched { entry: parsed, etag, source: Source::Registry })
+            }
+            status => {
+                if status == StatusCode::NOT_FOUND {
+                    self.cache.remove(key);
+                }
+                Err(RegistryError::from_response(response).await)
+            }
+        }
+    }
+
+    /// Records a trial: durably into the outbox first, then uploads what is waiting.
+    pub async fn record_trial(&self, trial: &Trial) -> Result<FlushReport, RegistryError> {
+        self.outbox.push(trial)?;
+        self.flush().await
+    }
+
+    /// Uploads waiting trials, oldest first, until the outbox is empty or the registry is
+    /// unreachable. Ids are chosen by the robot, so a trial uploaded twice is stored once.
+    pub async fn flush(&self) -> Result<FlushReport, RegistryError> {
+        let mut report = FlushReport::default();
+        let pending = self.outbox.pending()?;
+        for (index, waiting) in pending.iter().enumerate() {
+            let url = format!("{}/api/v1/trials/{}", self.base, waiting.trial.id);
+            let sent =
+                self.http.put(url).bearer_auth(&self.token).json(&waiting.trial).send().await;
+            let response = match sent {
+                Ok(response) => response,
+                Err(_) => {
+                    report.remaining = pending.len() - index;
+                    return Ok(report);
+                }
+            };
+            match response.status() {
+                StatusCode::CREATED => report.uploaded += 1,
+                StatusCode::OK => report.already_stored += 1,
+                status
+                    if status.is_server_error()
+                        || status == StatusCode::UNAUTHORIZED
+                        || status == StatusCode::TOO_MANY_REQUESTS =>
+                {
+                    // Passing trouble (or a credential to fix): keep it and try later.
+                    report.remaining = pending.len() - index;
+                    return Ok(report);
+                }
+                _ => {
+                    let refusal = RegistryError::from_response(response).await;
+                    self.outbox.reject(waiting, &refusal.to_string())?;
+                    report.rejected += 1;
+                    continue;
+                }
+            }
+            self.outbox.uploaded(waiting)?;
+        }
+        Ok(report)
+    }
+
+    /// Sets the person's verdict on a recorded trial.
+    pub async fn confirm_trial(
+        &self,
+        id: uuid::Uuid,
+        confirmed: Option<bool>,
+    ) -> Result<(), RegistryError> {
+        let url = format!("{}/api/v1/trials/{id}", self.base);
+        let body = serde_json::json!({ "confirmed": confirmed });
+        let response = self
+            .http
+            .patch(url)
+            .bearer_auth(&self.token)
+            .header(reqwest::header::CONTENT_TYPE, "application/merge-patch+json")
+            .body(body.to_string())
+            .send()
+            .await
+            .map_err(RegistryError::Unreachable)?;
+        if response.status().is_success() {
+            Ok(())
+        } else {
+            Err(RegistryError::from_response(response).await)
+        }
+    }
+
+    /// A trial as the registry stored it.
+    pub async fn trial(&self, id: uuid::Uuid) -> Result<Trial, RegistryError> {
+        self.get_json(&format!("/api/v1/trials/{id}")).await
+    }
+
+    /// This robot's record in the robot registry.
+    pub async fn robot_record(&self) -> Result<Value, RegistryError> {
+        self.get_json(&format!("/api/v1/robots/{}", self.robot)).await
+    }
+
+    /// Keeps the entry cache in step with the registry's change feed while it runs.
+    pub fn watch_changes(&self) -> ChangeWatch {
+        ChangeWatch::start(
+            self.http.clone(),
+            self.base.clone(),
+            self.token.clone(),
+            self.cache.clone(),
+            self.feed_live.clone(),
+        )
+    }
+
+    async fn get_json<T: serde::de::DeserializeOwned>(
+        &self,
+        path: &str,
+    ) -> Result<T, RegistryError> {
+        let response = self
+            .http
+            .get(format!("{}{path}", self.base))
+            .bearer_auth(&self.token)
+            .send()
+            .await
+            .map_err(RegistryError::Unreachable)?;
+        if !response.status().is_success() {
+            return Err(RegistryError::from_response(response).await);
+        }
+        response.json().await.map_err(|e| RegistryError::Malformed(e.to_string()))
+    }
+}
+
+fn parse_entry(entry: &Value) -> Result<EffectiveEntry, RegistryError> {
+    serde_json::from_value(entry.clone())
+        .map_err(|e| RegistryError::Malformed(format!("effective entry: {e}")))
+}

@@ -1,0 +1,167 @@
+//! The trial outbox: every trial is written to disk before anything tries to upload it, so a
+//! robot with no server, or one that crashes or restarts, loses no trial.
+//!
+//! One file per trial, named so that a directory listing is the order of recording. Files are
+//! written to a temporary name, synced, then renamed, so a crash leaves either the whole trial
+//! or nothing. Trials the registry refuses for good are moved to `rejected/` with the reason,
+//! never deleted.
+
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::{SystemTime, UNIX_EPOCH};
+
+use pps_schema::Trial;
+
+#[derive(Debug, Clone)]
+pub struct TrialOutbox {
+    dir: PathBuf,
+}
+
+/// A trial waiting in the outbox.
+#[derive(Debug, Clone)]
+pub struct PendingTrial {
+    pub path: PathBuf,
+    pub trial: Trial,
+}
+
+impl TrialOutbox {
+    /// Opens (creating) the outbox in `dir`, dropping half-written files from a crash.
+    pub fn open(dir: impl Into<PathBuf>) -> std::io::Result<Self> {
+        let dir = dir.into();
+        fs::create_dir_all(dir.join("rejected"))?;
+        for entry in fs::read_dir(&dir)? {
+            let path = entry?.path();
+            if path.extension().is_some_and(|e| e == "tmp") {
+                fs::remove_file(path)?;
+            }
+        }
+        Ok(Self { dir })
+    }
+
+    /// Stores a trial durably. Pushing a trial whose id is already waiting changes nothing.
+    pub fn push(&self, trial: &Trial) -> std::io::Result<()> {
+        let suffix = format!("-{}.json", trial.id);
+        if self.files()?.iter().any(|path| path.to_string_lossy().ends_with(&suffix)) {
+            return Ok(());
+        }
+        let nanos = SystemTime::now().duration_since(UNIX_EPOCH).map_or(0, |d| d.as_nanos());
+        let path = self.dir.join(format!("{nanos:020}{suffix}"));
+        let temporary = path.with_extension("tmp");
+        let mut file = fs::File::create(&temporary)?;
+        file.write_all(&serde_json::to_vec_pretty(trial)?)?;
+        file.sync_all()?;
+        fs::rename(&temporary, &path)?;
+        // The rename is durable only once the directory itself is synced.
+        fs::File::open(&self.dir)?.sync_all()
+    }
+
+    /// Trials waiting for upload, oldest first. A file that cannot be read is set aside.
+    pub fn pending(&self) -> std::io::Result<Vec<PendingTrial>> {
+        let mut pending = Vec::new();
+        for path in self.files()? {
+            match fs::read(&path).ok().and_then(|bytes| serde_json::from_slice(&bytes).ok()) {
+                Some(trial) => pending.push(PendingTrial { path, trial }),
+                None => self.set_aside(&path, "the file is not a readable trial")?,
+            }
+        }
+        Ok(pending)
+    }
+
+    pub fn len(&self) -> std::io::Result<usize> {
+        Ok(self.files()?.len())
+    }
+
+    pub fn is_empty(&self) -> std::io::Result<bool> {
+        Ok(self.len()? == 0)
+    }
+
+    /// The registry has the trial: forget it.
+    pub fn uploaded(&self, trial: &PendingTrial) -> std::io::Result<()> {
+        fs::remove_file(&trial.path)
+    }
+
+    /// The registry refused the trial for good: keep it aside with the reason, for a person.
+    pub fn reject(&self, trial: &PendingTrial, reason: &str) -> std::io::Result<()> {
+        self.set_aside(&trial.path, reason)
+    }
+
+    /// Trials set aside, with why.
+    pub fn rejected(&self) -> std::io::Result<Vec<(PathBuf, String)>> {
+        let mut rejected = Vec::new();
+        for entry in fs::read_dir(self.dir.join("rejected"))? {
+            let path = entry?.path();
+            if path.extension().is_some_and(|e| e == "json") {
+                let reason = fs::read_to_string(path.with_extension("reason")).unwrap_or_default();
+                rejected.push((path, reason));
+            }
+        }
+        rejected.sort();
+        Ok(rejected)
+    }
+
+    fn set_aside(&self, path: &Path, reason: &str) -> std::io::Result<()> {
+        let name = path.file_name().unwrap_or_default();
+        let target = self.dir.join("rejected").join(name);
+        fs::write(target.with_extension("reason"), reason)?;
+        fs::rename(path, &target)?;
+        fs::File::open(&self.dir)?.sync_all()
+    }
+
+    fn files(&self) -> std::io::Result<Vec<PathBuf>> {
+        let mut files = Vec::new();
+        for entry in fs::read_dir(&self.dir)? {
+            let path = entry?.path();
+            if path.is_file() && path.extension().is_some_and(|e| e == "json") {
+                files.push(path);
+            }
+        }
+        files.sort();
+        Ok(files)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    pub(crate) fn trial(n: u8) -> Trial {
+        serde_json::from_value(serde_json::json!({
+            "id": format!("00000000-0000-4000-8000-0000000000{n:02}"),
+            "epc": "355AB1C60000002000000001", "robot": "el-e-1", "action": "on",
+            "behavior": "push_top", "started_at": "2026-11-22T10:00:00Z",
+            "finished_at": "2026-11-22T10:00:30Z", "outcome": "success"
+        }))
+        .unwrap()
+    }
+
+    #[test]
+    fn trials_survive_reopening_in_order_and_once() {
+        let dir = tempfile::tempdir().unwrap();
+        let outbox = TrialOutbox::open(dir.path()).unwrap();
+        for n in [3, 1, 2, 1] {
+            outbox.push(&trial(n)).unwrap();
+        }
+        std::fs::write(dir.path().join("00000000000000000009-x.tmp"), b"{half").unwrap();
+        let reopened = TrialOutbox::open(dir.path()).unwrap();
+        let pending = reopened.pending().unwrap();
+        let ids: Vec<String> =
+            pending.iter().map(|p| p.trial.id.to_string()[34..].to_owned()).collect();
+        assert_eq!(ids, ["03", "01", "02"], "recording order, each once");
+        reopened.uploaded(&pending[0]).unwrap();
+        reopened.reject(&pending[1], "409: another trial has this id").unwrap();
+        assert_eq!(reopened.len().unwrap(), 1);
+        let rejected = reopened.rejected().unwrap();
+        assert_eq!(rejected.len(), 1);
+        assert!(rejected[0].1.contains("409"));
+    }
+
+    #[test]
+    fn unreadable_files_are_set_aside_not_lost() {
+        let dir = tempfile::tempdir().unwrap();
+        let outbox = TrialOutbox::open(dir.path()).unwrap();
+        std::fs::write(dir.path().join("00000000000000000001-broken.json"), b"not json").unwrap();
+        assert!(outbox.pending().unwrap().is_empty());
+        assert_eq!(outbox.rejected().unwrap().len(), 1);
+    }
+}

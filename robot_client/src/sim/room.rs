@@ -1,0 +1,308 @@
+//! The room of the paper's experiments (§V): walls, and the five PPS-tagged devices, the
+//! switches on a wall at about 1.2 m, the lamp, drawer and trash can each next to a wall, plus
+//! reddish-brown wooden furniture to tempt the red segmentation.
+
+use nalgebra::{Point3, Vector3};
+use pps_schema::Epc;
+
+use super::scene::{LightSource, Scene, Surface, WallFrame};
+
+/// The five devices of the paper.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum DeviceKind {
+    LightSwitch,
+    AdaLightSwitch,
+    Lamp,
+    Drawer,
+    TrashCan,
+}
+
+impl DeviceKind {
+    pub const ALL: [Self; 5] =
+        [Self::LightSwitch, Self::AdaLightSwitch, Self::Lamp, Self::Drawer, Self::TrashCan];
+
+    /// The entry's `type`, as the paper and the seed tags name it.
+    pub fn type_name(self) -> &'static str {
+        match self {
+            Self::LightSwitch => "light switch",
+            Self::AdaLightSwitch => "ada light switch",
+            Self::Lamp => "lamp",
+            Self::Drawer => "drawer",
+            Self::TrashCan => "trash can",
+        }
+    }
+
+    /// The EPC of the device's tag (the seed tags' keys).
+    pub fn epc(self) -> Epc {
+        let hex = match self {
+            Self::LightSwitch => "355AB1C60000001000000001",
+            Self::AdaLightSwitch => "355AB1C60000002000000001",
+            Self::Lamp => "355AB1C60000003000000001",
+            Self::Drawer => "355AB1C60000004000000001",
+            Self::TrashCan => "355AB1C60000005000000001",
+        };
+        Epc::parse(hex).expect("the seed EPCs are valid")
+    }
+
+    /// Accepts the type name with spaces, hyphens or underscores (`trash-can`, `ada light switch`).
+    pub fn parse(name: &str) -> Option<Self> {
+        let wanted = name.trim().to_ascii_lowercase().replace(['-', '_'], " ");
+        Self::ALL.into_iter().find(|k| k.type_name() == wanted)
+    }
+}
+
+/// A tagged device: where its tag is and which way the tag faces, world frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Device {
+    pub kind: DeviceKind,
+    pub epc: Epc,
+    /// Centre of the red tag material, metres.
+    pub tag_center: Point3<f64>,
+    /// Unit horizontal direction the tag faces, into the room.
+    pub tag_normal: Vector3<f64>,
+}
+
+/// Variations of the room for tests.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RoomOptions {
+    /// Red tags as in the paper; false paints them blue, leaving nothing red but wood grain.
+    pub red_tags: bool,
+    /// Distance along the wall between the flip switch and the rocker switch, metres.
+    pub switch_spacing: f32,
+    pub wood_furniture: bool,
+}
+
+impl Default for RoomOptions {
+    fn default() -> Self {
+        Self { red_tags: true, switch_spacing: 2.5, wood_furniture: true }
+    }
+}
+
+/// The room: its geometry, its devices and where its lights are.
+#[derive(Debug, Clone)]
+pub struct Room {
+    pub scene: Scene,
+    pub devices: Vec<Device>,
+    pub ceiling_light: Point3<f32>,
+    pub lamp_light: Point3<f32>,
+}
+
+const WIDTH: f32 = 7.0; // along x
+const DEPTH: f32 = 6.0; // along y
+const HEIGHT: f32 = 2.5;
+
+const WALL: Surface = Surface::Matte([0.70, 0.67, 0.60]);
+const FLOOR: Surface = Surface::Matte([0.30, 0.28, 0.25]);
+const PLASTIC: Surface = Surface::Matte([0.74, 0.73, 0.69]);
+const LAMINATE: Surface = Surface::Matte([0.60, 0.60, 0.57]);
+const METAL: Surface = Surface::Matte([0.35, 0.35, 0.37]);
+const DARK_PLASTIC: Surface = Surface::Matte([0.12, 0.12, 0.13]);
+const BLUE: Surface = Surface::Matte([0.05, 0.09, 0.35]);
+const FOAM: Surface = Surface::Matte([0.55, 0.030, 0.035]);
+const DYCEM: Surface = Surface::Matte([0.50, 0.025, 0.040]);
+const TOWEL: Surface = Surface::Matte([0.45, 0.020, 0.030]);
+
+impl Room {
+    /// The paper's room with the default options.
+    pub fn paper() -> Self {
+        Self::new(RoomOptions::default())
+    }
+
+    pub fn new(options: RoomOptions) -> Self {
+        let red = |s: Surface| if options.red_tags { s } else { BLUE };
+        let north = WallFrame { origin: Point3::new(0.0, DEPTH, 0.0), out: -Vector3::y() };
+        let east = WallFrame { origin: Point3::new(WIDTH, DEPTH, 0.0), out: -Vector3::x() };
+        let south = WallFrame { origin: Point3::new(WIDTH, 0.0, 0.0), out: Vector3::y() };
+        let west = WallFrame { origin: Point3::origin(), out: Vector3::x() };
+        let mut parts = vec![
+            north.cuboid(
+                "north wall",
+                [WIDTH / 2.0, -0.05, HEIGHT / 2.0],
+                [WIDTH / 2.0 + 0.1, 0.05, HEIGHT / 2.0],
+                WALL,
+            ),
+            south.cuboid(
+                "south wall",
+                [WIDTH / 2.0, -0.05, HEIGHT / 2.0],
+                [WIDTH / 2.0 + 0.1, 0.05, HEIGHT / 2.0],
+                WALL,
+            ),
+            east.cuboid(
+                "east wall",
+                [DEPTH / 2.0, -0.05, HEIGHT / 2.0],
+                [DEPTH / 2.0 + 0.1, 0.05, HEIGHT / 2.0],
+                WALL,
+            ),
+            west.cuboid(
+                "west wall",
+                [DEPTH / 2.0, -0.05, HEIGHT / 2.0],
+                [DEPTH / 2.0 + 0.1, 0.05, HEIGHT / 2.0],
+                WALL,
+            ),
+            north.cuboid(
+                "floor",
+                [WIDTH / 2.0, DEPTH / 2.0, -0.05],
+                [WIDTH / 2.0, DEPTH / 2.0, 0.05],
+                FLOOR,
+            ),
+            north.cuboid(
+                "ceiling",
+                [WIDTH / 2.0, DEPTH / 2.0, HEIGHT + 0.05],
+                [WIDTH / 2.0, DEPTH / 2.0, 0.05],
+                Surface::Matte([0.75; 3]),
+            ),
+        ];
+        let ceiling_light = Point3::new(WIDTH / 2.0, DEPTH / 2.0, HEIGHT - 0.1);
+        parts.push(north.cylinder(
+            "ceiling fixture",
+            [WIDTH / 2.0, DEPTH / 2.0, HEIGHT - 0.02],
+            [0.0, 0.0, 1.0],
+            0.02,
+            0.25,
+            Surface::Glowing { reflectance: [0.8; 3], source: LightSource::Ceiling, radiance: 4.0 },
+        ));
+        let mut devices = Vec::new();
+        let mut tag = |kind: DeviceKind, wall: &WallFrame, at: [f32; 3]| {
+            devices.push(Device {
+                kind,
+                epc: kind.epc(),
+                tag_center: wall.point(at[0], at[1], at[2]).cast(),
+                tag_normal: wall.out.cast(),
+            });
+        };
+
+        // Flip-type light switch, its toggle in a red foam tube pointing out and 20° up.
+        let (a, (s, c)) = (2.0, 20f32.to_radians().sin_cos());
+        parts.push(north.cuboid("switch plate", [a, 0.003, 1.2], [0.035, 0.003, 0.0575], PLASTIC));
+        let foam = [a, 0.008 + 0.015 * c, 1.2 + 0.015 * s];
+        parts.push(north.cylinder("switch foam tube", foam, [0.0, c, s], 0.015, 0.013, red(FOAM)));
+        tag(DeviceKind::LightSwitch, &north, foam);
+
+        // ADA rocker switch, its paddle under a red Dycem patch.
+        let a = 2.0 + options.switch_spacing;
+        parts.push(north.cuboid("rocker plate", [a, 0.003, 1.22], [0.035, 0.003, 0.0575], PLASTIC));
+        parts.push(north.cuboid("rocker paddle", [a, 0.009, 1.22], [0.018, 0.003, 0.033], PLASTIC));
+        parts.push(north.cuboid(
+            "rocker dycem",
+            [a, 0.0135, 1.22],
+            [0.03, 0.0015, 0.03],
+            red(DYCEM),
+        ));
+        tag(DeviceKind::AdaLightSwitch, &north, [a, 0.0135, 1.22]);
+
+        // Floor lamp by the south wall, its pull chain toward the room, red foam on the chain.
+        let a = 4.5;
+        let lamp_light = south.point(a, 0.25, 1.42);
+        parts.push(south.cylinder(
+            "lamp base",
+            [a, 0.25, 0.015],
+            [0.0, 0.0, 1.0],
+            0.015,
+            0.14,
+            METAL,
+        ));
+        parts.push(south.cylinder(
+            "lamp pole",
+            [a, 0.25, 0.75],
+            [0.0, 0.0, 1.0],
+            0.72,
+            0.012,
+            METAL,
+        ));
+        parts.push(south.cylinder(
+            "lamp shade",
+            [a, 0.25, 1.42],
+            [0.0, 0.0, 1.0],
+            0.13,
+            0.17,
+            Surface::Glowing {
+                reflectance: [0.80, 0.75, 0.60],
+                source: LightSource::Lamp,
+                radiance: 2.0,
+            },
+        ));
+        parts.push(south.cylinder(
+            "lamp chain",
+            [a, 0.40, 1.20],
+            [0.0, 0.0, 1.0],
+            0.09,
+            0.002,
+            METAL,
+        ));
+        parts.push(south.cylinder(
+            "lamp chain foam",
+            [a, 0.40, 1.08],
+            [0.0, 0.0, 1.0],
+            0.03,
+            0.012,
+            red(FOAM),
+        ));
+        tag(DeviceKind::Lamp, &south, [a, 0.40, 1.08]);
+
+        // Drawer cabinet against the east wall; a red towel hangs from the top drawer's handle.
+        let a = 3.775;
+        parts.push(east.cuboid("cabinet", [a, 0.225, 0.375], [0.225, 0.225, 0.375], LAMINATE));
+        parts.push(east.cuboid("top drawer", [a, 0.4575, 0.56], [0.205, 0.0075, 0.16], PLASTIC));
+        parts.push(east.cuboid("bottom drawer", [a, 0.4575, 0.20], [0.205, 0.0075, 0.17], PLASTIC));
+        parts.push(east.cuboid("drawer handle", [a, 0.477, 0.64], [0.06, 0.012, 0.01], METAL));
+        parts.push(east.cuboid("drawer towel", [a, 0.495, 0.52], [0.08, 0.004, 0.12], red(TOWEL)));
+        tag(DeviceKind::Drawer, &east, [a, 0.495, 0.52]);
+
+        // Trash can against the west wall, a red Dycem patch near the top of its front.
+        let a = 2.65;
+        parts.push(west.cuboid("trash can", [a, 0.145, 0.225], [0.15, 0.125, 0.225], DARK_PLASTIC));
+        parts.push(west.cuboid(
+            "trash can dycem",
+            [a, 0.2715, 0.36],
+            [0.05, 0.0015, 0.04],
+            red(DYCEM),
+        ));
+        tag(DeviceKind::TrashCan, &west, [a, 0.2715, 0.36]);
+
+        if options.wood_furniture {
+            parts.push(north.cuboid("sideboard", [3.5, 0.2, 0.4], [0.4, 0.2, 0.4], Surface::Wood));
+            parts.push(east.cuboid(
+                "bookshelf",
+                [2.65, 0.17, 0.6],
+                [0.4, 0.17, 0.6],
+                Surface::Wood,
+            ));
+            parts.push(south.cuboid(
+                "side table",
+                [3.8, 0.25, 0.275],
+                [0.2, 0.2, 0.275],
+                Surface::Wood,
+            ));
+            parts.push(west.cuboid("chest", [1.6, 0.25, 0.3], [0.35, 0.25, 0.3], Surface::Wood));
+        }
+        Self { scene: Scene::new(parts), devices, ceiling_light, lamp_light }
+    }
+
+    pub fn device(&self, kind: DeviceKind) -> &Device {
+        self.devices.iter().find(|d| d.kind == kind).expect("the room has every device")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_tag_is_visible_from_half_a_metre_out() {
+        let room = Room::paper();
+        for device in &room.devices {
+            let eye: Point3<f32> = (device.tag_center + device.tag_normal * 0.5).cast();
+            let dir: Vector3<f32> = (-device.tag_normal).cast();
+            let hit = room.scene.cast(&eye, &dir, 2.0).unwrap();
+            let name = room.scene.parts()[hit.part].name;
+            assert!(
+                name.contains("foam") || name.contains("dycem") || name.contains("towel"),
+                "{:?} sees {name}",
+                device.kind
+            );
+        }
+        assert_eq!(DeviceKind::parse("trash-can"), Some(DeviceKind::TrashCan));
+        assert_eq!(DeviceKind::parse("ADA_light_switch"), Some(DeviceKind::AdaLightSwitch));
+        assert_eq!(DeviceKind::parse("toaster"), None);
+    }
+}

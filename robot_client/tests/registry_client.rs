@@ -1,0 +1,201 @@
+//! The registry client against a real registry: cached entries that follow the change feed,
+//! and trials that survive the registry going away and the robot restarting.
+
+use std::net::SocketAddr;
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use pps_robot::registry::{RegistryClient, Source};
+use pps_schema::{Epc, RobotId, Trial};
+use pps_server::auth::Role;
+use pps_server::store::{robots, tokens};
+use pps_server::{AppState, Db};
+use serde_json::json;
+use tokio::sync::oneshot;
+
+const ADA_SWITCH: &str = "355AB1C60000002000000001";
+
+/// A registry on a fixed address that can be stopped and started again on the same file.
+struct Registry {
+    address: SocketAddr,
+    db_path: std::path::PathBuf,
+    stop: Option<(oneshot::Sender<()>, tokio::task::JoinHandle<std::io::Result<()>>)>,
+}
+
+impl Registry {
+    async fn create(dir: &Path) -> (Self, String, String) {
+        let db_path = dir.join("registry.db");
+        let db = Db::open(&db_path).await.unwrap();
+        pps_server::seed::seed_if_empty(&db).await.unwrap();
+        let robot = json!({ "id": "el-e-1", "class": "el-e", "name": "EL-E", "capabilities": ["light_switch", "pull_back", "push", "pull_lamp", "drop"], "limits": { "max_force": 15.0 } });
+        robots::put(&db, "el-e-1", &robot, "test").await.unwrap();
+        let admin = tokens::create(&db, Role::Admin, "admin", None).await.unwrap().token;
+        let robot_token = tokens::create(&db, Role::Robot, "el-e-1", None).await.unwrap().token;
+        db.close().await;
+        let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        let address = listener.local_addr().unwrap();
+        drop(listener);
+        let mut registry = Self { address, db_path, stop: None };
+        registry.start().await;
+        (registry, admin, robot_token)
+    }
+
+    fn url(&self) -> String {
+        format!("http://{}", self.address)
+    }
+
+    async fn start(&mut self) {
+        let db = Db::open(&self.db_path).await.unwrap();
+        let listener = tokio::net::TcpListener::bind(self.address).await.unwrap();
+        let (stop, stopped) = oneshot::channel::<()>();
+        let task = tokio::spawn(pps_server::serve(listener, AppState::new(db), async move {
+            let _ = stopped.await;
+        }));
+        self.stop = Some((stop, task));
+    }
+
+    async fn stop(&mut self) {
+        if let Some((stop, task)) = self.stop.take() {
+            let _ = stop.send(());
+            task.await.unwrap().unwrap();
+        }
+    }
+}
+
+fn trial(robot: &str) -> Trial {
+    serde_json::from_value(json!({
+        "id": uuid::Uuid::new_v4(), "epc": ADA_SWITCH, "robot": robot, "action": "on",
+        "behavior": "push_top", "started_at": "2026-11-22T10:00:00Z",
+        "finished_at": "2026-11-22T10:00:30Z", "outcome": "success",
+        "detector": { "brightness_change": -0.3 }
+    }))
+    .unwrap()
+}
+
+async fn stored_trials(registry: &Registry, admin: &str) -> Vec<String> {
+    let page: serde_json::Value = reqwest::Client::new()
+        .get(format!("{}/api/v1/trials?limit=500", registry.url()))
+        .bearer_auth(admin)
+        .send()
+        .await
+        .unwrap()
+        .json()
+        .await
+        .unwrap();
+    page["items"].as_array().unwrap().iter().map(|t| t["id"].as_str().unwrap().to_owned()).collect()
+}
+
+#[tokio::test]
+async fn cached_entries_follow_the_change_feed_and_serve_while_offline() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut registry, admin, token) = Registry::create(dir.path()).await;
+    let client = RegistryClient::new(
+        &registry.url(),
+        &token,
+        RobotId::parse("el-e-1").unwrap(),
+        &dir.path().join("robot"),
+    )
+    .unwrap();
+    let epc = Epc::parse(ADA_SWITCH).unwrap();
+
+    let first = client.effective_entry(&epc).await.unwrap();
+    assert_eq!(first.source, Source::Registry);
+    assert_eq!(
+        client.effective_entry(&epc).await.unwrap().source,
+        Source::Revalidated,
+        "a 304 without the feed"
+    );
+
+    let _watch = client.watch_changes();
+    let deadline = Instant::now() + Duration::from_secs(5);
+    while client.effective_entry(&epc).await.unwrap().source != Source::Fresh {
+        assert!(Instant::now() < deadline, "with the feed live, entries are used without asking");
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+
+    // A caretaker changes the tag: the feed invalidates the cached entry.
+    let http = reqwest::Client::new();
+    let url = format!("{}/api/v1/tags/{ADA_SWITCH}", registry.url());
+    let mut entry: serde_json::Value =
+        http.get(&url).bearer_auth(&admin).send().await.unwrap().json().await.unwrap();
+    entry["behaviors"]["push_top"]["force_threshold"] = json!(4.0);
+    let saved = http
+        .put(&url)
+        .bearer_auth(&admin)
+        .header("if-match", "\"r1\"")
+        .json(&entry)
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(saved.status(), 200);
+    let deadline = Instant::now() + Duration::from_secs(5);
+    let updated = loop {
+        let fetched = client.effective_entry(&epc).await.unwrap();
+        if fetched.source == Source::Registry {
+            break fetched;
+        }
+        assert!(Instant::now() < deadline, "the change reached the robot");
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    };
+    let threshold = serde_json::to_value(&updated.entry.entry.behaviors["push_top"]).unwrap()["force_threshold"].clone();
+    assert_eq!(threshold, json!(4.0));
+
+    registry.stop().await;
+    let offline = client.effective_entry(&epc).await.unwrap();
+    assert!(matches!(offline.source, Source::Offline | Source::Fresh), "{:?}", offline.source);
+    let unknown = Epc::parse("E2003412000000000000AAAA").unwrap();
+    assert!(client.effective_entry(&unknown).await.is_err(), "nothing cached, nothing to stand in");
+}
+
+#[tokio::test]
+async fn trials_recorded_offline_upload_exactly_once_after_a_restart() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut registry, admin, token) = Registry::create(dir.path()).await;
+    let state = dir.path().join("robot");
+    let robot = RobotId::parse("el-e-1").unwrap();
+    let client = RegistryClient::new(&registry.url(), &token, robot.clone(), &state).unwrap();
+
+    let online = trial("el-e-1");
+    assert_eq!(client.record_trial(&online).await.unwrap().uploaded, 1);
+
+    registry.stop().await;
+    let offline: Vec<Trial> = (0..3).map(|_| trial("el-e-1")).collect();
+    for trial in &offline {
+        let report = client.record_trial(trial).await.unwrap();
+        assert_eq!(report.uploaded, 0);
+    }
+    assert_eq!(client.outbox().len().unwrap(), 3);
+    drop(client);
+
+    // The robot restarts (a new client on the same state), then the registry comes back.
+    let restarted = RegistryClient::new(&registry.url(), &token, robot, &state).unwrap();
+    assert_eq!(restarted.outbox().len().unwrap(), 3, "nothing lost across the restart");
+    registry.start().await;
+    // One answer was lost on the way back: the registry has it, the outbox does not know.
+    let resent = reqwest::Client::new()
+        .put(format!("{}/api/v1/trials/{}", registry.url(), offline[0].id))
+        .bearer_auth(&token)
+        .json(&offline[0])
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(resent.status(), 201);
+    let report = restarted.flush().await.unwrap();
+    assert_eq!((report.uploaded, report.already_stored, report.remaining), (2, 1, 0));
+    assert!(restarted.outbox().is_empty().unwrap());
+
+    let mut expected: Vec<String> =
+        std::iter::once(&online).chain(&offline).map(|t| t.id.to_string()).collect();
+    let mut stored = stored_trials(&registry, &admin).await;
+    expected.sort();
+    stored.sort();
+    assert_eq!(stored, expected, "each trial stored exactly once");
+
+    // A trial the registry refuses for good is set aside, not retried forever nor lost.
+    let mut foreign = trial("el-e-2");
+    foreign.epc = Epc::parse(ADA_SWITCH).unwrap();
+    let report = restarted.record_trial(&foreign).await.unwrap();
+    assert_eq!(report.rejected, 1);
+    let rejected = restarted.outbox().rejected().unwrap();
+    assert!(rejected[0].1.contains("403"), "{:?}", rejected[0].1);
+}
