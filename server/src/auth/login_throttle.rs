@@ -31,6 +31,16 @@ impl Failures {
     }
 }
 
+/// The key that counts failures for one login name (as typed, when it is not a valid name).
+pub fn user_key(name: &str) -> String {
+    format!("user:{}", name.trim().to_lowercase())
+}
+
+/// The key that counts failures from one client address, whatever names it tries.
+pub fn address_key(address: std::net::IpAddr) -> String {
+    format!("address:{address}")
+}
+
 /// How long to wait after `count` consecutive failures: nothing at first, then 1 s, 2 s, 4 s…
 pub fn wait_after(count: u32) -> Duration {
     match count.checked_sub(FREE_FAILURES) {
@@ -103,15 +113,15 @@ mod tests {
     #[test]
     fn failures_on_any_key_slow_down_and_success_clears() {
         let throttle = LoginThrottle::default();
-        let keys = vec!["user:anna".to_owned(), "address:10.0.0.2".to_owned()];
+        let keys = vec![user_key("Anna"), address_key([10, 0, 0, 2].into())];
         for _ in 0..FREE_FAILURES - 1 {
             throttle.failed(&keys);
         }
         assert_eq!(throttle.must_wait(&keys), None);
         throttle.failed(&keys);
         assert!(throttle.must_wait(&keys).is_some());
-        assert!(throttle.must_wait(&["user:anna".to_owned()]).is_some());
-        assert_eq!(throttle.must_wait(&["user:bert".to_owned()]), None);
+        assert!(throttle.must_wait(&[user_key("anna")]).is_some());
+        assert_eq!(throttle.must_wait(&[user_key("bert")]), None);
         throttle.succeeded(&keys);
         assert_eq!(throttle.must_wait(&keys), None);
     }

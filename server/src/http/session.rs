@@ -1,17 +1,19 @@
 //! `/api/v1/session`: browser login with a password, who is logged in, and logout.
 
 use std::net::SocketAddr;
+use std::time::Duration;
 
+use axum::Extension;
 use axum::Json;
+use axum::body::Body;
 use axum::extract::{ConnectInfo, State};
 use axum::http::header::{CACHE_CONTROL, RETRY_AFTER, SET_COOKIE};
 use axum::http::{HeaderMap, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
-use axum::{Extension, body::Body};
 use serde::Deserialize;
 use serde_json::json;
 
-use crate::auth::{UserName, password, secret, session};
+use crate::auth::{UserName, login_throttle, password, secret, session};
 use crate::clock;
 use crate::error::ApiError;
 use crate::http::extract::Caller;
@@ -36,21 +38,12 @@ pub async fn login(
     TypedJson(login): TypedJson<Login>,
 ) -> Result<Response, ApiError> {
     let name = UserName::parse(&login.username).ok();
-    let mut throttle_keys = vec![format!(
-        "user:{}",
-        name.as_ref().map_or_else(|| login.username.trim().to_lowercase(), |n| n.to_string())
-    )];
+    let mut throttle_keys = vec![login_throttle::user_key(&login.username)];
     if let Some(Extension(ConnectInfo(address))) = client {
-        throttle_keys.push(format!("address:{}", address.ip()));
+        throttle_keys.push(login_throttle::address_key(address.ip()));
     }
     if let Some(wait) = state.login_throttle.must_wait(&throttle_keys) {
-        let seconds = wait.as_secs() + u64::from(wait.subsec_nanos() > 0);
-        let mut response = ApiError::TooManyRequests(format!(
-            "too many wrong passwords; wait {seconds} s before trying again"
-        ))
-        .into_response();
-        response.headers_mut().insert(RETRY_AFTER, HeaderValue::from(seconds));
-        return Ok(response);
+        return Ok(too_many_attempts(wait));
     }
     let found = match &name {
         Some(name) => store::users::find_with_hash(state.db.reader(), name).await?,
@@ -130,6 +123,18 @@ pub async fn logout(
     let mut response = no_store(StatusCode::NO_CONTENT.into_response());
     response.headers_mut().insert(SET_COOKIE, session::clear_cookie());
     Ok(response)
+}
+
+/// The answer while a login name or address must wait after wrong passwords: 429 with
+/// `Retry-After`, without the password being looked at.
+pub(super) fn too_many_attempts(wait: Duration) -> Response {
+    let seconds = wait.as_secs() + u64::from(wait.subsec_nanos() > 0);
+    let mut response = ApiError::TooManyRequests(format!(
+        "too many wrong passwords; wait {seconds} s before trying again"
+    ))
+    .into_response();
+    response.headers_mut().insert(RETRY_AFTER, HeaderValue::from(seconds));
+    response
 }
 
 /// Answers about credentials are never cached, by the browser or anything in between.

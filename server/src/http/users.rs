@@ -9,14 +9,15 @@ use axum::response::{IntoResponse, Response};
 use pps_schema::FieldError;
 use serde::Deserialize;
 
-use crate::auth::{Principal, Role, UserName, password, secret, session};
+use crate::auth::{Role, UserName, login_throttle, password, secret, session};
 use crate::error::{ApiError, is_unique_violation};
 use crate::http::extract::{ApiQuery, Caller};
 use crate::http::page::{self, Page};
+use crate::http::session::too_many_attempts;
 use crate::http::typed_json::TypedJson;
 use crate::state::AppState;
+use crate::store;
 use crate::store::users::{self, UserRecord};
-use crate::store::{self};
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -115,7 +116,7 @@ pub async fn set_password(
     Path(name): Path<String>,
     headers: HeaderMap,
     TypedJson(change): TypedJson<PasswordChange>,
-) -> Result<StatusCode, ApiError> {
+) -> Result<Response, ApiError> {
     let name = parse_path_name(&name)?;
     let own = caller.name == name.as_str() && caller.role != Role::Robot;
     if caller.role != Role::Admin && !own {
@@ -129,8 +130,12 @@ pub async fn set_password(
     let (_, stored) = users::find_with_hash(state.db.reader(), &name)
         .await?
         .ok_or_else(|| no_such_user(&name))?;
-    if caller.role != Role::Admin {
-        check_current_password(&state, &caller, &name, change.current_password, stored).await?;
+    // An admin needs no current password; anyone else proves who they are with it.
+    if caller.role != Role::Admin
+        && let Err(refusal) =
+            check_current_password(&state, &name, change.current_password, stored).await
+    {
+        return Ok(refusal);
     }
     let hash = password::hash_off_runtime(change.password).await?;
     if !users::set_password(&state.db, &name, &hash).await? {
@@ -138,36 +143,37 @@ pub async fn set_password(
     }
     let keep = session::browser_secret(&headers).map(|s| secret::hash(&s));
     store::sessions::delete_for_user(&state.db, &name, keep.as_deref()).await?;
-    Ok(StatusCode::NO_CONTENT)
+    Ok(StatusCode::NO_CONTENT.into_response())
 }
 
 /// A non-admin proves they are the user by the current password, slowed down like a login.
 async fn check_current_password(
     state: &AppState,
-    caller: &Principal,
     name: &UserName,
     current: Option<String>,
     stored: String,
-) -> Result<(), ApiError> {
+) -> Result<(), Response> {
     let Some(current) = current else {
         return Err(ApiError::invalid_at(
             "/current_password",
             "give your current password to set a new one",
-        ));
+        )
+        .into_response());
     };
-    let keys = [format!("user:{name}")];
-    if state.login_throttle.must_wait(&keys).is_some() {
-        return Err(ApiError::TooManyRequests(format!(
-            "too many wrong passwords for {}; wait a minute before trying again",
-            caller.name
-        )));
+    let keys = [login_throttle::user_key(name.as_str())];
+    if let Some(wait) = state.login_throttle.must_wait(&keys) {
+        return Err(too_many_attempts(wait));
     }
-    if password::verify_off_runtime(current, Some(stored)).await? {
+    let right = password::verify_off_runtime(current, Some(stored))
+        .await
+        .map_err(|error| ApiError::from(error).into_response())?;
+    if right {
         state.login_throttle.succeeded(&keys);
         Ok(())
     } else {
         state.login_throttle.failed(&keys);
-        Err(ApiError::invalid_at("/current_password", "this is not your current password"))
+        Err(ApiError::invalid_at("/current_password", "this is not your current password")
+            .into_response())
     }
 }
 

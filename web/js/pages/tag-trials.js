@@ -1,0 +1,51 @@
+// A tag's trial history, newest first: when, which robot, which action, what the robot's
+// detector said, what the person said, and the evidence. A caretaker can give their verdict.
+
+import { getAll, query, request, seg } from '../api.js';
+import { cell, h, replace } from '../dom.js';
+import { verdict, when } from '../format.js';
+
+/** Fills `container` with the trials of `epc`; returns how many there are. */
+export async function renderTrials(container, epc) {
+  const trials = await getAll(`/api/v1/trials${query({ epc, limit: 500 })}`);
+  if (trials.length === 0) {
+    replace(container, h('p', { class: 'muted' }, 'No robot has tried this tag yet.'));
+    return 0;
+  }
+  const rows = trials.slice().reverse().map((trial) => trialRow(trial, () => renderTrials(container, epc)));
+  replace(container, h('table', { class: 'trials responsive' },
+    h('caption', { class: 'visually-hidden' }, 'Trials, newest first'),
+    h('thead', {}, h('tr', {}, ['When', 'Robot', 'Action', 'Outcome', 'Verdict', 'Evidence'].map((label) => h('th', { scope: 'col' }, label)))),
+    h('tbody', {}, rows)));
+  return trials.length;
+}
+
+function trialRow(trial, refresh) {
+  const verdictBox = h('div', {}, h('span', { class: 'verdict' }, verdict(trial.confirmed)));
+  if (trial.confirmed === null || trial.confirmed === undefined) {
+    const answer = (confirmed) => async (event) => {
+      event.target.disabled = true;
+      try {
+        await request('PATCH', `/api/v1/trials/${seg(trial.id)}`, { body: { confirmed } });
+        refresh();
+      } catch (error) {
+        verdictBox.append(h('p', { class: 'field-error', role: 'alert' }, error.message));
+        event.target.disabled = false;
+      }
+    };
+    verdictBox.append(h('div', { class: 'verdict-buttons' },
+      h('button', { type: 'button', class: 'small secondary', on: { click: answer(true) }, 'aria-label': `Trial at ${when(trial.finished_at)} worked` }, 'It worked'),
+      h('button', { type: 'button', class: 'small secondary', on: { click: answer(false) }, 'aria-label': `Trial at ${when(trial.finished_at)} did not work` }, 'It did not')));
+  }
+  const forces = Array.isArray(trial.forces) ? trial.forces.length : 0;
+  const evidence = { detector: trial.detector, measurements: trial.measurements, start_pose: trial.start_pose };
+  return h('tr', { dataset: { trial: trial.id } },
+    cell('When', when(trial.finished_at ?? trial.started_at)),
+    cell('Robot', trial.robot),
+    cell('Action', trial.action, h('span', { class: 'muted' }, ` (${trial.behavior})`)),
+    cell('Outcome', h('span', { class: ['badge', trial.outcome === 'success' ? 'good' : 'bad'] }, trial.outcome)),
+    cell('Verdict', verdictBox),
+    cell('Evidence', h('details', {},
+      h('summary', {}, `detector, ${forces} force samples`),
+      h('pre', { class: 'json small' }, JSON.stringify(evidence, null, 2)))));
+}
