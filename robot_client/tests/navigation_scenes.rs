@@ -15,9 +15,17 @@ use rand_chacha::ChaCha8Rng;
 #[test]
 fn approach_is_perpendicular_to_the_surface_behind_the_tag_from_every_start() {
     for device in DeviceKind::ALL {
-        for direction in StartDirection::PAPER {
-            let scene =
-                capture_scene(Room::paper(), device, direction, 1.5, 5, &CaptureSettings::small());
+        for (direction, seed) in
+            StartDirection::PAPER.into_iter().flat_map(|d| (0..3).map(move |s| (d, s)))
+        {
+            let scene = capture_scene(
+                Room::paper(),
+                device,
+                direction,
+                1.5,
+                seed,
+                &CaptureSettings::small(),
+            );
             let plan = plan_approach(
                 &scene.image,
                 &scene.cloud,
@@ -26,7 +34,7 @@ fn approach_is_perpendicular_to_the_surface_behind_the_tag_from_every_start() {
                 &ApproachParams::default(),
             )
             .expect("consistent inputs");
-            let what = format!("{device:?} from {direction:?}");
+            let what = format!("{device:?} from {direction:?}, seed {seed}");
             let plane = plan.backing_plane.unwrap_or_else(|| panic!("{what}: no backing plane"));
             assert!(
                 plane.normal.dot(&scene.tag_normal) > 10f64.to_radians().cos(),
@@ -46,7 +54,7 @@ fn approach_is_perpendicular_to_the_surface_behind_the_tag_from_every_start() {
     }
 }
 
-/// Oblique starts at the drawer with the person's target near the front's edge on the robot's
+/// Oblique starts at the drawer with the person's target at the front's edge on the robot's
 /// side, where the side face comes as near as the front. The paper's nearest-plane rule then
 /// takes the side face for some targets; the backing-plane rule never does.
 #[test]
@@ -69,13 +77,13 @@ fn drawer_front_is_chosen_where_the_nearest_plane_picks_the_side_face() {
         // The towel hangs 3 cm proud of the drawer front, whose edge is 20.5 cm from its centre.
         let edge = scene.tag_truth - normal * 0.03 + lateral * side * 0.205;
         let params = ApproachParams::default();
-        for _ in 0..40 {
+        for _ in 0..20 {
             let noise = Vector3::new(
                 rng.random_range(-0.03..0.03),
                 rng.random_range(-0.03..0.03),
                 rng.random_range(-0.05..0.05),
             );
-            let target = edge - lateral * side * 0.02 + noise;
+            let target = edge + noise;
             let plan =
                 plan_approach(&scene.image, &scene.cloud, &scene.calibration, &target, &params)
                     .expect("consistent inputs");
@@ -98,7 +106,10 @@ fn drawer_front_is_chosen_where_the_nearest_plane_picks_the_side_face() {
             }
         }
     }
-    assert!(paper_wrong > 0, "the paper's rule took the side face in {paper_wrong} of {trials}");
+    assert!(
+        paper_wrong * 10 >= trials,
+        "the paper's rule took the side face in only {paper_wrong} of {trials}"
+    );
 }
 
 /// The robot's fingers 8–12 cm in front of the flip switch's tag, the rocker switch's tag 30 cm

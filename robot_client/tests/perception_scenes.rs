@@ -33,7 +33,7 @@ fn pixel_of(scene: &SceneCapture, p: &Point3<f64>) -> (usize, usize) {
 fn tag_centroid_within_2_cm_from_the_paper_starts() {
     for device in DeviceKind::ALL {
         for direction in StartDirection::PAPER {
-            for seed in 0..2 {
+            for seed in 0..5 {
                 let scene = capture_scene(
                     Room::paper(),
                     device,

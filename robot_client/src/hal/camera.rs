@@ -115,10 +115,10 @@ pub enum LookDirection {
 /// The camera that watches a light source before and after an action (paper §IV-B.2.b).
 pub trait BrightnessCamera: Send + Sync {
     /// A grey picture toward where the light source is expected.
-    fn capture(&self, look: LookDirection) -> Result<GrayImage, HalError>;
+    fn capture_light_source(&self, look: LookDirection) -> Result<GrayImage, HalError>;
 
     /// Mean intensity (0..=255) of where the light source is expected.
     fn mean_intensity(&self, look: LookDirection) -> Result<f64, HalError> {
-        Ok(self.capture(look)?.mean_intensity())
+        Ok(self.capture_light_source(look)?.mean_intensity())
     }
 }

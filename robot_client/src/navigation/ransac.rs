@@ -79,6 +79,9 @@ pub fn find_planes(
         (0..params.score_sample).map(|_| rng.random_range(0..n as u32)).collect()
     };
     let mut alive = vec![true; n];
+    // Points of a rejected hypothesis stay in the cloud (they may lie on a real surface the
+    // hypothesis cut across) but no longer seed samples, so the search moves on.
+    let mut seedable = vec![true; n];
     let mut alive_count = n;
     let mut rejections = 0;
     let t = params.inlier_distance;
@@ -87,13 +90,18 @@ pub fn find_planes(
         && rejections < params.max_rejections
     {
         let alive_indices: Vec<u32> = (0..n as u32).filter(|&i| alive[i as usize]).collect();
+        let seeds: Vec<u32> =
+            alive_indices.iter().copied().filter(|&i| seedable[i as usize]).collect();
+        if seeds.is_empty() {
+            break;
+        }
         let alive_in_subset = subset.iter().filter(|&&i| alive[i as usize]).count().max(1);
         let mut best: Option<(Plane, i64)> = None;
         let mut needed = params.max_iterations;
         let mut iteration = 0;
         while iteration < needed.max(params.min_iterations) {
             iteration += 1;
-            let Some(plane) = cells.sample_plane(points, &alive, &alive_indices, rng) else {
+            let Some(plane) = cells.sample_plane(points, &alive, &seeds, rng) else {
                 continue;
             };
             // Support minus the points just outside the band: a slab through a volume scores ~0.
@@ -122,14 +130,18 @@ pub fn find_planes(
         if score <= 0 {
             break;
         }
-        // Refit to all inliers, then judge the refined plane.
-        let refined = Plane::fit(
-            alive_indices
+        // Refit to the inliers, narrowing the band, so that a sample straddling a surface and
+        // something just proud of it (a towel on a drawer) settles on the surface; then judge it.
+        let mut refined = hypothesis;
+        for band in [t, 0.6 * t, 0.6 * t] {
+            let inliers = alive_indices
                 .iter()
                 .map(|&i| points[i as usize].cast())
-                .filter(|p| hypothesis.signed_distance(p).abs() < t),
-        )
-        .map_or(hypothesis, |(plane, _)| plane);
+                .filter(|p| refined.signed_distance(p).abs() < band);
+            if let Some((plane, _)) = Plane::fit(inliers) {
+                refined = plane;
+            }
+        }
         match assess_plane(points, &alive, &refined, t, &params.evidence) {
             Some(patch) => {
                 rejections = 0;
@@ -150,11 +162,9 @@ pub fn find_planes(
             }
             None => {
                 rejections += 1;
-                // Not a surface: its points are explained as clutter and leave the search.
                 for &i in &alive_indices {
                     if refined.signed_distance(&points[i as usize].cast()).abs() < t {
-                        alive[i as usize] = false;
-                        alive_count -= 1;
+                        seedable[i as usize] = false;
                     }
                 }
             }
@@ -196,15 +206,15 @@ impl SampleCells {
         Self { order: keyed.into_iter().map(|(_, i)| i).collect(), range_of }
     }
 
-    /// A plane through a random alive point and two alive points of its cell.
+    /// A plane through a random seed point and two alive points of its cell.
     fn sample_plane(
         &self,
         points: &[Point3<f32>],
         alive: &[bool],
-        alive_indices: &[u32],
+        seeds: &[u32],
         rng: &mut impl Rng,
     ) -> Option<Plane> {
-        let first = *alive_indices.get(rng.random_range(0..alive_indices.len().max(1)))?;
+        let first = *seeds.get(rng.random_range(0..seeds.len().max(1)))?;
         let (from, to) = self.range_of[first as usize];
         if to - from < 3 {
             return None;

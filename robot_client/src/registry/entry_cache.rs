@@ -121,7 +121,7 @@ mod tests {
         cache.put("A", cached.clone(), true).unwrap();
         assert_eq!(cache.get("A"), Some((cached.clone(), true)));
         cache.invalidate("A");
-        assert_eq!(cache.get("A").unwrap().1, false);
+        assert!(!cache.get("A").unwrap().1);
         cache.confirm("A", true);
         assert!(cache.get("A").unwrap().1);
         let reopened = EntryCache::open(dir.path()).unwrap();

@@ -7,7 +7,7 @@
 use nalgebra::{Isometry3, Point3, Vector3};
 use rand::Rng;
 
-use super::noise::gaussian;
+use super::noise::SensorNoise;
 use super::room::Room;
 use super::scene::{Hit, LightSource, Surface, linear_to_srgb};
 use crate::hal::{CameraIntrinsics, ColorImage, GrayImage};
@@ -93,6 +93,7 @@ pub fn render_color(
     let pose: Isometry3<f32> = world_from_camera.cast();
     let origin = Point3::from(pose.translation.vector);
     let flash = flash.then_some((&origin, exposure.flash_power));
+    let mut noise = SensorNoise::new(rng);
     let mut i = 0;
     for v in 0..intrinsics.height {
         for u in 0..intrinsics.width {
@@ -103,7 +104,7 @@ pub fn render_color(
                 .map_or([0.0; 3], |hit| shade(room, lighting, &hit, flash));
             for c in radiance {
                 let value =
-                    linear_to_srgb(c.clamp(0.0, 1.0)) + exposure.noise * gaussian(rng) as f32;
+                    linear_to_srgb(c.clamp(0.0, 1.0)) + exposure.noise * noise.gaussian() as f32;
                 image.rgb[i] = (value * 255.0).round().clamp(0.0, 255.0) as u8;
                 i += 1;
             }

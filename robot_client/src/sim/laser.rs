@@ -4,7 +4,7 @@
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use rand::Rng;
 
-use super::noise::gaussian;
+use super::noise::SensorNoise;
 use super::scene::Scene;
 use crate::hal::{PointCloud, TiltSweep};
 
@@ -48,6 +48,7 @@ pub fn sweep_scan(
 ) -> PointCloud {
     let beams = (2.0 * model.half_field_of_view / model.beam_step).round() as usize + 1;
     let mut points = Vec::with_capacity(beams * sweep.angles().count());
+    let mut noise = SensorNoise::new(rng);
     for tilt in sweep.angles() {
         // Positive tilt turns the forward edge of the scan plane down.
         let base_from_tilted = model.base_from_head
@@ -66,10 +67,10 @@ pub fn sweep_scan(
             // Returns fade as the beam grazes the surface.
             let incidence = hit.normal.dot(&-dir).clamp(0.0, 1.0);
             let grazing = ((0.2 - incidence) / 0.2).max(0.0) as f64 * 0.9;
-            if rng.random_bool((model.dropout + grazing).min(1.0)) {
+            if noise.chance(model.dropout + grazing) {
                 continue;
             }
-            let range = f64::from(hit.distance) + model.range_noise * gaussian(rng);
+            let range = f64::from(hit.distance) + model.range_noise * noise.gaussian();
             points.push(base_from_tilted * Point3::from(local * range as f32));
         }
     }

@@ -152,7 +152,7 @@ impl ColorCamera for SimRobot {
 }
 
 impl BrightnessCamera for SimRobot {
-    fn capture(&self, look: LookDirection) -> Result<GrayImage, HalError> {
+    fn capture_light_source(&self, look: LookDirection) -> Result<GrayImage, HalError> {
         let mut s = self.state();
         let pitch_up = match look {
             LookDirection::Up => 70f64.to_radians(),
