@@ -2,16 +2,20 @@
 
 use std::io::{Read, Write};
 use std::net::SocketAddr;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, bail};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::auth::{Role, UserName, password};
 use crate::db::Db;
+use crate::export::TrialFormat;
+use crate::retention::Age;
 use crate::state::AppState;
+use crate::store::trials::TrialFilter;
 use crate::store::{tokens, users};
-use crate::{clock, seed};
+use crate::transport::{self, TlsIdentity, Transport};
+use crate::{ServeOptions, backup, clock, export, retention, seed};
 
 #[derive(Debug, Parser)]
 #[command(name = "pps-server", version, about = "The PPS-tag registry for mobile robots")]
@@ -42,6 +46,23 @@ enum Command {
         /// Read this file instead of stdin.
         file: Option<PathBuf>,
     },
+    /// Copy the database consistently, also while a server is writing to it.
+    Backup {
+        /// The file to write the copy to.
+        #[arg(long)]
+        to: PathBuf,
+        /// Replace the file if it exists.
+        #[arg(long)]
+        force: bool,
+    },
+    /// Print trials as JSON lines or CSV, with the filters of GET /api/v1/trials.
+    ExportTrials(ExportTrialsArgs),
+    /// Replace the force samples of old trials by their summary (the trials stay).
+    ThinForces {
+        /// Thin trials received more than this many days ago.
+        #[arg(long, value_name = "DAYS")]
+        older_than: u32,
+    },
     /// Manage API tokens.
     #[command(subcommand)]
     Token(TokenCommand),
@@ -55,6 +76,55 @@ struct ServeArgs {
     /// Address to listen on.
     #[arg(long, env = "PPS_LISTEN", default_value = "127.0.0.1:8080")]
     listen: SocketAddr,
+    /// Serve HTTPS with this PEM certificate (chain); needs --tls-key.
+    #[arg(long, env = "PPS_TLS_CERT", value_name = "PEM")]
+    tls_cert: Option<PathBuf>,
+    /// The PEM private key of --tls-cert.
+    #[arg(long, env = "PPS_TLS_KEY", value_name = "PEM")]
+    tls_key: Option<PathBuf>,
+    /// Connections served at once; more wait until one closes.
+    #[arg(long, env = "PPS_MAX_CONNECTIONS", value_name = "N", default_value_t = transport::DEFAULT_MAX_CONNECTIONS,
+          value_parser = clap::value_parser!(u32).range(1..))]
+    max_connections: u32,
+    /// Seconds a client has to send a request's headers (and to finish the TLS handshake);
+    /// idle connections close after this too.
+    #[arg(long, env = "PPS_HEADER_TIMEOUT", value_name = "SECONDS",
+          default_value_t = transport::DEFAULT_HEADER_READ_TIMEOUT.as_secs(),
+          value_parser = clap::value_parser!(u64).range(1..))]
+    header_timeout: u64,
+    /// Once a day, thin the force samples of trials received more than DAYS ago.
+    #[arg(long, env = "PPS_THIN_FORCES_AFTER_DAYS", value_name = "DAYS")]
+    thin_forces_after: Option<u32>,
+}
+
+#[derive(Debug, Args)]
+struct ExportTrialsArgs {
+    #[arg(long, value_enum)]
+    format: FormatArg,
+    /// Only trials on this tag (hex EPC or EPC tag URI).
+    #[arg(long)]
+    epc: Option<String>,
+    /// Only this robot's trials.
+    #[arg(long)]
+    robot: Option<String>,
+    /// Only trials of this action.
+    #[arg(long)]
+    action: Option<String>,
+    /// Only this outcome: success, failure, aborted or error.
+    #[arg(long)]
+    outcome: Option<String>,
+    /// Only trials that started at or after this RFC 3339 time.
+    #[arg(long)]
+    since: Option<String>,
+    /// Write to this file instead of stdout.
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum FormatArg {
+    Jsonl,
+    Csv,
 }
 
 #[derive(Debug, Subcommand)]
@@ -181,6 +251,9 @@ impl Cli {
                 }
             }
             Command::Import { file } => import(&db, file).await,
+            Command::Backup { to, force } => backup(&db, &self.db, &to, force).await,
+            Command::ExportTrials(args) => export_trials(&db, args).await,
+            Command::ThinForces { older_than } => thin_forces(&db, older_than).await,
             Command::Token(command) => token(&db, command).await,
             Command::User(command) => user(&db, command).await,
         };
@@ -208,6 +281,56 @@ async fn import(db: &Db, file: Option<PathBuf>) -> anyhow::Result<()> {
         "imported: {} created, {} replaced, {} unchanged",
         report.created, report.replaced, report.unchanged
     );
+    Ok(())
+}
+
+async fn backup(db: &Db, source: &Path, to: &Path, force: bool) -> anyhow::Result<()> {
+    let report = backup::backup(db, source, to, force).await?;
+    eprintln!(
+        "backed up {} tags and {} trials to {} ({} bytes, integrity ok)",
+        report.tags,
+        report.trials,
+        report.path.display(),
+        report.bytes
+    );
+    Ok(())
+}
+
+async fn thin_forces(db: &Db, days: u32) -> anyhow::Result<()> {
+    let report = retention::thin_forces(db, Age { days }).await?;
+    eprintln!(
+        "thinned {} trials received more than {days} days ago ({} force samples replaced by \
+         their summary)",
+        report.trials, report.samples
+    );
+    Ok(())
+}
+
+async fn export_trials(db: &Db, args: ExportTrialsArgs) -> anyhow::Result<()> {
+    let filter = TrialFilter::parse(
+        args.epc.as_deref(),
+        args.robot,
+        args.action,
+        args.outcome,
+        args.since.as_deref(),
+    )
+    .map_err(anyhow::Error::msg)?;
+    let format = match args.format {
+        FormatArg::Jsonl => TrialFormat::Jsonl,
+        FormatArg::Csv => TrialFormat::Csv,
+    };
+    let written = match &args.out {
+        Some(path) => {
+            let file = std::fs::File::create(path)
+                .with_context(|| format!("cannot write {}", path.display()))?;
+            export::export_trials(db.reader(), &filter, format, std::io::BufWriter::new(file))
+                .await?
+        }
+        None => {
+            export::export_trials(db.reader(), &filter, format, std::io::stdout().lock()).await?
+        }
+    };
+    eprintln!("exported {written} trials");
     Ok(())
 }
 
@@ -304,7 +427,25 @@ fn prompt_password(name: &UserName) -> anyhow::Result<String> {
     Ok(first)
 }
 
+/// Connection limits and TLS as the serve flags say; TLS files are checked before anything.
+fn transport(args: &ServeArgs) -> anyhow::Result<Transport> {
+    let tls = match (&args.tls_cert, &args.tls_key) {
+        (Some(cert), Some(key)) => Some(TlsIdentity::load(cert, key)?),
+        (None, None) => None,
+        _ => bail!(
+            "--tls-cert and --tls-key (PPS_TLS_CERT and PPS_TLS_KEY) go together: give both to \
+             serve HTTPS, or neither to serve plain HTTP"
+        ),
+    };
+    Ok(Transport {
+        header_read_timeout: std::time::Duration::from_secs(args.header_timeout),
+        max_connections: args.max_connections as usize,
+        tls,
+    })
+}
+
 async fn serve(db: Db, args: ServeArgs) -> anyhow::Result<()> {
+    let transport = transport(&args)?;
     let seeded = seed::seed_if_empty(&db).await?;
     if seeded > 0 {
         tracing::info!(tags = seeded, "seeded an empty registry with the paper's devices");
@@ -313,7 +454,7 @@ async fn serve(db: Db, args: ServeArgs) -> anyhow::Result<()> {
         .await
         .with_context(|| format!("cannot listen on {}", args.listen))?;
     let address = listener.local_addr()?;
-    let url = format!("http://{address}/");
+    let url = format!("{}://{address}/", transport.scheme());
     // An admin login for the web UI counts as an admin credential, as an admin token does.
     let admin_exists =
         tokens::live_admin_exists(db.reader()).await? || users::admin_exists(db.reader()).await?;
@@ -322,7 +463,11 @@ async fn serve(db: Db, args: ServeArgs) -> anyhow::Result<()> {
         print_first_admin_banner(&url, &minted.token);
     }
     tracing::info!(%url, "serving the PPS-tag registry");
-    crate::serve(listener, AppState::new(db), shutdown_signal()).await?;
+    let options = ServeOptions {
+        transport,
+        thin_forces_after: args.thin_forces_after.map(|days| Age { days }),
+    };
+    crate::serve_with(listener, AppState::new(db), options, shutdown_signal()).await?;
     tracing::info!("stopped");
     Ok(())
 }

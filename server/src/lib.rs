@@ -5,6 +5,7 @@
 
 pub mod auth;
 pub mod background;
+pub mod backup;
 pub mod cli;
 pub mod clock;
 pub mod db;
@@ -12,16 +13,19 @@ pub mod effective;
 pub mod effective_cache;
 pub mod entry;
 pub mod error;
+pub mod export;
 pub mod feed;
 pub mod http;
 pub mod learning;
 pub mod metrics;
 pub mod presence;
+pub mod retention;
 pub mod seed;
 pub mod sightings;
 pub mod state;
 pub mod store;
 pub mod telemetry;
+pub mod transport;
 pub mod trial_writer;
 
 use std::future::Future;
@@ -37,13 +41,36 @@ pub async fn serve(
     state: AppState,
     shutdown: impl Future<Output = ()> + Send + 'static,
 ) -> std::io::Result<()> {
+    serve_with(listener, state, ServeOptions::default(), shutdown).await
+}
+
+/// What `serve_with` does beyond plain [`serve`].
+#[derive(Debug, Clone, Default)]
+pub struct ServeOptions {
+    /// Connection limits and TLS.
+    pub transport: transport::Transport,
+    /// Thin the force samples of trials received longer ago than this, once a day.
+    pub thin_forces_after: Option<retention::Age>,
+}
+
+/// [`serve`] with connection limits, TLS and retention as `options` say.
+pub async fn serve_with(
+    listener: TcpListener,
+    state: AppState,
+    options: ServeOptions,
+    shutdown: impl Future<Output = ()> + Send + 'static,
+) -> std::io::Result<()> {
     background::start(&state).await.map_err(std::io::Error::other)?;
+    if let Some(age) = options.thin_forces_after {
+        retention::start_daily(state.db.clone(), age);
+    }
     let feed = state.feed.clone();
     let shutdown = async move {
         shutdown.await;
+        // Change-feed streams never end by themselves; end them so the drain can finish.
         feed.close();
     };
-    axum::serve(listener, router(state.clone())).with_graceful_shutdown(shutdown).await?;
+    transport::serve(listener, router(state.clone()), &options.transport, shutdown).await?;
     background::flush(&state).await;
     Ok(())
 }

@@ -17,7 +17,7 @@ use crate::feed::ChangeFeed;
 use crate::learning::{self, TrialGroup};
 use crate::store::events::{self, EventKind};
 use crate::store::trials::{self, NewTrial, TrialRow};
-use crate::{clock, store};
+use crate::{clock, retention, store};
 
 /// Trials committed together at most.
 const MAX_BATCH: usize = 512;
@@ -129,7 +129,7 @@ async fn commit(
     let mut groups = BTreeSet::new();
     for trial in batch {
         if let Some(existing) = trials::find(&mut tx, &trial.id).await? {
-            results.push(if existing.submitted() == trial.body {
+            results.push(if retention::same_submission(&existing.submitted(), &trial.body) {
                 Ok(Recorded::Repeat(existing))
             } else {
                 Err(TrialRejection::Conflict(existing))

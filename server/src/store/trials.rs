@@ -158,3 +158,79 @@ pub async fn move_to(conn: &mut SqliteConnection, from: &str, to: &str) -> sqlx:
         .await?
         .rows_affected())
 }
+
+impl TrialFilter {
+    /// A filter as a person spells it (query string or command line), checked: the EPC in any
+    /// accepted form, one of the four outcomes, `since` in RFC 3339. The error says what to fix.
+    pub fn parse(
+        epc: Option<&str>,
+        robot: Option<String>,
+        action: Option<String>,
+        outcome: Option<String>,
+        since: Option<&str>,
+    ) -> Result<Self, String> {
+        let epc = epc
+            .map(|raw| {
+                pps_schema::Epc::parse(raw)
+                    .map(|epc| epc.as_hex().to_owned())
+                    .map_err(|error| format!("{raw:?} is not an EPC: {error}"))
+            })
+            .transpose()?;
+        if let Some(outcome) = &outcome
+            && !pps_schema::Outcome::ALL.iter().any(|o| o.as_str() == outcome)
+        {
+            return Err(format!(
+                "outcome is one of success, failure, aborted, error; not {outcome:?}"
+            ));
+        }
+        let since = since
+            .map(|text| {
+                crate::clock::parse(text).map(crate::clock::format).ok_or_else(|| {
+                    format!(
+                        "since must be an RFC 3339 time such as 2026-11-22T09:00:00Z, not {text:?}"
+                    )
+                })
+            })
+            .transpose()?;
+        Ok(Self { epc, robot, action, outcome, since })
+    }
+}
+
+/// Trials received before `cutoff` that still carry force samples, after sequence number
+/// `after`, oldest first: `(seq, body)`.
+#[tracing::instrument(skip_all)]
+pub async fn with_forces_received_before(
+    pool: &SqlitePool,
+    cutoff: &str,
+    after: i64,
+    limit: u32,
+) -> sqlx::Result<Vec<(i64, String)>> {
+    sqlx::query_as(
+        "select seq, body from trials
+         where seq > ? and received_at < ? and json_array_length(body, '$.forces') > 0
+         order by seq
+         limit ?",
+    )
+    .bind(after)
+    .bind(cutoff)
+    .bind(i64::from(limit))
+    .fetch_all(pool)
+    .await
+}
+
+/// Replaces a trial's stored body, unless it changed since it was read as `old` (another
+/// process thinning at the same time); false then.
+pub async fn replace_body(
+    conn: &mut SqliteConnection,
+    seq: i64,
+    old: &str,
+    new: &str,
+) -> sqlx::Result<bool> {
+    let done = sqlx::query("update trials set body = ? where seq = ? and body = ?")
+        .bind(new)
+        .bind(seq)
+        .bind(old)
+        .execute(conn)
+        .await?;
+    Ok(done.rows_affected() == 1)
+}

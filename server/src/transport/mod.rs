@@ -1,0 +1,186 @@
+//! How the registry accepts connections: plain TCP or TLS, HTTP/1.1, at most so many
+//! connections at once, and a deadline for every request head.
+//!
+//! The deadline is what keeps a client that trickles its headers (or never finishes a TLS
+//! handshake) from holding a connection forever; the cap is what keeps many such clients
+//! from exhausting file descriptors. This module serves whatever router it is given and knows
+//! nothing of the API. It must never drop a request in flight at shutdown: it stops accepting,
+//! lets open requests finish and closes idle connections.
+
+pub mod tls;
+
+use std::future::Future;
+use std::io;
+use std::sync::Arc;
+use std::time::Duration;
+
+use axum::Router;
+use hyper::server::conn::http1;
+use hyper_util::rt::{TokioIo, TokioTimer};
+use tokio::io::{AsyncRead, AsyncWrite};
+use tokio::net::{TcpListener, TcpStream};
+use tokio::sync::{OwnedSemaphorePermit, Semaphore, watch};
+use tower::ServiceExt;
+
+pub use tls::TlsIdentity;
+
+/// Generous for a LAN; a robot on flaky Wi-Fi still gets its request head through.
+pub const DEFAULT_HEADER_READ_TIMEOUT: Duration = Duration::from_secs(30);
+/// Room for every change-feed client (`feed::MAX_CLIENTS`) plus as many again for requests.
+pub const DEFAULT_MAX_CONNECTIONS: u32 = 512;
+
+/// How connections are accepted and held.
+#[derive(Debug, Clone)]
+pub struct Transport {
+    /// How long a client has to deliver a request head: from connecting (including the TLS
+    /// handshake) or from the end of its previous response. An idle keep-alive connection is
+    /// closed after this too.
+    pub header_read_timeout: Duration,
+    /// Connections served at once; further clients wait in the listen backlog until one
+    /// closes.
+    pub max_connections: usize,
+    /// Serve HTTPS with this certificate; plain HTTP when `None`.
+    pub tls: Option<TlsIdentity>,
+}
+
+impl Default for Transport {
+    fn default() -> Self {
+        Self {
+            header_read_timeout: DEFAULT_HEADER_READ_TIMEOUT,
+            max_connections: DEFAULT_MAX_CONNECTIONS as usize,
+            tls: None,
+        }
+    }
+}
+
+impl Transport {
+    /// `https` or `http`, for URLs shown to people.
+    pub fn scheme(&self) -> &'static str {
+        if self.tls.is_some() { "https" } else { "http" }
+    }
+}
+
+/// Serves `app` on `listener` until `shutdown` completes, then waits for open requests.
+pub async fn serve(
+    listener: TcpListener,
+    app: Router,
+    transport: &Transport,
+    shutdown: impl Future<Output = ()>,
+) -> io::Result<()> {
+    let mut http = http1::Builder::new();
+    http.timer(TokioTimer::new()).header_read_timeout(transport.header_read_timeout);
+    let slots = Arc::new(Semaphore::new(transport.max_connections.max(1)));
+    // Every connection holds a receiver; the sender learns when the last one is gone.
+    let (closing, watch_closing) = watch::channel(false);
+    tokio::pin!(shutdown);
+    loop {
+        let accepted = tokio::select! {
+            biased;
+            () = &mut shutdown => break,
+            accepted = accept(&listener, &slots) => accepted,
+        };
+        let Some((stream, slot)) = accepted else { continue };
+        let connection = Connection {
+            http: http.clone(),
+            app: app.clone(),
+            tls: transport.tls.clone(),
+            handshake_timeout: transport.header_read_timeout,
+            closing: watch_closing.clone(),
+            _slot: slot,
+        };
+        tokio::spawn(connection.serve(stream));
+    }
+    drop(listener);
+    drop(watch_closing);
+    closing.send_replace(true);
+    closing.closed().await;
+    Ok(())
+}
+
+/// The next connection, once there is room for it; `None` after a failed accept.
+async fn accept(
+    listener: &TcpListener,
+    slots: &Arc<Semaphore>,
+) -> Option<(TcpStream, OwnedSemaphorePermit)> {
+    // Take a slot before accepting: beyond the cap, clients wait in the kernel's backlog.
+    let slot = slots.clone().acquire_owned().await.expect("the semaphore is never closed");
+    match listener.accept().await {
+        Ok((stream, _peer)) => Some((stream, slot)),
+        Err(error) => {
+            pause_after(&error).await;
+            None
+        }
+    }
+}
+
+/// A client that gave up during the handshake is nothing to wait on; running out of file
+/// descriptors is, or the loop would spin.
+async fn pause_after(error: &io::Error) {
+    use io::ErrorKind::{ConnectionAborted, ConnectionRefused, ConnectionReset};
+    if matches!(error.kind(), ConnectionAborted | ConnectionRefused | ConnectionReset) {
+        return;
+    }
+    tracing::error!(%error, "cannot accept connections; retrying in a second");
+    tokio::time::sleep(Duration::from_secs(1)).await;
+}
+
+/// One accepted connection, holding its slot until it closes.
+struct Connection {
+    http: http1::Builder,
+    app: Router,
+    tls: Option<TlsIdentity>,
+    handshake_timeout: Duration,
+    closing: watch::Receiver<bool>,
+    _slot: OwnedSemaphorePermit,
+}
+
+impl Connection {
+    async fn serve(mut self, stream: TcpStream) {
+        // Responses are written whole; waiting to coalesce them only adds latency.
+        let _ = stream.set_nodelay(true);
+        let Some(tls) = self.tls.take() else {
+            return self.serve_http(stream).await;
+        };
+        let handshake = tokio::time::timeout(self.handshake_timeout, tls.accept(stream));
+        let stream = tokio::select! {
+            finished = handshake => match finished {
+                Ok(Ok(stream)) => stream,
+                Ok(Err(error)) => {
+                    tracing::debug!(%error, "TLS handshake failed");
+                    return;
+                }
+                Err(_) => {
+                    tracing::debug!("TLS handshake timed out");
+                    return;
+                }
+            },
+            () = closing(&mut self.closing) => return,
+        };
+        self.serve_http(stream).await;
+    }
+
+    async fn serve_http(mut self, io: impl AsyncRead + AsyncWrite + Unpin + Send + 'static) {
+        let app = self.app;
+        let service = hyper::service::service_fn(move |request: hyper::Request<_>| {
+            app.clone().oneshot(request.map(axum::body::Body::new))
+        });
+        let connection = self.http.serve_connection(TokioIo::new(io), service);
+        tokio::pin!(connection);
+        let ended = tokio::select! {
+            ended = connection.as_mut() => ended,
+            () = closing(&mut self.closing) => {
+                // Finishes the request in flight, if any, then closes.
+                connection.as_mut().graceful_shutdown();
+                connection.await
+            }
+        };
+        if let Err(error) = ended {
+            tracing::debug!(%error, "connection ended early");
+        }
+    }
+}
+
+/// Completes when the server starts shutting down.
+async fn closing(closing: &mut watch::Receiver<bool>) {
+    let _ = closing.wait_for(|closing| *closing).await;
+}
