@@ -16,10 +16,24 @@ use crate::effective::merge;
 use crate::effective_cache::CachedEffective;
 use crate::error::ApiError;
 use crate::http::extract::{Caller, parse_epc};
+use crate::http::openapi::{Doc, Header, Param, Reply};
 use crate::http::precondition;
 use crate::http::robots::parse_robot_id;
 use crate::state::AppState;
 use crate::store::{learning, retired, robots, tags};
+
+pub const GET: Doc = Doc::new("getEffectiveEntry", "The entry as this robot should use it")
+    .describe(
+        "Base entry, learned values, class and robot overrides merged (later wins), the source \
+         of every leaf, and the actions this robot cannot run with the reason. An unknown EPC \
+         is noted in the inbox.",
+    )
+    .params(&[Param::ROBOT, Param::EPC, Param::IF_NONE_MATCH_READ])
+    .replies(&[
+        Reply::json(200, "The effective entry", "effective_entry").headers(&[Header::ETag]),
+        Reply::NOT_MODIFIED,
+        Reply::problem(404, "No active tag has this EPC (it is unknown, archived or retired)"),
+    ]);
 
 pub async fn get(
     State(state): State<AppState>,

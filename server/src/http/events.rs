@@ -16,11 +16,27 @@ use tokio::sync::{OwnedSemaphorePermit, broadcast, mpsc};
 use crate::auth::Principal;
 use crate::error::ApiError;
 use crate::http::extract::Caller;
+use crate::http::openapi::{Doc, Param, Reply};
 use crate::state::AppState;
 use crate::store::events::{self, Event, EventKind};
 
 /// A comment line this often keeps idle connections (and proxies) from timing out.
 const HEARTBEAT: Duration = Duration::from_secs(15);
+
+pub const STREAM: Doc = Doc::new("streamEvents", "The change feed, as Server-Sent Events")
+    .describe(
+        "Each event names the thing that changed (epc, trial id, robot id). Without \
+         Last-Event-ID the stream starts with the next change. A robot sees tag events and its \
+         own trials.",
+    )
+    .params(&[Param::header(
+        "Last-Event-ID",
+        "The id of the last event received: the stream resumes right after it",
+    )])
+    .replies(&[
+        Reply::event_stream("The stream; a comment line every 15 s keeps it open"),
+        Reply::problem(503, "The feed serves as many clients as it can; retry later"),
+    ]);
 
 pub async fn stream(
     State(state): State<AppState>,

@@ -5,9 +5,14 @@ use axum::extract::State;
 
 use crate::error::ApiError;
 use crate::http::extract::ApiQuery;
+use crate::http::openapi::{Doc, Param, Reply};
 use crate::http::page::{self, Page, PageParams};
 use crate::state::AppState;
 use crate::store::inbox::{self, InboxItem};
+
+pub const LIST: Doc = Doc::new("listInbox", "EPCs robots read that nobody registered")
+    .params(&[Param::LIMIT, Param::CURSOR])
+    .replies(&[Reply::page("A page of unknown EPCs, by EPC", "inbox_item")]);
 
 pub async fn list(
     State(state): State<AppState>,

@@ -5,10 +5,26 @@ use axum::extract::Path;
 use serde_json::{Value, json};
 
 use crate::error::ApiError;
+use crate::http::openapi::{Doc, Param, ParamType, Reply};
+
+pub const HEALTHZ: Doc = Doc::new("healthz", "Liveness: the registry answers")
+    .replies(&[Reply::json(200, "Alive", "health")]);
 
 pub async fn healthz() -> Json<Value> {
     Json(json!({ "status": "ok" }))
 }
+
+pub const SCHEMA: Doc = Doc::new("getSchema", "One JSON Schema of the contract, as published")
+    .params(&[Param::path(
+        "name",
+        ParamType::OneOf(pps_schema::SCHEMA_NAMES),
+        "The schema's name (`.json` and `.schema.json` suffixes are accepted too)",
+    )
+    .example("tag")])
+    .replies(&[
+        Reply::json(200, "The JSON Schema (2020-12) document", "json_schema"),
+        Reply::problem(404, "There is no schema of this name"),
+    ]);
 
 pub async fn schema(Path(name): Path<String>) -> Result<Json<Value>, ApiError> {
     let name =
@@ -20,6 +36,10 @@ pub async fn schema(Path(name): Path<String>) -> Result<Json<Value>, ApiError> {
         ))
     })
 }
+
+pub const METRICS: Doc =
+    Doc::new("metrics", "Request counts and latencies, in Prometheus text format")
+        .replies(&[Reply::text(200, "The metrics")]);
 
 pub async fn metrics(
     axum::extract::State(state): axum::extract::State<crate::state::AppState>,

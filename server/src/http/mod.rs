@@ -8,6 +8,7 @@ pub mod extract;
 mod fallback;
 mod inbox;
 mod meta;
+pub mod openapi;
 pub mod page;
 pub mod precondition;
 mod retag;
@@ -29,6 +30,7 @@ use axum::routing::{MethodFilter, on};
 use tower_http::set_header::SetResponseHeaderLayer;
 
 pub use access::Access;
+use openapi::{Doc, accounts};
 
 use crate::state::AppState;
 
@@ -38,9 +40,11 @@ pub struct RouteSpec {
     pub method: Method,
     pub path: &'static str,
     pub access: Access,
+    pub doc: Doc,
 }
 
-/// The API's routes; every one goes through [`Routes::add`], so none escapes the access check.
+/// The API's routes; every one goes through [`Routes::add`], so none escapes the access check
+/// or the OpenAPI document.
 struct Routes {
     state: AppState,
     router: Router<AppState>,
@@ -48,7 +52,14 @@ struct Routes {
 }
 
 impl Routes {
-    fn add<H, T>(mut self, method: Method, path: &'static str, access: Access, handler: H) -> Self
+    fn add<H, T>(
+        mut self,
+        method: Method,
+        path: &'static str,
+        access: Access,
+        handler: H,
+        doc: Doc,
+    ) -> Self
     where
         H: Handler<T, AppState>,
         T: 'static,
@@ -57,7 +68,7 @@ impl Routes {
         let check =
             axum::middleware::from_fn_with_state((self.state.clone(), access), access::check);
         self.router = self.router.route(path, on(filter, handler).route_layer(check));
-        self.specs.push(RouteSpec { method, path, access });
+        self.specs.push(RouteSpec { method, path, access, doc });
         self
     }
 }
@@ -71,39 +82,54 @@ pub fn router(state: AppState) -> Router {
 pub fn router_with_routes(state: AppState) -> (Router, Vec<RouteSpec>) {
     use Access::*;
     let get = || Method::GET;
+    let openapi = openapi::Published::default();
     let routes = Routes { state: state.clone(), router: Router::new(), specs: Vec::new() }
-        .add(get(), "/healthz", Open, meta::healthz)
-        .add(get(), "/api/v1/schema/{name}", Open, meta::schema)
-        .add(get(), "/api/v1/tags", Anyone, tags::list)
-        .add(get(), "/api/v1/tags/{epc}", Anyone, tags::get)
-        .add(Method::PUT, "/api/v1/tags/{epc}", Editors, tags::put)
-        .add(Method::DELETE, "/api/v1/tags/{epc}", Editors, tags::archive)
-        .add(get(), "/api/v1/tags/{epc}/revisions", Editors, tags::revisions)
-        .add(get(), "/metrics", Open, meta::metrics)
-        .add(get(), "/api/v1/tags/{epc}/stats", Anyone, stats::get)
-        .add(Method::POST, "/api/v1/tags/{epc}/retag", Editors, retag::retag)
-        .add(Method::POST, "/api/v1/validate/tag", Editors, tags::validate)
-        .add(get(), "/api/v1/robots", Anyone, robots::list)
-        .add(get(), "/api/v1/robots/{robot}", Anyone, robots::get)
-        .add(Method::PUT, "/api/v1/robots/{robot}", Admin, robots::put)
-        .add(get(), "/api/v1/robots/{robot}/tags/{epc}", RobotOrEditors, effective::get)
-        .add(get(), "/api/v1/inbox", Editors, inbox::list)
-        .add(Method::PUT, "/api/v1/trials/{id}", Robot, trials::put)
-        .add(get(), "/api/v1/trials/{id}", RobotOrEditors, trials::get)
-        .add(Method::PATCH, "/api/v1/trials/{id}", RobotOrEditors, trials::patch)
-        .add(get(), "/api/v1/trials", RobotOrEditors, trials::list)
-        .add(get(), "/api/v1/events", Anyone, events::stream)
-        .add(get(), "/api/v1/tokens", Admin, tokens::list)
-        .add(Method::POST, "/api/v1/tokens", Admin, tokens::create)
-        .add(Method::DELETE, "/api/v1/tokens/{id}", Admin, tokens::revoke)
-        .add(Method::POST, "/api/v1/session", Open, session::login)
-        .add(get(), "/api/v1/session", Anyone, session::current)
-        .add(Method::DELETE, "/api/v1/session", Anyone, session::logout)
-        .add(get(), "/api/v1/users", Admin, users::list)
-        .add(Method::POST, "/api/v1/users", Admin, users::create)
-        .add(Method::DELETE, "/api/v1/users/{name}", Admin, users::delete)
-        .add(Method::PUT, "/api/v1/users/{name}/password", Anyone, users::set_password);
+        .add(get(), "/healthz", Open, meta::healthz, meta::HEALTHZ)
+        .add(get(), "/api/v1/openapi.json", Open, openapi.handler(), openapi::DOC)
+        .add(get(), "/api/v1/schema/{name}", Open, meta::schema, meta::SCHEMA)
+        .add(get(), "/api/v1/tags", Anyone, tags::list, tags::LIST)
+        .add(get(), "/api/v1/tags/{epc}", Anyone, tags::get, tags::GET)
+        .add(Method::PUT, "/api/v1/tags/{epc}", Editors, tags::put, tags::PUT)
+        .add(Method::DELETE, "/api/v1/tags/{epc}", Editors, tags::archive, tags::ARCHIVE)
+        .add(get(), "/api/v1/tags/{epc}/revisions", Editors, tags::revisions, tags::REVISIONS)
+        .add(get(), "/metrics", Open, meta::metrics, meta::METRICS)
+        .add(get(), "/api/v1/tags/{epc}/stats", Anyone, stats::get, stats::GET)
+        .add(Method::POST, "/api/v1/tags/{epc}/retag", Editors, retag::retag, retag::RETAG)
+        .add(Method::POST, "/api/v1/validate/tag", Editors, tags::validate, tags::VALIDATE)
+        .add(get(), "/api/v1/robots", Anyone, robots::list, robots::LIST)
+        .add(get(), "/api/v1/robots/{robot}", Anyone, robots::get, robots::GET)
+        .add(Method::PUT, "/api/v1/robots/{robot}", Admin, robots::put, robots::PUT)
+        .add(
+            get(),
+            "/api/v1/robots/{robot}/tags/{epc}",
+            RobotOrEditors,
+            effective::get,
+            effective::GET,
+        )
+        .add(get(), "/api/v1/inbox", Editors, inbox::list, inbox::LIST)
+        .add(Method::PUT, "/api/v1/trials/{id}", Robot, trials::put, trials::PUT)
+        .add(get(), "/api/v1/trials/{id}", RobotOrEditors, trials::get, trials::GET)
+        .add(Method::PATCH, "/api/v1/trials/{id}", RobotOrEditors, trials::patch, trials::PATCH)
+        .add(get(), "/api/v1/trials", RobotOrEditors, trials::list, trials::LIST)
+        .add(get(), "/api/v1/events", Anyone, events::stream, events::STREAM)
+        .add(get(), "/api/v1/tokens", Admin, tokens::list, tokens::LIST)
+        .add(Method::POST, "/api/v1/tokens", Admin, tokens::create, tokens::CREATE)
+        .add(Method::DELETE, "/api/v1/tokens/{id}", Admin, tokens::revoke, tokens::REVOKE)
+        .add(Method::POST, "/api/v1/session", Open, session::login, accounts::LOGIN)
+        .add(get(), "/api/v1/session", Anyone, session::current, accounts::CURRENT_SESSION)
+        .add(Method::DELETE, "/api/v1/session", Anyone, session::logout, accounts::LOGOUT)
+        .add(get(), "/api/v1/users", Admin, users::list, accounts::USERS)
+        .add(Method::POST, "/api/v1/users", Admin, users::create, accounts::CREATE_USER)
+        .add(Method::DELETE, "/api/v1/users/{name}", Admin, users::delete, accounts::DELETE_USER)
+        .add(
+            Method::PUT,
+            "/api/v1/users/{name}/password",
+            Anyone,
+            users::set_password,
+            accounts::SET_PASSWORD,
+        );
     let Routes { router, specs, .. } = routes;
+    openapi.publish(&specs);
     let router = router
         .merge(web::router())
         .fallback(fallback::not_found)

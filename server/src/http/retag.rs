@@ -10,10 +10,24 @@ use serde_json::{Value, json};
 
 use crate::error::ApiError;
 use crate::http::extract::{Caller, EpcPath, JsonBody, parse_epc};
+use crate::http::openapi::{Body, Doc, Header, Param, Reply};
 use crate::http::precondition::{self, WriteCondition};
 use crate::state::AppState;
 use crate::store::events::{self, EventKind};
 use crate::store::{learning, retired, tags, trials};
+
+pub const RETAG: Doc =
+    Doc::new("retagTag", "Move an entry, its history and learned values to a new EPC")
+        .describe("For a worn tag replaced by a new one; the old EPC is retired and never reused.")
+        .params(&[Param::EPC, Param::IF_MATCH])
+        .body(Body::json("retag", "The new tag's EPC"))
+        .replies(&[
+            Reply::json(200, "The entry under its new EPC", "stored_tag").headers(&[Header::ETag]),
+            Reply::problem(404, "No tag has this EPC"),
+            Reply::problem(409, "The new EPC belongs to another tag or was retired"),
+            Reply::PRECONDITION_FAILED,
+            Reply::INVALID,
+        ]);
 
 pub async fn retag(
     State(state): State<AppState>,

@@ -9,9 +9,14 @@ use serde_json::Value;
 
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, JsonBody};
+use crate::http::openapi::{Body, Doc, Param, Reply};
 use crate::http::page::{self, Page, PageParams};
 use crate::state::AppState;
 use crate::store::robots::{self, RobotWrite, StoredRobot};
+
+pub const LIST: Doc = Doc::new("listRobots", "List the robots, by id")
+    .params(&[Param::LIMIT, Param::CURSOR])
+    .replies(&[Reply::page("A page of robots", "stored_robot")]);
 
 pub async fn list(
     State(state): State<AppState>,
@@ -25,6 +30,12 @@ pub async fn list(
     Ok(Json(Page { items, next_cursor: page.next_cursor }))
 }
 
+pub const GET: Doc =
+    Doc::new("getRobot", "One robot, with when it last called").params(&[Param::ROBOT]).replies(&[
+        Reply::json(200, "The robot", "stored_robot"),
+        Reply::problem(404, "No robot has this id"),
+    ]);
+
 pub async fn get(
     State(state): State<AppState>,
     Path(robot): Path<String>,
@@ -37,6 +48,15 @@ pub async fn get(
     })?;
     Ok(Json(with_presence(&state, &stored)))
 }
+
+pub const PUT: Doc = Doc::new("putRobot", "Register a robot or change it")
+    .params(&[Param::ROBOT])
+    .body(Body::json("robot", "The robot; its id, when given, must be the one in the path"))
+    .replies(&[
+        Reply::json(200, "Changed (or unchanged)", "stored_robot"),
+        Reply::json(201, "Registered", "stored_robot"),
+        Reply::INVALID,
+    ]);
 
 pub async fn put(
     State(state): State<AppState>,

@@ -7,6 +7,7 @@ use serde_json::{Map, Value, json};
 
 use crate::error::ApiError;
 use crate::http::extract::EpcPath;
+use crate::http::openapi::{Doc, Param, Reply};
 use crate::learning::{RELIABILITY_WINDOW, is_reliable};
 use crate::state::AppState;
 use crate::store::{learning, tags};
@@ -34,6 +35,17 @@ pub struct GroupStats {
 }
 
 type Row = (String, String, i64, i64, i64, i64, i64, i64, Option<String>);
+
+pub const GET: Doc = Doc::new("getTagStats", "How a tag's actions have gone, per robot class")
+    .describe(
+        "Attempts, detected and confirmed successes, agreement between the robots' detectors \
+         and the people's verdicts, the reliable flag and the learned values.",
+    )
+    .params(&[Param::EPC])
+    .replies(&[
+        Reply::json(200, "The statistics", "tag_stats"),
+        Reply::problem(404, "No tag has this EPC"),
+    ]);
 
 pub async fn get(
     State(state): State<AppState>,

@@ -11,6 +11,7 @@ use serde_json::{Value, json};
 use crate::entry;
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, EpcPath, JsonBody};
+use crate::http::openapi::{Body, Doc, Header, Param, ParamType, Reply};
 use crate::http::page::{self, Page, PageParams};
 use crate::http::precondition::{self, WriteCondition};
 use crate::state::AppState;
@@ -27,6 +28,16 @@ pub struct ListParams {
     limit: Option<u32>,
     cursor: Option<String>,
 }
+
+pub const LIST: Doc = Doc::new("listTags", "List tags, by EPC")
+    .params(&[
+        Param::query("type", ParamType::Text, "Only tags whose properties.type is this"),
+        Param::query("q", ParamType::Text, "Only tags whose name contains this text"),
+        Param::query("archived", ParamType::Boolean, "List archived tags instead of active ones"),
+        Param::LIMIT,
+        Param::CURSOR,
+    ])
+    .replies(&[Reply::page("A page of stored entries, ordered by EPC", "stored_tag")]);
 
 pub async fn list(
     State(state): State<AppState>,
@@ -47,6 +58,14 @@ pub async fn list(
     }))
 }
 
+pub const GET: Doc = Doc::new("getTag", "One stored entry with its read-only fields")
+    .params(&[Param::EPC, Param::IF_NONE_MATCH_READ])
+    .replies(&[
+        Reply::json(200, "The entry", "stored_tag").headers(&[Header::ETag]),
+        Reply::NOT_MODIFIED,
+        Reply::problem(404, "No tag has this EPC"),
+    ]);
+
 pub async fn get(
     State(state): State<AppState>,
     EpcPath(epc): EpcPath,
@@ -59,6 +78,26 @@ pub async fn get(
     }
     Ok(with_etag(StatusCode::OK, &tag))
 }
+
+pub const PUT: Doc = Doc::new("putTag", "Create or replace a tag entry")
+    .describe(
+        "Create with `If-None-Match: *`; replace (or restore an archived entry) with `If-Match` \
+         and the ETag of the revision the change is based on. Read-only fields are ignored, so \
+         GET, edit, PUT round-trips. Every problem of the entry is listed at once.",
+    )
+    .params(&[Param::EPC, Param::IF_MATCH, Param::IF_NONE_MATCH_CREATE])
+    .body(
+        Body::json("tag", "The entry; its epc must be the one in the path")
+            .example(include_str!("../../../seed_tags/ada_light_switch.json")),
+    )
+    .replies(&[
+        Reply::json(200, "Replaced", "stored_tag").headers(&[Header::ETag]),
+        Reply::json(201, "Created", "stored_tag").headers(&[Header::ETag, Header::Location]),
+        Reply::problem(409, "The EPC was retired when its tag was replaced and is never reused"),
+        Reply::PRECONDITION_FAILED,
+        Reply::INVALID,
+        Reply::PRECONDITION_REQUIRED,
+    ]);
 
 pub async fn put(
     State(state): State<AppState>,
@@ -92,6 +131,15 @@ pub async fn put(
     }
 }
 
+pub const ARCHIVE: Doc = Doc::new("archiveTag", "Archive a tag; its trials are kept")
+    .describe("A PUT with the archived revision's ETag restores it.")
+    .params(&[Param::EPC, Param::IF_MATCH])
+    .replies(&[
+        Reply::json(200, "The archived entry", "stored_tag").headers(&[Header::ETag]),
+        Reply::PRECONDITION_FAILED,
+        Reply::PRECONDITION_REQUIRED,
+    ]);
+
 pub async fn archive(
     State(state): State<AppState>,
     Caller(caller): Caller,
@@ -117,6 +165,14 @@ pub async fn archive(
     }
 }
 
+pub const REVISIONS: Doc =
+    Doc::new("listTagRevisions", "Every change of a tag: who, when, the entry")
+        .params(&[Param::EPC, Param::LIMIT, Param::CURSOR])
+        .replies(&[
+            Reply::page("A page of revisions, oldest first", "tag_revision"),
+            Reply::problem(404, "No tag has this EPC"),
+        ]);
+
 pub async fn revisions(
     State(state): State<AppState>,
     EpcPath(epc): EpcPath,
@@ -133,6 +189,13 @@ pub async fn revisions(
     }
     Ok(Json(page::page(rows, limit, |revision| revision.revision.to_string())))
 }
+
+pub const VALIDATE: Doc = Doc::new("validateTag", "Validate an entry without storing it")
+    .body(
+        Body::json("tag", "The entry to check")
+            .example(include_str!("../../../seed_tags/lamp.json")),
+    )
+    .replies(&[Reply::json(200, "The entry is valid", "validation_result"), Reply::INVALID]);
 
 pub async fn validate(JsonBody(body): JsonBody) -> Result<Json<Value>, ApiError> {
     entry::accept(None, body)?;
@@ -177,6 +240,10 @@ fn write_error(
             precondition::tag_etag(current.revision),
             current.updated_by,
             current.updated_at
+        )),
+        TagWriteError::Retired { successor } => ApiError::Conflict(format!(
+            "the EPC {epc} was retired when its worn tag was replaced by {successor}; a retired \
+             EPC is never used again, so give the new tag its own EPC"
         )),
         TagWriteError::Database(error) => error.into(),
     }

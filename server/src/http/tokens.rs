@@ -11,9 +11,13 @@ use serde_json::Value;
 use crate::auth::Role;
 use crate::error::ApiError;
 use crate::http::extract::JsonBody;
+use crate::http::openapi::{Body, Doc, Param, ParamType, Reply};
 use crate::http::page::Page;
 use crate::state::AppState;
 use crate::store::tokens::{self, TokenRecord};
+
+pub const LIST: Doc = Doc::new("listTokens", "Every API token, without secrets")
+    .replies(&[Reply::page("All tokens (one page)", "token_record")]);
 
 pub async fn list(State(state): State<AppState>) -> Result<Json<Page<TokenRecord>>, ApiError> {
     Ok(Json(Page { items: tokens::list(state.db.reader()).await?, next_cursor: None }))
@@ -27,6 +31,10 @@ struct NewToken {
     /// Days until it stops working; without it the token does not expire.
     expires_in_days: Option<f64>,
 }
+
+pub const CREATE: Doc = Doc::new("createToken", "Mint an API token; its secret is shown only now")
+    .body(Body::json("new_token", "Role, name (a robot token's name is its robot id), expiry"))
+    .replies(&[Reply::json(201, "Minted", "minted_token"), Reply::INVALID]);
 
 pub async fn create(
     State(state): State<AppState>,
@@ -58,6 +66,13 @@ pub async fn create(
     let minted = tokens::create(&state.db, request.role, name, expires_at).await?;
     Ok((StatusCode::CREATED, Json(minted)).into_response())
 }
+
+pub const REVOKE: Doc = Doc::new("revokeToken", "Revoke a token, at once")
+    .params(&[Param::path("id", ParamType::Text, "The token's id (not its secret)")])
+    .replies(&[
+        Reply::json(200, "Revoked", "revoked_token"),
+        Reply::problem(404, "No live token has this id"),
+    ]);
 
 pub async fn revoke(
     State(state): State<AppState>,

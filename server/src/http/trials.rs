@@ -13,12 +13,41 @@ use uuid::Uuid;
 use crate::auth::{Principal, Role};
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, JsonBody, parse_epc};
+use crate::http::openapi::{Body, Doc, Param, ParamType, Reply};
 use crate::http::page::{self, Page};
 use crate::learning::{self, TrialGroup};
 use crate::state::AppState;
 use crate::store::events::{self, EventKind};
 use crate::store::trials::{self, TrialFilter, TrialRow};
 use crate::trial_writer::{CheckedTrial, Recorded, TrialRejection};
+
+/// A trial of robot `el-e-1` on the seeded ADA switch, under the id of [`Param::TRIAL_ID`]'s
+/// example.
+const EXAMPLE_TRIAL: &str = r#"{
+    "id": "0b7c2a52-4a0e-4d8e-9a51-2f7a3c1d9e10", "epc": "355AB1C60000002000000001",
+    "robot": "el-e-1", "action": "on", "behavior": "push_top", "outcome": "success",
+    "started_at": "2026-11-22T10:00:00Z", "finished_at": "2026-11-22T10:00:30Z",
+    "detector": { "brightness_change": 0.4 }, "forces": [], "measurements": {}
+}"#;
+
+pub const PUT: Doc = Doc::new("putTrial", "Record a trial, idempotently")
+    .describe(
+        "The robot chooses the UUID; sending the same trial again is a no-op (200), another \
+         body under the same id is 409. The robot may only record its own trials.",
+    )
+    .params(&[Param::TRIAL_ID])
+    .body(
+        Body::json("trial", "The trial; its id, when given, must be the one in the path")
+            .example(EXAMPLE_TRIAL),
+    )
+    .replies(&[
+        Reply::json(200, "Already recorded with this very body", "stored_trial"),
+        Reply::json(201, "Recorded", "stored_trial"),
+        Reply::problem(409, "Another trial is stored under this id"),
+        Reply::problem(413, "More force samples than a trial may carry"),
+        Reply::INVALID,
+        Reply::problem(503, "The registry is shutting down; retry"),
+    ]);
 
 pub async fn put(
     State(state): State<AppState>,
@@ -115,6 +144,11 @@ fn rejection_error(epc: &pps_schema::Epc, rejection: TrialRejection) -> ApiError
     }
 }
 
+pub const GET: Doc = Doc::new("getTrial", "One trial").params(&[Param::TRIAL_ID]).replies(&[
+    Reply::json(200, "The trial", "stored_trial"),
+    Reply::problem(404, "No trial has this id"),
+]);
+
 pub async fn get(
     State(state): State<AppState>,
     Caller(caller): Caller,
@@ -137,6 +171,19 @@ async fn find_visible(
     caller.require_robot_or_editor(&row.robot)?;
     Ok(row)
 }
+
+pub const PATCH: Doc = Doc::new("confirmTrial", "Set the person's verdict on a trial")
+    .params(&[Param::TRIAL_ID])
+    .body(
+        Body::json("verdict", "A merge patch holding only `confirmed`")
+            .also(&["application/merge-patch+json"])
+            .example(r#"{ "confirmed": true }"#),
+    )
+    .replies(&[
+        Reply::json(200, "The trial with its verdict", "stored_trial"),
+        Reply::problem(404, "No trial has this id"),
+        Reply::INVALID,
+    ]);
 
 pub async fn patch(
     State(state): State<AppState>,
@@ -212,6 +259,23 @@ pub struct ListParams {
     limit: Option<u32>,
     cursor: Option<String>,
 }
+
+pub const LIST: Doc = Doc::new("listTrials", "Trial history, oldest first")
+    .describe("A robot lists only its own trials.")
+    .params(&[
+        Param::query("epc", ParamType::Schema("tag/$defs/epc"), "Only trials on this tag"),
+        Param::query("robot", ParamType::Schema("robot/$defs/robot_id"), "Only this robot's"),
+        Param::query("action", ParamType::Text, "Only this action"),
+        Param::query(
+            "outcome",
+            ParamType::OneOf(&["success", "failure", "aborted", "error"]),
+            "Only this outcome",
+        ),
+        Param::query("since", ParamType::DateTime, "Only trials started at or after this time"),
+        Param::LIMIT,
+        Param::CURSOR,
+    ])
+    .replies(&[Reply::page("A page of trials", "stored_trial")]);
 
 pub async fn list(
     State(state): State<AppState>,

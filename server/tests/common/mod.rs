@@ -222,3 +222,8 @@ impl SseClient {
         }
     }
 }
+
+/// The API's route table, as every router of this build has it.
+pub fn route_table(server: &TestServer) -> Vec<pps_server::RouteSpec> {
+    pps_server::router_with_routes(AppState::new(server.db.clone())).1
+}

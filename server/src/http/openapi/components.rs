@@ -1,0 +1,90 @@
+//! The schemas of the OpenAPI document: the contract's JSON Schemas, moved in so their `$ref`s
+//! resolve inside the document, and the shapes of the registry's own answers ([`answers`]).
+//!
+//! The contract schemas are taken from `pps-schema` as they are served; nothing here may restate
+//! a rule of theirs.
+
+use serde_json::{Map, Value};
+
+/// Where the components live in the document.
+pub const SCHEMAS: &str = "#/components/schemas/";
+
+/// Every schema of the document, by name.
+pub fn schemas() -> Map<String, Value> {
+    let mut schemas = Map::new();
+    for name in pps_schema::SCHEMA_NAMES {
+        if let Some(document) = pps_schema::schema_document(name) {
+            schemas.insert((*name).to_owned(), contract_component(name, document));
+        }
+    }
+    for (name, schema) in super::answers::shapes() {
+        schemas.insert(name.to_owned(), schema);
+    }
+    schemas
+}
+
+/// A contract schema as a component: its own `$id` and `$schema` go (the document's dialect is
+/// 2020-12 already, and an `$id` would re-base its references away from the document), and every
+/// `$ref` is rewritten to point into `#/components/schemas/`.
+fn contract_component(name: &str, document: &Value) -> Value {
+    let mut component = document.clone();
+    if let Some(object) = component.as_object_mut() {
+        object.remove("$id");
+        object.remove("$schema");
+    }
+    rewrite_refs(&mut component, name);
+    component
+}
+
+fn rewrite_refs(value: &mut Value, home: &str) {
+    match value {
+        Value::Object(object) => {
+            for (key, child) in object.iter_mut() {
+                match child {
+                    Value::String(reference) if key == "$ref" => {
+                        *reference = in_document(reference, home);
+                    }
+                    _ => rewrite_refs(child, home),
+                }
+            }
+        }
+        Value::Array(items) => items.iter_mut().for_each(|item| rewrite_refs(item, home)),
+        _ => {}
+    }
+}
+
+/// `#/$defs/x` in `home`, `other.schema.json#/$defs/x` or `other.schema.json`, as a pointer
+/// into the document.
+fn in_document(reference: &str, home: &str) -> String {
+    let (file, fragment) = reference.split_once('#').unwrap_or((reference, ""));
+    let target = match file.strip_suffix(".schema.json") {
+        Some(other) => other,
+        None if file.is_empty() => home,
+        // Not one of ours: left for the test that resolves every reference to flag.
+        None => return reference.to_owned(),
+    };
+    format!("{SCHEMAS}{target}{fragment}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn references_point_into_the_document() {
+        assert_eq!(in_document("#/$defs/epc", "tag"), "#/components/schemas/tag/$defs/epc");
+        assert_eq!(
+            in_document("robot.schema.json#/$defs/robot_id", "trial"),
+            "#/components/schemas/robot/$defs/robot_id"
+        );
+        assert_eq!(in_document("drop.schema.json", "tag"), "#/components/schemas/drop");
+    }
+
+    #[test]
+    fn contract_components_lose_their_id_and_keep_their_rules() {
+        let tag = &schemas()["tag"];
+        assert!(tag.get("$id").is_none() && tag.get("$schema").is_none());
+        assert_eq!(tag["properties"]["epc"]["$ref"], "#/components/schemas/tag/$defs/epc");
+        assert_eq!(tag["additionalProperties"], false);
+    }
+}
