@@ -18,10 +18,15 @@ pub struct CachedEffective {
     pub body: Bytes,
 }
 
+/// Entries kept at most (about 2 kB each), so memory stays bounded with 100,000 tags.
+const CAPACITY: usize = 20_000;
+
 #[derive(Debug, Default)]
 pub struct EffectiveCache {
     /// EPC → robot id → entry.
     entries: RwLock<HashMap<String, HashMap<String, Arc<CachedEffective>>>>,
+    /// How many entries `entries` holds.
+    len: AtomicU64,
     generation: AtomicU64,
 }
 
@@ -40,8 +45,21 @@ impl EffectiveCache {
     /// invalidated since.
     pub fn insert(&self, generation: u64, epc: &str, robot: &str, entry: Arc<CachedEffective>) {
         let mut entries = self.entries.write().unwrap_or_else(|e| e.into_inner());
-        if self.generation.load(Ordering::Acquire) == generation {
-            entries.entry(epc.to_owned()).or_default().insert(robot.to_owned(), entry);
+        if self.generation.load(Ordering::Acquire) != generation {
+            return;
+        }
+        if self.len.load(Ordering::Relaxed) as usize >= CAPACITY {
+            // Full: drop about a quarter of the tags, in the map's arbitrary order. Robots work
+            // on a small set of tags at a time, which refills quickly.
+            let drop: Vec<String> = entries.keys().take(entries.len() / 4 + 1).cloned().collect();
+            for epc in drop {
+                if let Some(robots) = entries.remove(&epc) {
+                    self.len.fetch_sub(robots.len() as u64, Ordering::Relaxed);
+                }
+            }
+        }
+        if entries.entry(epc.to_owned()).or_default().insert(robot.to_owned(), entry).is_none() {
+            self.len.fetch_add(1, Ordering::Relaxed);
         }
     }
 
@@ -49,7 +67,9 @@ impl EffectiveCache {
     pub fn forget_tag(&self, epc: &str) {
         let mut entries = self.entries.write().unwrap_or_else(|e| e.into_inner());
         self.generation.fetch_add(1, Ordering::AcqRel);
-        entries.remove(epc);
+        if let Some(robots) = entries.remove(epc) {
+            self.len.fetch_sub(robots.len() as u64, Ordering::Relaxed);
+        }
     }
 
     /// Forgets everything (a robot's class or capabilities changed).
@@ -57,6 +77,7 @@ impl EffectiveCache {
         let mut entries = self.entries.write().unwrap_or_else(|e| e.into_inner());
         self.generation.fetch_add(1, Ordering::AcqRel);
         entries.clear();
+        self.len.store(0, Ordering::Relaxed);
     }
 }
 
@@ -79,5 +100,19 @@ mod tests {
         assert!(cache.get("A", "r").is_some());
         cache.clear();
         assert!(cache.get("A", "r").is_none());
+    }
+
+    #[test]
+    fn memory_stays_bounded() {
+        let cache = EffectiveCache::default();
+        for n in 0..CAPACITY + 100 {
+            cache.insert(cache.generation(), &format!("E{n}"), "r", cached());
+        }
+        let held = cache.len.load(Ordering::Relaxed) as usize;
+        assert!(held <= CAPACITY && held > CAPACITY / 2, "{held}");
+        assert!(
+            cache.get(&format!("E{}", CAPACITY + 99), "r").is_some(),
+            "the newest entry is kept"
+        );
     }
 }

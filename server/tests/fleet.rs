@@ -514,3 +514,26 @@ async fn metrics_count_requests_by_route() {
     assert!(text.contains("pps_http_request_duration_seconds_bucket"));
     assert!(text.contains("pps_trials_recorded_total 0"));
 }
+
+#[tokio::test]
+async fn a_retired_epc_is_never_registered_again() {
+    let server = TestServer::start().await;
+    let new = "E20034120000000000007778";
+    let moved = server
+        .request(Method::POST, &format!("/api/v1/tags/{ADA_SWITCH}/retag"), Some(&server.admin))
+        .json(&json!({ "new_epc": new }))
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(moved.status(), StatusCode::OK);
+    let reuse = server
+        .put(
+            &format!("/api/v1/tags/{ADA_SWITCH}"),
+            &server.admin,
+            &new_entry(ADA_SWITCH, "again"),
+            Some(("if-none-match", "*")),
+        )
+        .await;
+    let body = problem(reuse, StatusCode::CONFLICT).await;
+    assert!(body["detail"].as_str().unwrap().contains(new), "{body}");
+}

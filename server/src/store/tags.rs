@@ -11,7 +11,7 @@ use crate::clock;
 use crate::db::Db;
 use crate::http::precondition::WriteCondition;
 use crate::store::events::{self, EventKind};
-use crate::store::inbox;
+use crate::store::{inbox, retired};
 
 /// A tag as stored, with the metadata the registry keeps about it.
 #[derive(Debug, Clone)]
@@ -75,6 +75,8 @@ pub enum TagWriteError {
     Missing,
     #[error("the tag changed since the revision the request names")]
     Stale { current: StoredTag },
+    #[error("the EPC was retired when its tag was replaced; the tag now has the EPC {successor}")]
+    Retired { successor: String },
     #[error(transparent)]
     Database(#[from] sqlx::Error),
 }
@@ -160,7 +162,13 @@ pub async fn put_in(
         (Some(current), WriteCondition::Absent) => {
             return Err(TagWriteError::Exists { current: current.clone() });
         }
-        (None, WriteCondition::Absent) => (1, "create"),
+        (None, WriteCondition::Absent) => {
+            // A retired EPC stays retired: robots reading it are sent on to its successor.
+            if let Some(successor) = retired::successor(tx, epc.as_hex()).await? {
+                return Err(TagWriteError::Retired { successor });
+            }
+            (1, "create")
+        }
         (None, _) => return Err(TagWriteError::Missing),
         (Some(current), condition) if !condition.allows(current.revision) => {
             return Err(TagWriteError::Stale { current: current.clone() });

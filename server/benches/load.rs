@@ -1,0 +1,391 @@
+//! Load benchmark: simulated robots over HTTP against the real `pps-server` release binary.
+//!
+//! ```sh
+//! cargo bench -p pps-server --bench load                      # 10 s per phase, 64 connections
+//! cargo bench -p pps-server --bench load -- --seconds 5 --connections 32 --tags 10,100000
+//! ```
+//!
+//! For each registry size it measures effective-entry reads (plain and revalidated with
+//! `If-None-Match`, answered 304) and durable trial writes, and prints req/s, p50 and p99 per
+//! operation and the server's resident memory. When `nginx` is installed, the same generator
+//! also fetches the same JSON as a static file from nginx, so the two are compared in one run.
+//! The generator shares the machine's cores with the server, as a robot fleet's LAN would not;
+//! compare ratios measured in one run, not absolute figures across machines.
+
+use std::net::TcpListener;
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use pps_server::auth::Role;
+use pps_server::store::{robots, tokens};
+use pps_server::{Db, seed};
+use serde_json::{Value, json};
+
+const BIN: &str = env!("CARGO_BIN_EXE_pps-server");
+
+/// Robots per class writing trials and reading entries; tokens are bound to them.
+const ROBOTS: [(&str, &str); 4] =
+    [("el-e-1", "el-e"), ("el-e-2", "el-e"), ("pr2-1", "pr2"), ("pr2-2", "pr2")];
+/// Tags the robots read during a phase (a working set, as robots at work read a few tags).
+const WORKING_SET: usize = 2_000;
+
+struct Options {
+    seconds: u64,
+    connections: usize,
+    tag_counts: Vec<usize>,
+}
+
+fn options() -> Options {
+    let mut options = Options { seconds: 10, connections: 64, tag_counts: vec![10, 100_000] };
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut i = 0;
+    while i < args.len() {
+        let value = args.get(i + 1).cloned().unwrap_or_default();
+        match args[i].as_str() {
+            "--seconds" => options.seconds = value.parse().expect("--seconds N"),
+            "--connections" => options.connections = value.parse().expect("--connections N"),
+            "--tags" => {
+                options.tag_counts =
+                    value.split(',').map(|n| n.parse().expect("--tags N,M")).collect()
+            }
+            // `cargo bench` passes --bench; other flags are not ours.
+            _ => {
+                i += 1;
+                continue;
+            }
+        }
+        i += 2;
+    }
+    options
+}
+
+/// One operation's results.
+struct Measured {
+    requests: usize,
+    elapsed: Duration,
+    latencies_us: Vec<u32>,
+    failures: usize,
+}
+
+impl Measured {
+    fn percentile(&self, p: f64) -> f64 {
+        if self.latencies_us.is_empty() {
+            return f64::NAN;
+        }
+        let index = ((self.latencies_us.len() - 1) as f64 * p).round() as usize;
+        f64::from(self.latencies_us[index]) / 1000.0
+    }
+
+    fn print(&self, name: &str) {
+        println!(
+            "  {name:<34} {:>9.0} req/s   p50 {:>6.2} ms   p99 {:>6.2} ms   ({} requests, {} failed)",
+            self.requests as f64 / self.elapsed.as_secs_f64(),
+            self.percentile(0.5),
+            self.percentile(0.99),
+            self.requests,
+            self.failures
+        );
+    }
+}
+
+/// What one simulated robot connection does once.
+#[derive(Clone)]
+enum Operation {
+    Read { revalidate: bool },
+    WriteTrial,
+    Static { url: String },
+}
+
+struct Fleet {
+    url: String,
+    tokens: Vec<(String, String)>,
+    epcs: Vec<String>,
+    etags: std::collections::HashMap<(String, String), String>,
+}
+
+fn main() -> anyhow::Result<()> {
+    let options = options();
+    let runtime =
+        tokio::runtime::Builder::new_multi_thread().worker_threads(2).enable_all().build()?;
+    println!(
+        "PPS-tag registry load benchmark: {} connections, {} s per phase, server {}",
+        options.connections, options.seconds, BIN
+    );
+    for &tags in &options.tag_counts {
+        runtime.block_on(run(&options, tags))?;
+    }
+    Ok(())
+}
+
+async fn run(options: &Options, tag_count: usize) -> anyhow::Result<()> {
+    let dir = tempfile::tempdir()?;
+    let db_path = dir.path().join("bench.db");
+    let prepared = Instant::now();
+    let (epcs, tokens) = prepare(&db_path, tag_count).await?;
+    let port = free_port()?;
+    let mut server = Command::new(BIN)
+        .args(["serve", "--listen", &format!("127.0.0.1:{port}"), "--db"])
+        .arg(&db_path)
+        .env("RUST_LOG", "warn")
+        .stderr(Stdio::null())
+        .spawn()?;
+    let url = format!("http://127.0.0.1:{port}");
+    let client = client(options.connections)?;
+    wait_until_up(&client, &url).await?;
+    println!("\n{tag_count} tags (prepared in {:.1} s)", prepared.elapsed().as_secs_f64());
+
+    let working: Vec<String> =
+        epcs.iter().step_by((epcs.len() / WORKING_SET).max(1)).cloned().collect();
+    let mut fleet = Fleet { url: url.clone(), tokens, epcs: working, etags: Default::default() };
+    // Warm the cache and learn each entry's ETag, as robots that read the tag before would.
+    for (robot, token) in &fleet.tokens {
+        for epc in &fleet.epcs {
+            let response = client
+                .get(format!("{url}/api/v1/robots/{robot}/tags/{epc}"))
+                .bearer_auth(token)
+                .send()
+                .await?;
+            let etag = response.headers()["etag"].to_str()?.to_owned();
+            fleet.etags.insert((robot.clone(), epc.clone()), etag);
+        }
+    }
+    let fleet = Arc::new(fleet);
+    let duration = Duration::from_secs(options.seconds);
+    for (name, operation) in [
+        ("effective entry, full read", Operation::Read { revalidate: false }),
+        ("effective entry, If-None-Match 304", Operation::Read { revalidate: true }),
+        ("trial write (durable)", Operation::WriteTrial),
+    ] {
+        let measured = measure(&client, &fleet, operation, options.connections, duration).await;
+        measured.print(name);
+    }
+    println!("  server resident memory: {}", memory(&server).unwrap_or_else(|| "unknown".into()));
+    if tag_count == *options.tag_counts.first().unwrap_or(&0) {
+        compare_with_nginx(&client, &fleet, options, duration).await?;
+    }
+    stop(&mut server);
+    Ok(())
+}
+
+/// A database with `tag_count` tags, the robots registered and their tokens minted.
+async fn prepare(
+    db_path: &Path,
+    tag_count: usize,
+) -> anyhow::Result<(Vec<String>, Vec<(String, String)>)> {
+    let db = Db::open(db_path).await?;
+    let seeds = seed::seed_entries()?;
+    let mut entries = Vec::with_capacity(tag_count);
+    for n in 0..tag_count {
+        let mut entry = seeds[n % seeds.len()].clone();
+        entry["epc"] = format!("E2BE0000{n:016X}").into();
+        entry["properties"]["name"] =
+            format!("{} {n}", entry["properties"]["type"].as_str().unwrap_or("tag")).into();
+        entries.push(entry);
+    }
+    let epcs = entries.iter().map(|e| e["epc"].as_str().unwrap_or_default().to_owned()).collect();
+    seed::import(&db, entries, "bench").await?;
+    tokens::create(&db, Role::Admin, "bench admin", None).await?;
+    let mut minted = Vec::new();
+    for (id, class) in ROBOTS {
+        let robot = json!({ "id": id, "class": class, "name": id, "capabilities": ["light_switch", "pull_back", "push", "pull_lamp", "drop"], "limits": { "max_force": 40.0 } });
+        robots::put(&db, id, &robot, "bench").await?;
+        minted.push((id.to_owned(), tokens::create(&db, Role::Robot, id, None).await?.token));
+    }
+    db.close().await;
+    Ok((epcs, minted))
+}
+
+async fn measure(
+    client: &reqwest::Client,
+    fleet: &Arc<Fleet>,
+    operation: Operation,
+    connections: usize,
+    duration: Duration,
+) -> Measured {
+    let started = Instant::now();
+    let deadline = started + duration;
+    let mut tasks = tokio::task::JoinSet::new();
+    for connection in 0..connections {
+        let (client, fleet, operation) = (client.clone(), fleet.clone(), operation.clone());
+        tasks.spawn(async move {
+            let (robot, token) = &fleet.tokens[connection % fleet.tokens.len()];
+            let mut latencies = Vec::with_capacity(50_000);
+            let mut failures = 0;
+            let mut n = connection;
+            while Instant::now() < deadline {
+                n += connections;
+                let epc = &fleet.epcs[n % fleet.epcs.len()];
+                let sent = Instant::now();
+                let ok = match &operation {
+                    Operation::Read { revalidate } => {
+                        let mut request = client
+                            .get(format!("{}/api/v1/robots/{robot}/tags/{epc}", fleet.url))
+                            .bearer_auth(token);
+                        if *revalidate {
+                            request = request.header(
+                                "if-none-match",
+                                &fleet.etags[&(robot.clone(), epc.clone())],
+                            );
+                        }
+                        match request.send().await {
+                            Ok(response) => {
+                                let expected = if *revalidate { 304 } else { 200 };
+                                response.status().as_u16() == expected
+                                    && response.bytes().await.is_ok()
+                            }
+                            Err(_) => false,
+                        }
+                    }
+                    Operation::WriteTrial => {
+                        let id = uuid::Uuid::new_v4().to_string();
+                        let body = trial(&id, epc, robot);
+                        match client
+                            .put(format!("{}/api/v1/trials/{id}", fleet.url))
+                            .bearer_auth(token)
+                            .json(&body)
+                            .send()
+                            .await
+                        {
+                            Ok(response) => {
+                                response.status().as_u16() == 201 && response.bytes().await.is_ok()
+                            }
+                            Err(_) => false,
+                        }
+                    }
+                    Operation::Static { url } => match client.get(url).send().await {
+                        Ok(response) => {
+                            response.status().is_success() && response.bytes().await.is_ok()
+                        }
+                        Err(_) => false,
+                    },
+                };
+                latencies.push(sent.elapsed().as_micros().min(u128::from(u32::MAX)) as u32);
+                failures += usize::from(!ok);
+            }
+            (latencies, failures)
+        });
+    }
+    let mut measured =
+        Measured { requests: 0, elapsed: Duration::ZERO, latencies_us: Vec::new(), failures: 0 };
+    while let Some(Ok((latencies, failures))) = tasks.join_next().await {
+        measured.requests += latencies.len();
+        measured.latencies_us.extend(latencies);
+        measured.failures += failures;
+    }
+    measured.elapsed = started.elapsed();
+    measured.latencies_us.sort_unstable();
+    measured
+}
+
+fn trial(id: &str, epc: &str, robot: &str) -> Value {
+    json!({
+        "id": id, "epc": epc, "robot": robot, "action": "on", "behavior": "push_top",
+        "started_at": "2026-11-22T10:00:00Z", "finished_at": "2026-11-22T10:00:20Z",
+        "outcome": "success", "confirmed": null, "detector": { "brightness_change": -0.21 },
+        "forces": [ { "t": 0.5, "finger": "left", "force": [0.1, 0.2, 2.9] } ],
+        "measurements": {}
+    })
+}
+
+/// Serves one effective entry as a static file from nginx, if nginx is installed.
+async fn compare_with_nginx(
+    client: &reqwest::Client,
+    fleet: &Arc<Fleet>,
+    options: &Options,
+    duration: Duration,
+) -> anyhow::Result<()> {
+    let Ok(nginx) = which("nginx") else {
+        println!("  (nginx is not installed: no static-file comparison in this run)");
+        return Ok(());
+    };
+    let dir = tempfile::tempdir()?;
+    let (robot, token) = &fleet.tokens[0];
+    let epc = &fleet.epcs[0];
+    let body = client
+        .get(format!("{}/api/v1/robots/{robot}/tags/{epc}", fleet.url))
+        .bearer_auth(token)
+        .send()
+        .await?
+        .bytes()
+        .await?;
+    std::fs::create_dir_all(dir.path().join("www"))?;
+    std::fs::create_dir_all(dir.path().join("logs"))?;
+    std::fs::write(dir.path().join("www/entry.json"), &body)?;
+    let port = free_port()?;
+    let config = format!(
+        "worker_processes auto; error_log logs/error.log; pid logs/nginx.pid;\n\
+         events {{ worker_connections 1024; }}\n\
+         http {{ access_log off; server {{ listen 127.0.0.1:{port}; root {}; }} }}\n",
+        dir.path().join("www").display()
+    );
+    std::fs::write(dir.path().join("nginx.conf"), config)?;
+    let mut child = Command::new(nginx)
+        .arg("-p")
+        .arg(dir.path())
+        .args(["-c", "nginx.conf", "-g", "daemon off;"])
+        .stderr(Stdio::null())
+        .spawn()?;
+    let url = format!("http://127.0.0.1:{port}/entry.json");
+    for _ in 0..100 {
+        if client.get(&url).send().await.is_ok() {
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    let measured =
+        measure(client, fleet, Operation::Static { url }, options.connections, duration).await;
+    measured.print("nginx, same JSON as a static file");
+    stop(&mut child);
+    Ok(())
+}
+
+fn which(program: &str) -> std::io::Result<std::path::PathBuf> {
+    std::env::var_os("PATH")
+        .iter()
+        .flat_map(std::env::split_paths)
+        .chain(["/usr/sbin".into(), "/sbin".into()])
+        .map(|dir| dir.join(program))
+        .find(|path| path.is_file())
+        .ok_or_else(|| std::io::Error::new(std::io::ErrorKind::NotFound, program.to_owned()))
+}
+
+fn client(connections: usize) -> reqwest::Result<reqwest::Client> {
+    reqwest::Client::builder()
+        .pool_max_idle_per_host(connections)
+        .timeout(Duration::from_secs(30))
+        .build()
+}
+
+async fn wait_until_up(client: &reqwest::Client, url: &str) -> anyhow::Result<()> {
+    for _ in 0..200 {
+        if client.get(format!("{url}/healthz")).send().await.is_ok() {
+            return Ok(());
+        }
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    anyhow::bail!("the server did not come up")
+}
+
+fn free_port() -> std::io::Result<u16> {
+    Ok(TcpListener::bind("127.0.0.1:0")?.local_addr()?.port())
+}
+
+/// Current and peak resident memory of the server process.
+fn memory(child: &Child) -> Option<String> {
+    let status = std::fs::read_to_string(format!("/proc/{}/status", child.id())).ok()?;
+    let field = |name: &str| {
+        status
+            .lines()
+            .find(|l| l.starts_with(name))
+            .and_then(|l| l.split_whitespace().nth(1))
+            .and_then(|kb| kb.parse::<u64>().ok())
+    };
+    Some(format!("{} MB now, {} MB peak", field("VmRSS:")? / 1024, field("VmHWM:")? / 1024))
+}
+
+fn stop(child: &mut Child) {
+    let _ = Command::new("kill").arg("-TERM").arg(child.id().to_string()).status();
+    let _ = child.wait();
+}
