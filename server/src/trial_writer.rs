@@ -5,7 +5,7 @@
 //! queued up while the previous commit was being flushed and commits them together, so many
 //! robots writing at once share each fsync instead of paying one each.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeSet, HashMap};
 use std::sync::Arc;
 
 use serde_json::{Value, json};
@@ -119,49 +119,69 @@ async fn run(
 }
 
 /// Stores a batch in one transaction; per-trial rejections do not fail the others.
+///
+/// Each tag and robot is looked up once per batch, and a new trial costs two inserts: the
+/// batch's time is what every waiting robot pays, so it is kept short.
 async fn commit(
     db: &Db,
     batch: &[&CheckedTrial],
 ) -> sqlx::Result<(Vec<Result<Recorded, TrialRejection>>, BTreeSet<String>)> {
     let mut tx = db.begin_write().await?;
     let received_at = clock::now();
+    let mut tags: HashMap<&str, Result<(), TagProblem>> = HashMap::new();
+    let mut classes: HashMap<&str, Option<String>> = HashMap::new();
     let mut results = Vec::with_capacity(batch.len());
     let mut groups = BTreeSet::new();
     for trial in batch {
-        if let Some(existing) = trials::find(&mut tx, &trial.id).await? {
-            results.push(if retention::same_submission(&existing.submitted(), &trial.body) {
-                Ok(Recorded::Repeat(existing))
-            } else {
-                Err(TrialRejection::Conflict(existing))
-            });
-            continue;
+        if !tags.contains_key(trial.epc.as_str()) {
+            tags.insert(&trial.epc, check_tag(&mut tx, &trial.epc).await?);
         }
-        if let Err(rejection) = check_tag(&mut tx, &trial.epc).await? {
-            results.push(Err(rejection));
-            continue;
-        }
-        let robot_class: Option<String> =
-            sqlx::query_scalar("select class from robots where id = ?")
+        if !classes.contains_key(trial.robot.as_str()) {
+            let class = sqlx::query_scalar("select class from robots where id = ?")
                 .bind(&trial.robot)
                 .fetch_optional(&mut *tx)
                 .await?
                 .flatten();
+            classes.insert(&trial.robot, class);
+        }
+        let robot_class = classes[trial.robot.as_str()].clone();
         let body = trial.body.to_string();
-        let new = NewTrial {
-            id: &trial.id,
-            epc: &trial.epc,
-            robot: &trial.robot,
-            robot_class: robot_class.as_deref(),
-            action: &trial.action,
-            behavior: &trial.behavior,
-            outcome: &trial.outcome,
-            confirmed: trial.confirmed,
-            started_at: &trial.started_at,
-            finished_at: &trial.finished_at,
-            received_at: &received_at,
-            body: &body,
+        let seq = match &tags[trial.epc.as_str()] {
+            Ok(()) => {
+                let new = NewTrial {
+                    id: &trial.id,
+                    epc: &trial.epc,
+                    robot: &trial.robot,
+                    robot_class: robot_class.as_deref(),
+                    action: &trial.action,
+                    behavior: &trial.behavior,
+                    outcome: &trial.outcome,
+                    confirmed: trial.confirmed,
+                    started_at: &trial.started_at,
+                    finished_at: &trial.finished_at,
+                    received_at: &received_at,
+                    body: &body,
+                };
+                trials::insert_new(&mut tx, &new).await?
+            }
+            // A retry of a trial stored before its tag was archived is still a retry.
+            Err(_) => None,
         };
-        let seq = trials::insert(&mut tx, &new).await?;
+        let Some(seq) = seq else {
+            results.push(match trials::find(&mut tx, &trial.id).await? {
+                Some(existing)
+                    if retention::same_submission(&existing.submitted(), &trial.body) =>
+                {
+                    Ok(Recorded::Repeat(existing))
+                }
+                Some(existing) => Err(TrialRejection::Conflict(existing)),
+                None => Err(tags[trial.epc.as_str()].clone().err().map_or_else(
+                    || TrialRejection::Database(Arc::new(sqlx::Error::RowNotFound)),
+                    TagProblem::rejection,
+                )),
+            });
+            continue;
+        };
         let data = json!({ "trial": trial.id, "epc": trial.epc, "robot": trial.robot, "action": trial.action, "outcome": trial.outcome, "seq": seq });
         events::append(&mut tx, EventKind::TrialRecorded, data).await?;
         groups.insert(TrialGroup {
@@ -188,21 +208,39 @@ async fn commit(
     Ok((results, relearned))
 }
 
+/// Why a tag takes no trials.
+#[derive(Debug, Clone)]
+enum TagProblem {
+    Unknown,
+    Archived,
+    Retired(String),
+}
+
+impl TagProblem {
+    fn rejection(self) -> TrialRejection {
+        match self {
+            Self::Unknown => TrialRejection::UnknownTag,
+            Self::Archived => TrialRejection::ArchivedTag,
+            Self::Retired(successor) => TrialRejection::RetiredTag(successor),
+        }
+    }
+}
+
 /// A trial must name a registered, active tag.
 async fn check_tag(
     conn: &mut sqlx::SqliteConnection,
     epc: &str,
-) -> sqlx::Result<Result<(), TrialRejection>> {
+) -> sqlx::Result<Result<(), TagProblem>> {
     let archived: Option<bool> = sqlx::query_scalar("select archived from tags where epc = ?")
         .bind(epc)
         .fetch_optional(&mut *conn)
         .await?;
     Ok(match archived {
         Some(false) => Ok(()),
-        Some(true) => Err(TrialRejection::ArchivedTag),
+        Some(true) => Err(TagProblem::Archived),
         None => match store::retired::successor(conn, epc).await? {
-            Some(successor) => Err(TrialRejection::RetiredTag(successor)),
-            None => Err(TrialRejection::UnknownTag),
+            Some(successor) => Err(TagProblem::Retired(successor)),
+            None => Err(TagProblem::Unknown),
         },
     })
 }

@@ -103,7 +103,8 @@ async fn unknown_epcs_land_in_the_inbox_until_registered() {
     let deadline = Instant::now() + Duration::from_secs(1);
     let item = loop {
         let inbox = server.get_json("/api/v1/inbox").await;
-        if let Some(item) = inbox["items"].as_array().unwrap().first() {
+        // The sightings are flushed in the background: wait until all three are in.
+        if let Some(item) = inbox["items"].as_array().unwrap().first().filter(|i| i["count"] == 3) {
             break item.clone();
         }
         assert!(Instant::now() < deadline, "the inbox shows the EPC within a second");

@@ -81,12 +81,17 @@ pub struct NewTrial<'a> {
     pub body: &'a str,
 }
 
-/// Inserts a trial and returns its sequence number.
-pub async fn insert(conn: &mut SqliteConnection, trial: &NewTrial<'_>) -> sqlx::Result<i64> {
+/// Inserts a trial and returns its sequence number; `None` when a trial with its id exists.
+pub async fn insert_new(
+    conn: &mut SqliteConnection,
+    trial: &NewTrial<'_>,
+) -> sqlx::Result<Option<i64>> {
     sqlx::query_scalar(
         "insert into trials (id, epc, robot, robot_class, action, behavior, outcome, confirmed,
                              started_at, finished_at, received_at, body)
-         values (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) returning seq",
+         values (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)
+         on conflict (id) do nothing
+         returning seq",
     )
     .bind(trial.id)
     .bind(trial.epc)
@@ -100,7 +105,7 @@ pub async fn insert(conn: &mut SqliteConnection, trial: &NewTrial<'_>) -> sqlx::
     .bind(trial.finished_at)
     .bind(trial.received_at)
     .bind(trial.body)
-    .fetch_one(conn)
+    .fetch_optional(conn)
     .await
 }
 
