@@ -11,6 +11,9 @@ use std::time::{Duration, Instant};
 
 /// Failures allowed before any waiting: enough for a typo or two on a phone keyboard.
 pub const FREE_FAILURES: u32 = 3;
+/// Failures allowed from one address, across names: higher, so one person's typos on a shared
+/// computer do not make a colleague wait, while a guesser trying many names still does.
+pub const ADDRESS_FREE_FAILURES: u32 = 10;
 /// The longest wait between attempts.
 pub const MAX_WAIT: Duration = Duration::from_secs(60);
 /// Failures are forgotten this long after the last one.
@@ -25,9 +28,10 @@ struct Failures {
 }
 
 impl Failures {
-    /// When the next attempt may be made.
-    fn next_allowed(&self) -> Instant {
-        self.last + wait_after(self.count)
+    /// When the next attempt on `key` may be made.
+    fn next_allowed(&self, key: &str) -> Instant {
+        let free = if key.starts_with("address:") { ADDRESS_FREE_FAILURES } else { FREE_FAILURES };
+        self.last + wait_after(self.count, free)
     }
 }
 
@@ -41,9 +45,10 @@ pub fn address_key(address: std::net::IpAddr) -> String {
     format!("address:{address}")
 }
 
-/// How long to wait after `count` consecutive failures: nothing at first, then 1 s, 2 s, 4 s…
-pub fn wait_after(count: u32) -> Duration {
-    match count.checked_sub(FREE_FAILURES) {
+/// How long to wait after `count` consecutive failures of which `free` cost nothing: then
+/// 1 s, 2 s, 4 s…
+pub fn wait_after(count: u32, free: u32) -> Duration {
+    match count.checked_sub(free) {
         None => Duration::ZERO,
         Some(extra) => Duration::from_secs(1u64 << extra.min(6)).min(MAX_WAIT),
     }
@@ -61,8 +66,8 @@ impl LoginThrottle {
         let failures = self.failures.lock().unwrap_or_else(|e| e.into_inner());
         let now = Instant::now();
         keys.iter()
-            .filter_map(|key| failures.get(key))
-            .map(|f| f.next_allowed().saturating_duration_since(now))
+            .filter_map(|key| failures.get(key).map(|f| f.next_allowed(key)))
+            .map(|allowed| allowed.saturating_duration_since(now))
             .filter(|wait| !wait.is_zero())
             .max()
     }
@@ -103,11 +108,11 @@ mod tests {
 
     #[test]
     fn waits_grow_after_the_free_failures_and_are_capped() {
-        assert_eq!(wait_after(0), Duration::ZERO);
-        assert_eq!(wait_after(FREE_FAILURES - 1), Duration::ZERO);
-        assert_eq!(wait_after(FREE_FAILURES), Duration::from_secs(1));
-        assert_eq!(wait_after(FREE_FAILURES + 1), Duration::from_secs(2));
-        assert_eq!(wait_after(FREE_FAILURES + 40), MAX_WAIT);
+        assert_eq!(wait_after(0, FREE_FAILURES), Duration::ZERO);
+        assert_eq!(wait_after(FREE_FAILURES - 1, FREE_FAILURES), Duration::ZERO);
+        assert_eq!(wait_after(FREE_FAILURES, FREE_FAILURES), Duration::from_secs(1));
+        assert_eq!(wait_after(FREE_FAILURES + 1, FREE_FAILURES), Duration::from_secs(2));
+        assert_eq!(wait_after(FREE_FAILURES + 40, FREE_FAILURES), MAX_WAIT);
     }
 
     #[test]
@@ -124,5 +129,17 @@ mod tests {
         assert_eq!(throttle.must_wait(&[user_key("bert")]), None);
         throttle.succeeded(&keys);
         assert_eq!(throttle.must_wait(&keys), None);
+    }
+
+    #[test]
+    fn one_address_guessing_many_names_is_slowed_too() {
+        let throttle = LoginThrottle::default();
+        let address = address_key([10, 0, 0, 3].into());
+        for n in 0..ADDRESS_FREE_FAILURES {
+            let keys = vec![user_key(&format!("name{n}")), address.clone()];
+            assert_eq!(throttle.must_wait(&keys), None, "attempt {n}");
+            throttle.failed(&keys);
+        }
+        assert!(throttle.must_wait(&[user_key("someone else"), address]).is_some());
     }
 }

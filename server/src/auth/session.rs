@@ -65,11 +65,13 @@ pub fn browser_secret(headers: &HeaderMap) -> Option<String> {
     cookie_secret(headers).filter(|_| !headers.contains_key(AUTHORIZATION))
 }
 
-/// The `Set-Cookie` value that gives the browser a session.
-pub fn set_cookie(session_secret: &str) -> HeaderValue {
+/// The `Set-Cookie` value that gives the browser a session; `secure` over HTTPS, so the
+/// browser never sends it in clear text.
+pub fn set_cookie(session_secret: &str, secure: bool) -> HeaderValue {
     let value = format!(
-        "{COOKIE_NAME}={session_secret}; Path=/; Max-Age={}; HttpOnly; SameSite=Strict",
-        LIFETIME.whole_seconds()
+        "{COOKIE_NAME}={session_secret}; Path=/; Max-Age={}; HttpOnly; SameSite=Strict{}",
+        LIFETIME.whole_seconds(),
+        if secure { "; Secure" } else { "" }
     );
     HeaderValue::from_str(&value).expect("a session secret is URL-safe text")
 }
@@ -119,10 +121,12 @@ mod tests {
 
     #[test]
     fn cookie_flags() {
-        let cookie = set_cookie("s3cret").to_str().unwrap().to_owned();
+        let cookie = set_cookie("s3cret", false).to_str().unwrap().to_owned();
         assert!(cookie.starts_with("pps_session=s3cret;"));
         for flag in ["HttpOnly", "SameSite=Strict", "Path=/", "Max-Age=43200"] {
             assert!(cookie.contains(flag), "{cookie} lacks {flag}");
         }
+        assert!(!cookie.contains("Secure"), "plain HTTP on the LAN could not send it back");
+        assert!(set_cookie("s3cret", true).to_str().unwrap().ends_with("; Secure"));
     }
 }

@@ -35,6 +35,7 @@ pub struct Login {
 pub async fn login(
     State(state): State<AppState>,
     client: Option<Extension<ConnectInfo<SocketAddr>>>,
+    secure: Option<Extension<crate::transport::SecureTransport>>,
     TypedJson(login): TypedJson<Login>,
 ) -> Result<Response, ApiError> {
     let name = UserName::parse(&login.username).ok();
@@ -71,7 +72,9 @@ pub async fn login(
         "csrf_token": session::csrf_token(&session_secret),
     });
     let mut response = no_store(Json(body).into_response());
-    response.headers_mut().insert(SET_COOKIE, session::set_cookie(&session_secret));
+    response
+        .headers_mut()
+        .insert(SET_COOKIE, session::set_cookie(&session_secret, secure.is_some()));
     Ok(response)
 }
 

@@ -12,7 +12,7 @@ use uuid::Uuid;
 
 use crate::auth::{Principal, Role};
 use crate::error::ApiError;
-use crate::http::extract::{ApiQuery, Caller, JsonBody, parse_epc};
+use crate::http::extract::{ApiQuery, Caller, JsonBody};
 use crate::http::openapi::{Body, Doc, Param, ParamType, Reply};
 use crate::http::page::{self, Page};
 use crate::learning::{self, TrialGroup};
@@ -296,28 +296,14 @@ pub async fn list(
         (Role::Robot, _) => caller.robot.clone(),
         (_, asked) => asked,
     };
-    if let Some(outcome) = &params.outcome
-        && !pps_schema::Outcome::ALL.iter().any(|o| o.as_str() == outcome)
-    {
-        return Err(ApiError::BadRequest(format!(
-            "outcome is one of success, failure, aborted, error; not {outcome:?}"
-        )));
-    }
-    let since = match params.since.as_deref() {
-        Some(text) => Some(crate::clock::format(crate::clock::parse(text).ok_or_else(|| {
-            ApiError::BadRequest(format!(
-                "since must be an RFC 3339 time such as 2026-11-22T09:00:00Z, not {text:?}"
-            ))
-        })?)),
-        None => None,
-    };
-    let filter = TrialFilter {
-        epc: params.epc.as_deref().map(parse_epc).transpose()?.map(|e| e.as_hex().to_owned()),
+    let filter = TrialFilter::parse(
+        params.epc.as_deref(),
         robot,
-        action: params.action,
-        outcome: params.outcome,
-        since,
-    };
+        params.action,
+        params.outcome,
+        params.since.as_deref(),
+    )
+    .map_err(ApiError::BadRequest)?;
     let rows = trials::list(state.db.reader(), &filter, after, limit + 1).await?;
     let page = page::page(rows, limit, |row| row.seq.to_string());
     Ok(Json(Page {

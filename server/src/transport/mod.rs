@@ -11,6 +11,7 @@ pub mod tls;
 
 use std::future::Future;
 use std::io;
+use std::net::SocketAddr;
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -28,6 +29,10 @@ pub use tls::TlsIdentity;
 pub const DEFAULT_HEADER_READ_TIMEOUT: Duration = Duration::from_secs(30);
 /// Room for every change-feed client (`feed::MAX_CLIENTS`) plus as many again for requests.
 pub const DEFAULT_MAX_CONNECTIONS: u32 = 512;
+
+/// Marks a request that arrived over TLS (so cookies may carry `Secure`).
+#[derive(Debug, Clone, Copy)]
+pub struct SecureTransport;
 
 /// How connections are accepted and held.
 #[derive(Debug, Clone)]
@@ -79,8 +84,9 @@ pub async fn serve(
             () = &mut shutdown => break,
             accepted = accept(&listener, &slots) => accepted,
         };
-        let Some((stream, slot)) = accepted else { continue };
+        let Some((stream, peer, slot)) = accepted else { continue };
         let connection = Connection {
+            peer,
             http: http.clone(),
             app: app.clone(),
             tls: transport.tls.clone(),
@@ -101,11 +107,11 @@ pub async fn serve(
 async fn accept(
     listener: &TcpListener,
     slots: &Arc<Semaphore>,
-) -> Option<(TcpStream, OwnedSemaphorePermit)> {
+) -> Option<(TcpStream, SocketAddr, OwnedSemaphorePermit)> {
     // Take a slot before accepting: beyond the cap, clients wait in the kernel's backlog.
     let slot = slots.clone().acquire_owned().await.expect("the semaphore is never closed");
     match listener.accept().await {
-        Ok((stream, _peer)) => Some((stream, slot)),
+        Ok((stream, peer)) => Some((stream, peer, slot)),
         Err(error) => {
             pause_after(&error).await;
             None
@@ -126,6 +132,8 @@ async fn pause_after(error: &io::Error) {
 
 /// One accepted connection, holding its slot until it closes.
 struct Connection {
+    /// The client's address, for the login slow-down.
+    peer: SocketAddr,
     http: http1::Builder,
     app: Router,
     tls: Option<TlsIdentity>,
@@ -139,7 +147,7 @@ impl Connection {
         // Responses are written whole; waiting to coalesce them only adds latency.
         let _ = stream.set_nodelay(true);
         let Some(tls) = self.tls.take() else {
-            return self.serve_http(stream).await;
+            return self.serve_http(stream, false).await;
         };
         let handshake = tokio::time::timeout(self.handshake_timeout, tls.accept(stream));
         let stream = tokio::select! {
@@ -156,13 +164,22 @@ impl Connection {
             },
             () = closing(&mut self.closing) => return,
         };
-        self.serve_http(stream).await;
+        self.serve_http(stream, true).await;
     }
 
-    async fn serve_http(mut self, io: impl AsyncRead + AsyncWrite + Unpin + Send + 'static) {
-        let app = self.app;
+    async fn serve_http(
+        mut self,
+        io: impl AsyncRead + AsyncWrite + Unpin + Send + 'static,
+        secure: bool,
+    ) {
+        let (app, peer) = (self.app, self.peer);
         let service = hyper::service::service_fn(move |request: hyper::Request<_>| {
-            app.clone().oneshot(request.map(axum::body::Body::new))
+            let mut request = request.map(axum::body::Body::new);
+            request.extensions_mut().insert(axum::extract::ConnectInfo(peer));
+            if secure {
+                request.extensions_mut().insert(SecureTransport);
+            }
+            app.clone().oneshot(request)
         });
         let connection = self.http.serve_connection(TokioIo::new(io), service);
         tokio::pin!(connection);
