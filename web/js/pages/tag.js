@@ -51,7 +51,7 @@ function statsView(stats) {
   const learned = groups.flatMap((g) => Object.entries(g.learned ?? {}).map(([name, value]) => ({ g, name, value })));
   return h('div', {},
     successChart(groups),
-    h('p', { class: 'help' }, 'A group counts as reliable once enough trials were confirmed by a person and the robot\'s own detector agreed with them.'),
+    h('p', { class: 'help' }, 'An action counts as reliable for a kind of robot after at least 20 attempts, at least 90 % of them successful (over its latest 50). A success is what the person confirmed, or else what the robot\'s own detector saw.'),
     h('h3', {}, 'Learned values'),
     learned.length === 0
       ? h('p', { class: 'muted' }, 'Nothing learned yet.')
