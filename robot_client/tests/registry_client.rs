@@ -199,3 +199,41 @@ async fn trials_recorded_offline_upload_exactly_once_after_a_restart() {
     let rejected = restarted.outbox().rejected().unwrap();
     assert!(rejected[0].1.contains("403"), "{:?}", rejected[0].1);
 }
+
+#[tokio::test]
+async fn the_registry_is_reached_over_https_with_the_lans_own_certificate_authority() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut plain, _admin, token) = Registry::create(dir.path()).await;
+    plain.stop().await;
+
+    let made = rcgen::generate_simple_self_signed(vec!["localhost".to_owned()]).unwrap();
+    let (cert, key) = (dir.path().join("pps.crt"), dir.path().join("pps.key"));
+    std::fs::write(&cert, made.cert.pem()).unwrap();
+    std::fs::write(&key, made.signing_key.serialize_pem()).unwrap();
+    let transport = pps_server::transport::Transport {
+        tls: Some(pps_server::transport::TlsIdentity::load(&cert, &key).unwrap()),
+        ..Default::default()
+    };
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let url = format!("https://localhost:{}", listener.local_addr().unwrap().port());
+    let db = Db::open(&plain.db_path).await.unwrap();
+    let options = pps_server::ServeOptions { transport, ..Default::default() };
+    tokio::spawn(pps_server::serve_with(
+        listener,
+        AppState::new(db),
+        options,
+        std::future::pending(),
+    ));
+
+    let robot = RobotId::parse("el-e-1").unwrap();
+    let epc = Epc::parse(ADA_SWITCH).unwrap();
+    let untrusting =
+        RegistryClient::new(&url, &token, robot.clone(), &dir.path().join("a")).unwrap();
+    assert!(untrusting.effective_entry(&epc).await.is_err(), "an unknown certificate is refused");
+    let trusting = RegistryClient::new(&url, &token, robot, &dir.path().join("b"))
+        .unwrap()
+        .with_ca_certificate(made.cert.pem().as_bytes())
+        .unwrap();
+    assert_eq!(trusting.effective_entry(&epc).await.unwrap().source, Source::Registry);
+    assert_eq!(trusting.record_trial(&trial("el-e-1")).await.unwrap().uploaded, 1);
+}

@@ -68,13 +68,8 @@ impl RegistryClient {
         robot: RobotId,
         state_dir: &Path,
     ) -> Result<Self, RegistryError> {
-        let http = reqwest::Client::builder()
-            .connect_timeout(std::time::Duration::from_secs(3))
-            .timeout(std::time::Duration::from_secs(15))
-            .build()
-            .map_err(RegistryError::Unreachable)?;
         Ok(Self {
-            http,
+            http: http_client(None)?,
             base: base_url.trim_end_matches('/').to_owned(),
             token: token.to_owned(),
             robot,
@@ -84,10 +79,11 @@ impl RegistryClient {
         })
     }
 
-    /// Uses `http` for every call, e.g. one that trusts the LAN's own certificate authority.
-    pub fn with_http(mut self, http: reqwest::Client) -> Self {
-        self.http = http;
-        self
+    /// Trusts the registry's own certificate authority (PEM), as on a LAN where the registry
+    /// serves HTTPS with a self-signed certificate; the system's roots stay trusted too.
+    pub fn with_ca_certificate(mut self, pem: &[u8]) -> Result<Self, RegistryError> {
+        self.http = http_client(Some(pem))?;
+        Ok(self)
     }
 
     pub fn robot(&self) -> &RobotId {
@@ -270,6 +266,21 @@ impl RegistryClient {
         }
         response.json().await.map_err(|e| RegistryError::Malformed(e.to_string()))
     }
+}
+
+/// The HTTP client: short connect timeout (a robot must notice quickly that it is offline), an
+/// idle-connection timeout below the registry's keep-alive limit, and optionally an extra CA.
+fn http_client(ca_pem: Option<&[u8]>) -> Result<reqwest::Client, RegistryError> {
+    let mut builder = reqwest::Client::builder()
+        .connect_timeout(std::time::Duration::from_secs(3))
+        .timeout(std::time::Duration::from_secs(15))
+        .pool_idle_timeout(std::time::Duration::from_secs(20));
+    if let Some(pem) = ca_pem {
+        let certificate = reqwest::Certificate::from_pem(pem)
+            .map_err(|e| RegistryError::Malformed(format!("the CA certificate is not PEM: {e}")))?;
+        builder = builder.add_root_certificate(certificate);
+    }
+    builder.build().map_err(RegistryError::Unreachable)
 }
 
 fn parse_entry(entry: &Value) -> Result<EffectiveEntry, RegistryError> {

@@ -1,5 +1,5 @@
 //! HTTPS on the LAN: the server's certificate and private key from PEM files, served with
-//! rustls and its ring provider.
+//! rustls and its aws-lc-rs provider.
 //!
 //! Everything that can be wrong with the files is found here, at start, with a message that
 //! names the file and what to do; the server must never start with a key that does not belong
@@ -34,7 +34,7 @@ impl TlsIdentity {
     pub fn load(cert_path: &Path, key_path: &Path) -> anyhow::Result<Self> {
         let certs = read_certificates(cert_path)?;
         let key = read_private_key(key_path)?;
-        let provider = Arc::new(rustls::crypto::ring::default_provider());
+        let provider = Arc::new(rustls::crypto::aws_lc_rs::default_provider());
         let mut config = rustls::ServerConfig::builder_with_provider(provider)
             .with_safe_default_protocol_versions()
             .context("the TLS library offers no protocol version")?
