@@ -180,3 +180,83 @@ fn token_create_checks_its_arguments() {
     assert_eq!(listed[0]["robot_id"], "el-e-1");
     assert!(listed[0]["expires_at"].is_string());
 }
+
+/// Runs the server with every log level on, uses tokens and passwords the way robots and people
+/// do, and then looks for them in the database files and in everything the server wrote.
+#[test]
+fn no_secret_is_stored_or_logged_in_plain_text() {
+    let dir = tempfile::tempdir().unwrap();
+    let db = dir.path().join("secrets.db");
+    let password = "correct horse battery staple";
+    let mut add = Command::new(BIN)
+        .args(["user", "add", "anna", "--role", "caretaker", "--password-stdin", "--db"])
+        .arg(&db)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    writeln!(add.stdin.take().unwrap(), "{password}").unwrap();
+    let added = add.wait_with_output().unwrap();
+    assert!(added.status.success());
+    let robot = stdout(&cli(&db, &["token", "create", "--role", "robot", "--name", "el-e-1"]))
+        .trim()
+        .to_owned();
+
+    let log = dir.path().join("server.log");
+    let mut child = Command::new(BIN)
+        .args(["serve", "--listen", "127.0.0.1:0", "--db"])
+        .arg(&db)
+        .env("RUST_LOG", "trace")
+        .stderr(std::fs::File::create(&log).unwrap())
+        .spawn()
+        .unwrap();
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(20);
+    let (url, admin) = loop {
+        let text = std::fs::read_to_string(&log).unwrap();
+        let url = text
+            .lines()
+            .find_map(|l| l.trim().strip_prefix("PPS-tag registry at "))
+            .map(|u| u.trim_end_matches('/').to_owned());
+        let admin = text.lines().map(str::trim).find(|l| l.starts_with("pps_")).map(str::to_owned);
+        if let (Some(url), Some(admin)) = (url, admin) {
+            break (url, admin);
+        }
+        assert!(std::time::Instant::now() < deadline, "the banner appeared");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().unwrap();
+    runtime.block_on(async {
+        let http = reqwest::Client::new();
+        for token in [&admin, &robot, &format!("{robot}x")] {
+            http.get(format!("{url}/api/v1/tags")).bearer_auth(token).send().await.unwrap();
+        }
+        for attempt in [password, "wrong password"] {
+            let login = serde_json::json!({ "username": "anna", "password": attempt });
+            http.post(format!("{url}/api/v1/session")).json(&login).send().await.unwrap();
+        }
+    });
+    nix_terminate(&child);
+    assert!(child.wait().unwrap().success());
+
+    let secrets = [admin.as_str(), robot.as_str(), password, "wrong password"];
+    let text = std::fs::read_to_string(&log).unwrap();
+    // The first-start banner shows the admin token once, by design; nothing else may.
+    let rule = "=".repeat(78);
+    let mut blocks = text.split(&rule);
+    let (before, _banner, after) =
+        (blocks.next().unwrap(), blocks.next().unwrap(), blocks.collect::<String>());
+    assert!(after.len() > 1000, "trace logging was on: {} bytes after the banner", after.len());
+    for secret in secrets {
+        assert!(!before.contains(secret) && !after.contains(secret), "{secret:?} is in the log");
+    }
+    for file in ["secrets.db", "secrets.db-wal", "secrets.db-shm"] {
+        let bytes = std::fs::read(dir.path().join(file)).unwrap_or_default();
+        for secret in secrets {
+            assert!(
+                !bytes.windows(secret.len()).any(|w| w == secret.as_bytes()),
+                "{secret:?} is stored in {file}"
+            );
+        }
+    }
+}
