@@ -9,6 +9,9 @@ use super::laser::LaserModel;
 use super::rfid::Antenna;
 use crate::hal::{AntennaId, CameraCalibration, CameraIntrinsics, Finger, PlanarPose};
 
+/// How far each finger's base sits from the palm's centre line, metres.
+pub const KNUCKLE_OFFSET: f64 = 0.015;
+
 /// Fixed geometry of an EL-E-like robot, base frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BodyGeometry {
@@ -19,7 +22,7 @@ pub struct BodyGeometry {
     /// Distance from the base's centre to its front, metres.
     pub base_front: f64,
     /// Travel of the carriage (hand height), the arm (extension) and the gripper (opening,
-    /// radians).
+    /// radians; wide enough for the entries' 90° drawer and trash-can openings).
     pub carriage_travel: (f64, f64),
     pub arm_travel: (f64, f64),
     pub gripper_travel: (f64, f64),
@@ -60,7 +63,7 @@ impl Default for BodyGeometry {
             base_front: 0.25,
             carriage_travel: (0.1, 1.5),
             arm_travel: (0.0, 0.5),
-            gripper_travel: (0.0, 1.2),
+            gripper_travel: (0.0, 1.6),
             finger_length: 0.1,
         }
     }
@@ -114,7 +117,7 @@ impl BodyState {
         self.palm(geometry)
             + Vector3::new(
                 geometry.finger_length * half_angle.cos(),
-                side * (0.015 + geometry.finger_length * half_angle.sin()),
+                side * (KNUCKLE_OFFSET + geometry.finger_length * half_angle.sin()),
                 0.0,
             )
     }

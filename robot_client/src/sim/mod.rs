@@ -5,6 +5,10 @@
 //! - [`SimRobot`]: the body and its sensors: camera images by ray casting every pixel, tilting
 //!   laser clouds by ray casting every beam, RFID reads from a path-loss model, contact forces
 //!   from a spring model; odometry with drift. Time is a [`VirtualClock`]; nothing sleeps.
+//! - The devices' mechanics: the flip and rocker switches toggling the ceiling light, the lamp's
+//!   pull chain, the drawer on its slide with its towel, the held object and the trash can, all
+//!   moved only by the fingers' contacts. A [`Scenario`] sets their initial state and injected
+//!   failures; [`SimRobot::truth`] reports them for tests and bookkeeping, never for behaviours.
 //! - [`capture_scene`]: the robot placed as in the paper's trials, recording image, cloud,
 //!   calibration and the operator's target, exportable as PNG, PLY and JSON.
 //!
@@ -16,11 +20,14 @@ mod camera;
 mod capture;
 mod clock;
 mod laser;
+mod mechanics;
+mod motion;
 mod noise;
 mod operator;
 mod rfid;
 mod robot;
 mod room;
+mod scenario;
 mod scene;
 
 pub use body::{BodyGeometry, BodyState, head_camera};
@@ -32,4 +39,5 @@ pub use operator::{OperatorScript, SimOperator};
 pub use rfid::{Antenna, RfidModel};
 pub use robot::{SimRobot, SimState};
 pub use room::{Device, DeviceKind, Room, RoomOptions};
+pub use scenario::{DeviceTruth, Scenario};
 pub use scene::{Hit, LightSource, Part, Scene, Surface, WallFrame};

@@ -1,10 +1,9 @@
 //! The simulated robot: one shared world state behind every `hal` trait, so that what one trait
 //! does (the base drives) changes what the others sense (the camera sees from elsewhere).
 //!
-//! Motions are kinematic for now: the base drives where it is told, with odometry drift; the
-//! carriage, arm and gripper move until a fingertip pushes into the scene hard enough, the force
-//! coming from a spring model of the contact. Device mechanics (switches that flip, drawers that
-//! stick) are not part of this module.
+//! Every motion (base, carriage, arm, gripper) is stepped against the devices' mechanics and the
+//! rigid room (see `motion`), so contact is felt mid-move and force limits stop motions where a
+//! robot's would stop; the base drives with odometry drift and stops on its own safety force.
 
 use std::sync::{Arc, Mutex, MutexGuard};
 
@@ -15,78 +14,44 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use super::body::{BodyGeometry, BodyState};
-use super::camera::{Exposure, Lighting, render_color, render_gray};
+use super::camera::{Exposure, render_color, render_gray};
 use super::clock::VirtualClock;
+use super::mechanics::{DeviceMechanics, HeldObject, OBJECT_RANGE};
 use super::noise::gaussian;
 use super::rfid::RfidModel;
 use super::room::Room;
+use super::scenario::{DeviceTruth, Scenario};
 use crate::hal::{
     Arm, BrightnessCamera, CameraCalibration, CameraIntrinsics, Carriage, ColorCamera, ColorImage,
     Finger, FingerForceTorque, GrayImage, Gripper, HalError, LookDirection, MobileBase, PalmRange,
     PlanarPose, PointCloud, RfidReader, TagRead, TiltSweep, TiltingLaser, Wrench,
 };
 
-/// Contact stiffness of a fingertip against the world, newtons per metre.
-const CONTACT_STIFFNESS: f64 = 2000.0;
+/// Joint steps between contact checks: a millimetre of carriage or arm, a few milliradians of
+/// gripper or base turn, five millimetres of base travel.
+const JOINT_STEP: f64 = 0.001;
+const GRIPPER_STEP: f64 = 0.005;
+const DRIVE_STEP: f64 = 0.005;
+const TURN_STEP: f64 = 0.005;
+/// The base's own safety: it stops when a finger is pushed harder than this, newtons.
+pub const BASE_SAFETY_FORCE: f64 = 30.0;
 /// Odometry's systematic and random error per metre driven and per radian turned.
 const ODOMETRY_SCALE_ERROR: f64 = 0.01;
 const ODOMETRY_NOISE: f64 = 0.005;
+/// Noise of each force component the finger sensors report, newtons.
+const FORCE_NOISE: f64 = 0.05;
 
 /// Everything the simulated robot and its world are.
 #[derive(Debug)]
 pub struct SimState {
     pub room: Room,
-    pub lighting: Lighting,
+    pub devices: DeviceMechanics,
     pub exposure: Exposure,
     pub clock: VirtualClock,
     pub body: BodyState,
     pub geometry: BodyGeometry,
     pub rfid: RfidModel,
-    rng: ChaCha8Rng,
-}
-
-impl SimState {
-    /// Contact force on a fingertip: a spring pushing it out of whatever it is inside.
-    fn fingertip_force(&self, finger: Finger) -> Vector3<f64> {
-        let world = self.body.world_from_base_3d();
-        let tip: Point3<f32> = (world * self.body.fingertip(&self.geometry, finger)).cast();
-        match self.room.scene.penetration(&tip) {
-            Some((depth, out)) => {
-                world.inverse() * (out.cast::<f64>() * f64::from(depth) * CONTACT_STIFFNESS)
-            }
-            None => Vector3::zeros(),
-        }
-    }
-
-    fn max_finger_force(&self) -> f64 {
-        [Finger::Left, Finger::Right]
-            .map(|f| self.fingertip_force(f).norm())
-            .into_iter()
-            .fold(0.0, f64::max)
-    }
-
-    /// Moves a joint toward `goal` in 5 mm steps, stopping where the fingers push harder than
-    /// `max_force`; returns where it stopped.
-    fn move_joint(
-        &mut self,
-        goal: f64,
-        max_force: f64,
-        joint: fn(&mut BodyState) -> &mut f64,
-    ) -> f64 {
-        let start = *joint(&mut self.body);
-        let steps = ((goal - start).abs() / 0.005).ceil().max(1.0) as usize;
-        for i in 1..=steps {
-            let previous = *joint(&mut self.body);
-            *joint(&mut self.body) = start + (goal - start) * i as f64 / steps as f64;
-            if self.max_finger_force() > max_force {
-                *joint(&mut self.body) = previous;
-                break;
-            }
-        }
-        let reached = *joint(&mut self.body);
-        self.clock.advance_motion(reached - start, 0.1);
-        reached
-    }
+    pub(super) rng: ChaCha8Rng,
 }
 
 /// The simulated robot; clones share one world.
@@ -96,9 +61,20 @@ pub struct SimRobot {
 }
 
 impl SimRobot {
-    /// A robot standing at `world_from_base` in `room`, its noise drawn from `seed`.
+    /// A robot standing at `world_from_base` in `room`, its noise drawn from `seed`, in the
+    /// paper's office: [`Scenario::office`], the ceiling light on and nothing broken.
     pub fn new(room: Room, world_from_base: PlanarPose, seed: u64) -> Self {
         Self::with_geometry(room, world_from_base, BodyGeometry::default(), seed)
+    }
+
+    /// A robot as [`SimRobot::new`] in a room whose devices start as `scenario` says.
+    pub fn with_scenario(
+        room: Room,
+        world_from_base: PlanarPose,
+        seed: u64,
+        scenario: Scenario,
+    ) -> Self {
+        Self::build(room, world_from_base, BodyGeometry::default(), seed, scenario)
     }
 
     pub fn with_geometry(
@@ -107,17 +83,38 @@ impl SimRobot {
         geometry: BodyGeometry,
         seed: u64,
     ) -> Self {
-        let state = SimState {
+        Self::build(room, world_from_base, geometry, seed, Scenario::office())
+    }
+
+    fn build(
+        room: Room,
+        world_from_base: PlanarPose,
+        geometry: BodyGeometry,
+        seed: u64,
+        scenario: Scenario,
+    ) -> Self {
+        let mut body = BodyState::at(world_from_base);
+        if scenario.object_in_hand {
+            body.gripper_opening = HeldObject::holding_opening(&geometry);
+        }
+        let mut state = SimState {
+            devices: DeviceMechanics::new(&room, &scenario),
             room,
-            lighting: Lighting::default(),
             exposure: Exposure::default(),
             clock: VirtualClock::default(),
-            body: BodyState::at(world_from_base),
+            body,
             geometry,
             rfid: RfidModel::default(),
             rng: ChaCha8Rng::seed_from_u64(seed),
         };
+        state.show_moving_parts();
         Self { state: Arc::new(Mutex::new(state)) }
+    }
+
+    /// What the devices truly are. For tests and the experiment's bookkeeping only: behaviours
+    /// must see the world through the hardware traits.
+    pub fn truth(&self) -> DeviceTruth {
+        self.state().devices.truth()
     }
 
     /// The world, for tests and the scenario runner to inspect or change (lights, poses).
@@ -136,7 +133,7 @@ impl ColorCamera for SimRobot {
         let mut s = self.state();
         let camera = s.geometry.camera;
         let world_from_camera = s.body.world_from_base_3d() * camera.base_from_camera;
-        let (lighting, exposure) = (s.lighting, s.exposure);
+        let (lighting, exposure) = (s.devices.lighting(), s.exposure);
         let SimState { room, rng, clock, .. } = &mut *s;
         clock.advance_motion(1.0, 5.0);
         Ok(render_color(
@@ -168,7 +165,7 @@ impl BrightnessCamera for SimRobot {
         let world_from_camera = s.body.world_from_base_3d() * base_from_camera;
         let intrinsics =
             CameraIntrinsics { width: 80, height: 60, fx: 60.0, fy: 60.0, cx: 39.5, cy: 29.5 };
-        let (lighting, exposure) = (s.lighting, s.exposure);
+        let (lighting, exposure) = (s.devices.lighting(), s.exposure);
         let SimState { room, rng, .. } = &mut *s;
         Ok(render_gray(room, lighting, &world_from_camera, &intrinsics, &exposure, rng))
     }
@@ -206,8 +203,13 @@ impl RfidReader for SimRobot {
 impl FingerForceTorque for SimRobot {
     fn wrench(&self, finger: Finger) -> Result<Wrench, HalError> {
         let mut s = self.state();
-        let force = s.fingertip_force(finger);
-        let noise = Vector3::from_fn(|_, _| 0.05 * gaussian(&mut s.rng));
+        let index = match finger {
+            Finger::Left => 0,
+            Finger::Right => 1,
+        };
+        let base_from_world = s.body.world_from_base_3d().inverse();
+        let force = base_from_world * s.finger_forces()[index];
+        let noise = Vector3::from_fn(|_, _| FORCE_NOISE * gaussian(&mut s.rng));
         let lever = s.body.fingertip(&s.geometry, finger) - s.body.palm(&s.geometry);
         Ok(Wrench { force: force + noise, torque: lever.cross(&force) })
     }
@@ -219,8 +221,11 @@ impl PalmRange for SimRobot {
         let world = s.body.world_from_base_3d();
         let palm: Point3<f32> = (world * s.body.palm(&s.geometry)).cast();
         let ahead: Vector3<f32> = (world * Vector3::x()).cast();
-        let hit = s.room.scene.cast(&palm, &ahead, 0.3);
-        Ok(hit.map(|h| (f64::from(h.distance) + 0.003 * gaussian(&mut s.rng)).max(0.0)))
+        let mut nearest = s.room.scene.cast(&palm, &ahead, 0.3).map(|h| f64::from(h.distance));
+        if s.devices.object_in_hand() {
+            nearest = Some(nearest.map_or(OBJECT_RANGE, |d| d.min(OBJECT_RANGE)));
+        }
+        Ok(nearest.map(|d| (d + 0.003 * gaussian(&mut s.rng)).max(0.0)))
     }
 }
 
@@ -230,24 +235,64 @@ impl MobileBase for SimRobot {
     }
 
     fn drive(&self, distance: f64) -> Result<(), HalError> {
+        check_finite("base", distance)?;
         let mut s = self.state();
-        let measured = distance * (1.0 + ODOMETRY_SCALE_ERROR)
-            + ODOMETRY_NOISE * distance.abs().sqrt() * gaussian(&mut s.rng);
-        s.body.world_from_base *= Isometry2::new(Vector2::new(distance, 0.0), 0.0);
+        let start = s.body.world_from_base;
+        let steps = (distance.abs() / DRIVE_STEP).ceil() as usize;
+        let reached = s.move_body(steps, BASE_SAFETY_FORCE, false, |body, f| {
+            body.world_from_base = start * Isometry2::new(Vector2::new(distance * f, 0.0), 0.0);
+        });
+        let driven = distance * reached;
+        let measured = driven * (1.0 + ODOMETRY_SCALE_ERROR)
+            + ODOMETRY_NOISE * driven.abs().sqrt() * gaussian(&mut s.rng);
         s.body.odometry *= Isometry2::new(Vector2::new(measured, 0.0), 0.0);
-        s.clock.advance_motion(distance, 0.3);
+        s.clock.advance_motion(driven, 0.3);
         Ok(())
     }
 
     fn turn(&self, angle: f64) -> Result<(), HalError> {
+        check_finite("base", angle)?;
         let mut s = self.state();
-        let measured = angle * (1.0 + ODOMETRY_SCALE_ERROR)
-            + ODOMETRY_NOISE * angle.abs().sqrt() * gaussian(&mut s.rng);
-        s.body.world_from_base *= Isometry2::new(Vector2::zeros(), angle);
+        let start = s.body.world_from_base;
+        let steps = (angle.abs() / TURN_STEP).ceil() as usize;
+        let reached = s.move_body(steps, BASE_SAFETY_FORCE, false, |body, f| {
+            body.world_from_base = start * Isometry2::new(Vector2::zeros(), angle * f);
+        });
+        let turned = angle * reached;
+        let measured = turned * (1.0 + ODOMETRY_SCALE_ERROR)
+            + ODOMETRY_NOISE * turned.abs().sqrt() * gaussian(&mut s.rng);
         s.body.odometry *= Isometry2::new(Vector2::zeros(), measured);
-        s.clock.advance_motion(angle, 0.5);
+        s.clock.advance_motion(turned, 0.5);
         Ok(())
     }
+}
+
+fn check_finite(device: &'static str, value: f64) -> Result<(), HalError> {
+    if value.is_finite() {
+        Ok(())
+    } else {
+        Err(HalError::OutOfRange { device, reason: format!("{value} is not a distance") })
+    }
+}
+
+/// Moves one joint of the arm to `goal` in steps of `step`, force-limited; returns where it got.
+/// With `yielding_arm` (the gripper), the arm gives way to fingertips closing against a surface.
+fn move_joint(
+    s: &mut SimState,
+    goal: f64,
+    step: f64,
+    max_force: f64,
+    yielding_arm: bool,
+    joint: fn(&mut BodyState) -> &mut f64,
+) -> f64 {
+    let start = *joint(&mut s.body);
+    let steps = ((goal - start).abs() / step).ceil() as usize;
+    s.move_body(steps, max_force, yielding_arm, |body, f| {
+        *joint(body) = start + (goal - start) * f
+    });
+    let reached = *joint(&mut s.body);
+    s.clock.advance_motion(reached - start, 0.1);
+    reached
 }
 
 fn check_travel(device: &'static str, value: f64, (low, high): (f64, f64)) -> Result<(), HalError> {
@@ -269,7 +314,7 @@ impl Carriage for SimRobot {
     fn move_to_height(&self, height: f64, max_force: f64) -> Result<f64, HalError> {
         let mut s = self.state();
         check_travel("carriage", height, s.geometry.carriage_travel)?;
-        Ok(s.move_joint(height, max_force, |b| &mut b.carriage_height))
+        Ok(move_joint(&mut s, height, JOINT_STEP, max_force, false, |b| &mut b.carriage_height))
     }
 }
 
@@ -281,7 +326,7 @@ impl Arm for SimRobot {
     fn move_to_extension(&self, extension: f64, max_force: f64) -> Result<f64, HalError> {
         let mut s = self.state();
         check_travel("arm", extension, s.geometry.arm_travel)?;
-        Ok(s.move_joint(extension, max_force, |b| &mut b.arm_extension))
+        Ok(move_joint(&mut s, extension, JOINT_STEP, max_force, false, |b| &mut b.arm_extension))
     }
 }
 
@@ -293,6 +338,6 @@ impl Gripper for SimRobot {
     fn set_opening(&self, angle: f64, max_force: f64) -> Result<f64, HalError> {
         let mut s = self.state();
         check_travel("gripper", angle, s.geometry.gripper_travel)?;
-        Ok(s.move_joint(angle, max_force, |b| &mut b.gripper_opening))
+        Ok(move_joint(&mut s, angle, GRIPPER_STEP, max_force, true, |b| &mut b.gripper_opening))
     }
 }

@@ -84,8 +84,34 @@ impl Scene {
     /// Whether `p` is inside any solid, and how deep, with the direction out: for the fingers'
     /// contact forces.
     pub fn penetration(&self, p: &Point3<f32>) -> Option<(f32, Vector3<f32>)> {
+        self.penetration_of(p, |_| true)
+    }
+
+    /// Moves parts to new poses (a drawer sliding, a lever flipping) and rebuilds the ray-casting
+    /// tree; parts already where they are asked to be cost nothing.
+    pub fn move_parts(&mut self, poses: &[(usize, Isometry3<f32>)]) {
+        let mut changed = false;
+        for (index, pose) in poses {
+            let part = &mut self.parts[*index];
+            if part.pose != *pose {
+                part.pose = *pose;
+                changed = true;
+            }
+        }
+        if changed {
+            self.compound =
+                Compound::new(self.parts.iter().map(|p| (p.pose, p.shape.clone())).collect());
+        }
+    }
+
+    /// Like [`Scene::penetration`], over the parts `include` accepts.
+    pub fn penetration_of(
+        &self,
+        p: &Point3<f32>,
+        include: impl Fn(&Part) -> bool,
+    ) -> Option<(f32, Vector3<f32>)> {
         let mut deepest: Option<(f32, Vector3<f32>)> = None;
-        for part in &self.parts {
+        for part in self.parts.iter().filter(|part| include(part)) {
             if !part.shape.contains_point(&part.pose, p) {
                 continue;
             }
