@@ -7,9 +7,12 @@
 //!   waypoint, collision check, and which RFID tag was read.
 //! - [`recording`]: the files recorded sensor data travels in (PNG, PLY, camera JSON).
 //! - [`registry`]: the registry client, its entry cache and the durable trial outbox.
+//! - [`behaviors`]: the paper's §IV-B.2 manipulation behaviours, each with its detector.
+//! - [`task`]: the paper's four phases end to end, ending in a trial in the registry.
 //! - [`sim`]: a seeded room with the paper's five tagged devices, rendered for the sensors.
 //! - [`cli`]: the `pps-robot` subcommands.
 
+pub mod behaviors;
 pub mod cli;
 pub mod hal;
 pub mod navigation;
@@ -17,4 +20,5 @@ pub mod perception;
 pub mod recording;
 pub mod registry;
 pub mod sim;
+pub mod task;
 pub mod timings;

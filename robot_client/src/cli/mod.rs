@@ -3,13 +3,23 @@
 
 mod bench;
 mod perceive;
+mod run;
 mod scene;
+mod trials;
 
 use clap::{Parser, Subcommand};
 
 pub use bench::BenchArgs;
 pub use perceive::{PerceiveArgs, PerceiveReport};
+pub use run::{
+    Fault, RunArgs, SimulatedResult, SimulatedTrial, achieved, default_state_dir, run_simulated,
+    start_pose_at,
+};
 pub use scene::SceneArgs;
+pub use trials::{
+    Protocol, TABLE_ONE, TableRow, TrialsArgs, flush_until_stored, render_table, rows_json,
+    run as trials_main, run_trials,
+};
 
 /// The robot side of PPS-tags.
 #[derive(Debug, Parser)]
@@ -26,6 +36,8 @@ pub enum Command {
     /// Export a simulated scene (image.png, cloud.ply, camera.json, scene.json) to try
     /// `perceive` on.
     Scene(SceneArgs),
+    /// One task in the simulator against a registry, printed phase by phase.
+    Run(RunArgs),
     /// Time each perception step and the whole chain on the fixed benchmark scene.
     BenchPerception(BenchArgs),
 }
@@ -36,5 +48,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Perceive(args) => perceive::run(&args),
         Command::Scene(args) => scene::run(&args),
         Command::BenchPerception(args) => bench::run(&args),
+        Command::Run(args) => run::run(&args),
     }
 }

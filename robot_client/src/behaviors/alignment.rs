@@ -1,0 +1,88 @@
+//! Close-range alignment (paper §IV-B.2.a): "EL-E moves forward until it detects contact with
+//! the force/torque sensors in the base of its fingers or near contact with the IR range sensor
+//! in its palm. Upon detection, EL-E backs off a fixed distance (8 to 12 cm depending on the
+//! behavior)" — the back-off is the behaviour's `alignment_backoff` from the entry.
+
+use super::force::ForceRecorder;
+use super::motion::{Hand, Touch, advance_until_touch, move_arm_by};
+use crate::hal::HalError;
+
+/// How the alignment feels for the surface.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AlignmentParams {
+    /// Finger force that means contact, newtons (the behaviour's `contact_force` where it has
+    /// one; the paper's 2 N otherwise).
+    pub contact_force: f64,
+    /// Palm range that means near contact, metres.
+    pub near_range: f64,
+    /// How far to back off after contact, metres (the entry's `alignment_backoff`).
+    pub backoff: f64,
+    /// How far forward to feel before giving up, metres: the hand starts about 10 cm away.
+    pub max_reach: f64,
+}
+
+impl AlignmentParams {
+    /// The paper's 2 N contact, near contact at 2 cm, and the entry's back-off.
+    pub fn with_backoff(backoff: f64) -> Self {
+        Self { contact_force: 2.0, near_range: 0.02, backoff, max_reach: 0.25 }
+    }
+}
+
+/// What the hand touched.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Contact {
+    Force,
+    NearRange,
+}
+
+/// Where the alignment left the hand.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Alignment {
+    /// `None` when nothing was within reach: the tag is not where it was thought to be.
+    pub contact: Option<Contact>,
+    /// How far the arm moved forward before the contact, metres.
+    pub travel: f64,
+}
+
+impl Alignment {
+    /// A short account for the task's report.
+    pub fn describe(&self, backoff: f64) -> String {
+        match self.contact {
+            Some(Contact::Force) => {
+                format!("touched after {:.3} m, backed off {backoff} m", self.travel)
+            }
+            Some(Contact::NearRange) => {
+                format!("palm saw the surface after {:.3} m, backed off {backoff} m", self.travel)
+            }
+            None => format!("nothing within {:.2} m", self.travel),
+        }
+    }
+}
+
+/// Moves forward until contact or near contact, then backs off `params.backoff`.
+pub fn close_range_alignment(
+    hand: &impl Hand,
+    forces: &mut ForceRecorder<'_>,
+    params: &AlignmentParams,
+) -> Result<Alignment, HalError> {
+    let (touch, travel) = advance_until_touch(
+        hand,
+        forces,
+        params.contact_force,
+        Some(params.near_range),
+        params.max_reach,
+    )?;
+    let contact = match touch {
+        Touch::Force(_) => Some(Contact::Force),
+        Touch::NearRange(_) => Some(Contact::NearRange),
+        Touch::Nothing => None,
+    };
+    if contact.is_some() {
+        move_arm_by(hand, -params.backoff)?;
+    } else {
+        // Nothing there: put the hand back where it was.
+        move_arm_by(hand, -travel)?;
+    }
+    forces.sample()?;
+    Ok(Alignment { contact, travel })
+}

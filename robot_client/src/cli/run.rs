@@ -1,0 +1,255 @@
+//! `pps-robot run`: one task in the simulator against a registry, printed phase by phase.
+//!
+//! The simulated world here is set up as an experimenter would: the room, where the robot
+//! starts, the devices' initial state and the injected failure, and a person who points, picks
+//! the action and answers truthfully whether it worked (the person sees the room; the robot
+//! does not). The robot's side is [`run_task`], which sees only the hardware traits.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use nalgebra::{Isometry2, Point3, Rotation2, Vector2};
+use pps_schema::{RobotId, StartPose};
+use time::OffsetDateTime;
+
+use crate::hal::{HalError, Operator, PlanarPose, VerticalChoice};
+use crate::registry::RegistryClient;
+use crate::sim::{
+    DeviceKind, DeviceTruth, OperatorScript, Room, RoomOptions, Scenario, SimOperator, SimRobot,
+    StartDirection,
+};
+use crate::task::{SimClock, TaskConfig, TaskReport, run_task, vertical_choice_for};
+
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    /// The registry's base URL, e.g. http://127.0.0.1:8080.
+    #[arg(long)]
+    pub server: String,
+    /// The robot's API token.
+    #[arg(long, env = "PPS_TOKEN", hide_env_values = true)]
+    pub token: String,
+    /// The robot's id in the registry, e.g. el-e-1.
+    #[arg(long)]
+    pub robot: String,
+    /// light-switch, ada-light-switch, lamp, drawer or trash-can.
+    #[arg(long, value_parser = parse_device)]
+    pub device: DeviceKind,
+    /// The action the person wants, as the entry names it (on, off, open, close, drop).
+    #[arg(long)]
+    pub action: String,
+    /// Seed of the simulated world's noise (and, with --randomized, of the trials drawn).
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Where the robot starts, 1.5 m from the tag: far-left, left, front, right or far-right.
+    #[arg(long = "from", default_value = "front", value_parser = parse_direction)]
+    pub from: StartDirection,
+    /// A failure to inject: lamp-unplugged, drawer-stuck or sticky-object.
+    #[arg(long, value_parser = parse_fault)]
+    pub fault: Option<Fault>,
+    /// Where the robot keeps its entry cache and trial outbox; default `pps-robot/<ROBOT>` in
+    /// the system's temporary directory.
+    #[arg(long)]
+    pub state: Option<PathBuf>,
+}
+
+/// The failures of the paper's second set of trials.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Fault {
+    LampUnplugged,
+    DrawerStuck,
+    StickyObject,
+}
+
+fn parse_fault(name: &str) -> Result<Fault, String> {
+    match name {
+        "lamp-unplugged" => Ok(Fault::LampUnplugged),
+        "drawer-stuck" => Ok(Fault::DrawerStuck),
+        "sticky-object" => Ok(Fault::StickyObject),
+        _ => Err(format!("`{name}` is not one of lamp-unplugged, drawer-stuck, sticky-object")),
+    }
+}
+
+pub(crate) fn parse_device(name: &str) -> Result<DeviceKind, String> {
+    DeviceKind::parse(name).ok_or_else(|| {
+        format!("`{name}` is not one of light-switch, ada-light-switch, lamp, drawer, trash-can")
+    })
+}
+
+fn parse_direction(name: &str) -> Result<StartDirection, String> {
+    StartDirection::parse(name)
+        .ok_or_else(|| format!("`{name}` is not one of far-left, left, front, right, far-right"))
+}
+
+/// The state directory a robot uses when none is given.
+pub fn default_state_dir(robot: &str) -> PathBuf {
+    std::env::temp_dir().join("pps-robot").join(robot)
+}
+
+/// One simulated trial as the experimenter sets it up.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimulatedTrial {
+    pub device: DeviceKind,
+    pub action: String,
+    pub scenario: Scenario,
+    pub room: RoomOptions,
+    /// From the tag's normal, radians, and distance from the tag, metres.
+    pub start_angle: f64,
+    pub start_distance: f64,
+    pub seed: u64,
+}
+
+impl SimulatedTrial {
+    /// The device's usual starting state for `action`, with `fault` injected.
+    pub fn new(device: DeviceKind, action: &str, fault: Option<Fault>) -> Self {
+        let mut scenario = Scenario::office();
+        match (device, action) {
+            (DeviceKind::LightSwitch | DeviceKind::AdaLightSwitch, "on") => {
+                scenario.ceiling_light_on = false
+            }
+            (DeviceKind::Lamp, "off") => scenario.lamp_on = true,
+            (DeviceKind::Drawer, "close") => scenario.drawer_open = 0.3,
+            (DeviceKind::TrashCan, _) => scenario.object_in_hand = true,
+            _ => {}
+        }
+        match fault {
+            Some(Fault::LampUnplugged) => scenario.lamp_unplugged = true,
+            Some(Fault::DrawerStuck) => scenario.drawer_stuck = true,
+            Some(Fault::StickyObject) => scenario.sticky_object = true,
+            None => {}
+        }
+        Self {
+            device,
+            action: action.to_owned(),
+            scenario,
+            room: RoomOptions::default(),
+            start_angle: 0.0,
+            start_distance: 1.5,
+            seed: 0,
+        }
+    }
+}
+
+/// What happened, as the robot reported it and as the room truly is.
+#[derive(Debug, Clone)]
+pub struct SimulatedResult {
+    pub report: TaskReport,
+    pub before: DeviceTruth,
+    pub after: DeviceTruth,
+    /// Whether the room changed as the person wanted.
+    pub achieved: bool,
+}
+
+/// Whether the room changed as `action` on `device` wants.
+pub fn achieved(
+    device: DeviceKind,
+    action: &str,
+    before: &DeviceTruth,
+    after: &DeviceTruth,
+) -> bool {
+    match (device, action) {
+        (DeviceKind::LightSwitch | DeviceKind::AdaLightSwitch, "on") => after.ceiling_light_on,
+        (DeviceKind::LightSwitch | DeviceKind::AdaLightSwitch, "off") => !after.ceiling_light_on,
+        (DeviceKind::Lamp, "on") => after.lamp_on,
+        (DeviceKind::Lamp, "off") => !after.lamp_on,
+        (DeviceKind::Drawer, "open") => after.drawer_open >= before.drawer_open + 0.15,
+        (DeviceKind::Drawer, "close") => after.drawer_open <= before.drawer_open - 0.15,
+        (DeviceKind::TrashCan, _) => after.object_in_trash && !after.object_in_hand,
+        _ => false,
+    }
+}
+
+/// The person: points where the script says, and judges success by looking at the room.
+#[derive(Debug)]
+struct Person {
+    pointer: SimOperator,
+    robot: SimRobot,
+    device: DeviceKind,
+    action: String,
+    before: DeviceTruth,
+}
+
+impl Operator for Person {
+    fn pointed_target(&self) -> Result<Option<Point3<f64>>, HalError> {
+        self.pointer.pointed_target()
+    }
+
+    fn choose_action(&self) -> Result<VerticalChoice, HalError> {
+        self.pointer.choose_action()
+    }
+
+    fn confirm_success(&self) -> Result<Option<bool>, HalError> {
+        Ok(Some(achieved(self.device, &self.action, &self.before, &self.robot.truth())))
+    }
+}
+
+/// The robot's pose `distance` from `device`'s tag, `angle` off its normal, facing it.
+pub fn start_pose_at(room: &Room, device: DeviceKind, angle: f64, distance: f64) -> PlanarPose {
+    let d = room.device(device);
+    let tag = Vector2::new(d.tag_center.x, d.tag_center.y);
+    let normal = Vector2::new(d.tag_normal.x, d.tag_normal.y).normalize();
+    let position = tag + Rotation2::new(angle) * normal * distance;
+    let toward = tag - position;
+    Isometry2::new(position, toward.y.atan2(toward.x))
+}
+
+/// Runs one task in a fresh simulated room against the registry.
+pub async fn run_simulated(
+    trial: &SimulatedTrial,
+    registry: &RegistryClient,
+    config: &TaskConfig,
+) -> anyhow::Result<SimulatedResult> {
+    let room = Room::new(trial.room);
+    let start = start_pose_at(&room, trial.device, trial.start_angle, trial.start_distance);
+    let robot = SimRobot::with_scenario(room, start, trial.seed, trial.scenario);
+    // The person picks up or down as the interface's convention has it for the entry.
+    let choice = match registry.effective_entry(&trial.device.epc()).await {
+        Ok(fetched) => vertical_choice_for(&fetched.entry.entry, &trial.action),
+        Err(_) => None,
+    };
+    let script = OperatorScript {
+        target: Some(trial.device),
+        choice: choice.unwrap_or(VerticalChoice::Up),
+        ..OperatorScript::default()
+    };
+    let before = robot.truth();
+    let person = Person {
+        pointer: SimOperator::new(robot.clone(), script, trial.seed ^ 0x5EED),
+        robot: robot.clone(),
+        device: trial.device,
+        action: trial.action.clone(),
+        before,
+    };
+    let clock = SimClock::new(robot.clone(), OffsetDateTime::now_utc());
+    let config = TaskConfig {
+        start_pose: Some(StartPose {
+            x: start.translation.x,
+            y: start.translation.y,
+            yaw: start.rotation.angle(),
+        }),
+        ..config.clone()
+    };
+    let report = run_task(&robot, &person, registry, &clock, &config).await?;
+    let after = robot.truth();
+    Ok(SimulatedResult {
+        achieved: achieved(trial.device, &trial.action, &before, &after),
+        report,
+        before,
+        after,
+    })
+}
+
+pub fn run(args: &RunArgs) -> anyhow::Result<()> {
+    let robot = RobotId::parse(&args.robot).map_err(|e| anyhow::anyhow!("--robot: {e}"))?;
+    let state = args.state.clone().unwrap_or_else(|| default_state_dir(&args.robot));
+    let registry = RegistryClient::new(&args.server, &args.token, robot, &state)?;
+    let trial = SimulatedTrial {
+        start_angle: args.from.angle(),
+        seed: args.seed,
+        ..SimulatedTrial::new(args.device, &args.action, args.fault)
+    };
+    let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build()?;
+    let result = runtime.block_on(run_simulated(&trial, &registry, &TaskConfig::default()))?;
+    eprintln!("state directory: {}", state.display());
+    print!("{}", result.report);
+    Ok(())
+}

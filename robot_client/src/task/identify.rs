@@ -1,0 +1,111 @@
+//! Phase 3 (paper §IV-B.1.b): the tag's position, carried by odometry from phase 2, has drifted;
+//! look again where possible, face the tag, bring the closed fingers to about 10 cm from it
+//! (stopping on contact), and read the RFID: the strongest tag by a margin, and when two are
+//! about as strong, move closer and read again.
+
+use nalgebra::Point3;
+
+use super::approach::perceive;
+use super::drive::{in_base, in_odom, in_view};
+use super::report::PhaseReport;
+use super::run::TaskConfig;
+use crate::behaviors::Hand;
+use crate::hal::{ColorCamera, Finger, HalError, MobileBase, RfidReader, TiltingLaser};
+use crate::navigation::{RfidIdentity, identify_tag};
+
+/// Force that means the fingers bumped into something on the way, newtons.
+const BUMP_FORCE: f64 = 2.0;
+/// Finger force that means the hand holds something, which it keeps holding, newtons.
+const HOLDING_FORCE: f64 = 0.5;
+/// How far to move closer when two tags answer about as strongly, metres, and how often.
+const CLOSER_STEP: f64 = 0.04;
+const CLOSER_TRIES: usize = 2;
+
+/// Servoes to the tag (odometry frame, updated when seen again) and reads its RFID; `None`
+/// when no tag answered.
+pub(crate) fn servo_and_read(
+    robot: &(impl Hand + MobileBase + ColorCamera + TiltingLaser + RfidReader),
+    tag: &mut Point3<f64>,
+    config: &TaskConfig,
+    report: &mut PhaseReport,
+) -> Result<Option<RfidIdentity>, HalError> {
+    // Look again where the camera can see the tag from here; odometry has drifted on the way.
+    if in_view(&robot.calibration(), &in_base(robot, tag)?, 0.05) {
+        let plan = perceive(robot, tag, &config.sweep, &config.approach)?;
+        match plan.tag.as_ref().map(|s| s.nearest().centroid) {
+            Some(seen) => {
+                let seen = in_odom(robot, &seen)?;
+                report.note(format!(
+                    "saw the tag again, {:.3} m from where odometry put it",
+                    (seen - *tag).norm()
+                ));
+                *tag = seen;
+            }
+            None => report.note("the tag is not in view here; going by odometry"),
+        }
+    } else {
+        report.note("the tag is below the camera's view here; going by odometry");
+    }
+
+    // Face the tag, hand at its height, fingers closed and pointed at it.
+    let here = in_base(robot, tag)?;
+    robot.turn(here.y.atan2(here.x))?;
+    let here = in_base(robot, tag)?;
+    // A held object loads the fingers already: a bump is force beyond that.
+    let held = robot
+        .wrench(Finger::Left)?
+        .force_magnitude()
+        .max(robot.wrench(Finger::Right)?.force_magnitude());
+    let bump = held + BUMP_FORCE;
+    robot.move_to_height(here.z, bump)?;
+    if held < HOLDING_FORCE {
+        robot.set_opening(0.0, f64::INFINITY)?;
+    }
+    let body = &config.body;
+    let mut extension = here.x - config.servo_distance - body.palm_ahead - body.finger_length;
+    if !(0.0..=0.3).contains(&extension) {
+        // Beyond what the arm should do: the base covers the difference.
+        let by = if extension < 0.0 { extension } else { extension - 0.1 };
+        robot.drive(by)?;
+        extension -= by;
+    }
+    let reached = robot.move_to_extension(extension.max(0.0), bump)?;
+    report.note(format!(
+        "faced the tag, hand at {:.2} m, fingers {:.2} m from the tag{}",
+        here.z,
+        config.servo_distance + (extension - reached).max(0.0),
+        if reached < extension - 1e-3 { " (stopped by contact)" } else { "" }
+    ));
+
+    let mut identity = read(robot, config)?;
+    for _ in 0..CLOSER_TRIES {
+        let Some(RfidIdentity::Ambiguous { strongest, runner_up }) = &identity else { break };
+        report.note(format!(
+            "ambiguous: {} at {:.1} dBm and {} at {:.1} dBm; moving {CLOSER_STEP} m closer",
+            strongest.epc, strongest.rssi_dbm, runner_up.epc, runner_up.rssi_dbm
+        ));
+        let at = robot.extension()?;
+        robot.move_to_extension(at + CLOSER_STEP, bump)?;
+        identity = read(robot, config)?;
+    }
+    match &identity {
+        Some(RfidIdentity::Identified(signal)) => report.note(format!(
+            "RFID: {} at {:.1} dBm ({} reads)",
+            signal.epc, signal.rssi_dbm, signal.reads
+        )),
+        Some(RfidIdentity::Ambiguous { strongest, runner_up }) => report.note(format!(
+            "RFID still ambiguous: {} at {:.1} dBm, {} at {:.1} dBm",
+            strongest.epc, strongest.rssi_dbm, runner_up.epc, runner_up.rssi_dbm
+        )),
+        None => report.fail("no RFID tag answered"),
+    }
+    Ok(identity)
+}
+
+fn read(robot: &impl RfidReader, config: &TaskConfig) -> Result<Option<RfidIdentity>, HalError> {
+    let mut reads = Vec::new();
+    for _ in 0..config.rfid_rounds {
+        reads.extend(robot.inventory()?);
+    }
+    Ok(identify_tag(&reads, config.rfid_margin_db))
+}

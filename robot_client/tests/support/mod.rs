@@ -1,0 +1,108 @@
+//! An in-process registry for the robot's end-to-end tests: seeded, with the robots
+//! registered, on 127.0.0.1 and a fresh database file.
+
+#![allow(dead_code)]
+
+use std::net::SocketAddr;
+use std::path::Path;
+
+use pps_robot::registry::RegistryClient;
+use pps_schema::RobotId;
+use pps_server::auth::Role;
+use pps_server::store::{robots, tokens};
+use pps_server::{AppState, Db};
+use serde_json::json;
+use tokio::sync::oneshot;
+
+pub struct Registry {
+    pub address: SocketAddr,
+    db_path: std::path::PathBuf,
+    pub admin: String,
+    pub robot_token: String,
+    stop: Option<(oneshot::Sender<()>, tokio::task::JoinHandle<std::io::Result<()>>)>,
+}
+
+impl Registry {
+    /// A seeded registry with `el-e-1` (class `el-e`) registered, running.
+    pub async fn start(dir: &Path) -> Self {
+        let db_path = dir.join("registry.db");
+        let db = Db::open(&db_path).await.unwrap();
+        pps_server::seed::seed_if_empty(&db).await.unwrap();
+        let robot = json!({ "id": "el-e-1", "class": "el-e", "name": "EL-E", "capabilities": ["light_switch", "pull_back", "push", "pull_lamp", "drop"], "limits": { "max_force": 15.0 } });
+        robots::put(&db, "el-e-1", &robot, "test").await.unwrap();
+        let admin = tokens::create(&db, Role::Admin, "admin", None).await.unwrap().token;
+        let robot_token = tokens::create(&db, Role::Robot, "el-e-1", None).await.unwrap().token;
+        let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+        let address = listener.local_addr().unwrap();
+        let mut registry = Self { address, db_path, admin, robot_token, stop: None };
+        registry.serve(listener, db);
+        registry
+    }
+
+    fn serve(&mut self, listener: tokio::net::TcpListener, db: Db) {
+        let (stop, stopped) = oneshot::channel::<()>();
+        let task = tokio::spawn(pps_server::serve(listener, AppState::new(db), async move {
+            let _ = stopped.await;
+        }));
+        self.stop = Some((stop, task));
+    }
+
+    /// Starts the stopped registry again, on the same address and database.
+    pub async fn restart(&mut self) {
+        let db = Db::open(&self.db_path).await.unwrap();
+        let listener = tokio::net::TcpListener::bind(self.address).await.unwrap();
+        self.serve(listener, db);
+    }
+
+    pub fn url(&self) -> String {
+        format!("http://{}", self.address)
+    }
+
+    /// Registers another robot and returns its client, keeping its state under `dir`.
+    pub async fn add_robot(
+        &self,
+        id: &str,
+        class: &str,
+        capabilities: &[&str],
+        dir: &Path,
+    ) -> RegistryClient {
+        let db = Db::open(&self.db_path).await.unwrap();
+        let robot = json!({ "id": id, "class": class, "name": id, "capabilities": capabilities });
+        robots::put(&db, id, &robot, "test").await.unwrap();
+        let token = tokens::create(&db, Role::Robot, id, None).await.unwrap().token;
+        RegistryClient::new(&self.url(), &token, RobotId::parse(id).unwrap(), &dir.join(id))
+            .unwrap()
+    }
+
+    /// The robot's client, keeping its state under `dir`.
+    pub fn client(&self, dir: &Path) -> RegistryClient {
+        RegistryClient::new(
+            &self.url(),
+            &self.robot_token,
+            RobotId::parse("el-e-1").unwrap(),
+            &dir.join("robot-state"),
+        )
+        .unwrap()
+    }
+
+    /// Every trial the registry holds, as JSON.
+    pub async fn trials(&self) -> Vec<serde_json::Value> {
+        let page: serde_json::Value = reqwest::Client::new()
+            .get(format!("{}/api/v1/trials?limit=500", self.url()))
+            .bearer_auth(&self.admin)
+            .send()
+            .await
+            .unwrap()
+            .json()
+            .await
+            .unwrap();
+        page["items"].as_array().unwrap().clone()
+    }
+
+    pub async fn stop(&mut self) {
+        if let Some((stop, task)) = self.stop.take() {
+            let _ = stop.send(());
+            task.await.unwrap().unwrap();
+        }
+    }
+}
