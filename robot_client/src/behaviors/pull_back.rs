@@ -119,8 +119,10 @@ fn grasp(
         let (touch, moved) =
             advance_until_touch(robot, forces, params.grasp_force, Some(0.02), 0.25)?;
         evidence.step(format!(
-            "opened to {}°, moved onto the towel {:.3} m ({touch:?})",
-            params.gripper_deg, moved
+            "opened to {}°, moved onto the towel {:.3} m ({})",
+            params.gripper_deg,
+            moved,
+            touch.describe()
         ));
         if touch == Touch::Nothing {
             return Ok(None);
