@@ -64,6 +64,14 @@ pub struct TrialGroup {
     pub action: String,
     pub behavior: String,
     pub robot_class: String,
+    /// Whether what a learning rule measures may have changed: a new trial carrying one of the
+    /// rules' measurements, or a changed verdict. Other trials only move reliability.
+    pub relearn: bool,
+}
+
+/// Whether a trial's measurements hold anything a learning rule learns from.
+pub fn teaches(measurements: Option<&Value>) -> bool {
+    measurements.is_some_and(|m| RULES.iter().any(|rule| m.get(rule.measurement).is_some()))
 }
 
 /// Recomputes what the groups' trials teach; returns the EPCs whose learned values changed.
@@ -73,7 +81,7 @@ pub async fn update(
 ) -> sqlx::Result<BTreeSet<String>> {
     let mut changed = BTreeSet::new();
     for group in groups {
-        if update_learned(conn, group).await? {
+        if group.relearn && update_learned(conn, group).await? {
             changed.insert(group.epc.clone());
         }
         update_reliability(conn, group).await?;

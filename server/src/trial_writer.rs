@@ -16,7 +16,7 @@ use crate::effective_cache::EffectiveCache;
 use crate::feed::ChangeFeed;
 use crate::learning::{self, TrialGroup};
 use crate::store::events::{self, EventKind};
-use crate::store::trials::{self, NewTrial, TrialRow};
+use crate::store::trials::{self, TrialRow};
 use crate::{clock, retention, store};
 
 /// Trials committed together at most.
@@ -120,18 +120,19 @@ async fn run(
 
 /// Stores a batch in one transaction; per-trial rejections do not fail the others.
 ///
-/// Each tag and robot is looked up once per batch, and a new trial costs two inserts: the
-/// batch's time is what every waiting robot pays, so it is kept short.
+/// The batch's time is what every waiting robot pays, so it is kept to a few statements
+/// whatever its size: each tag and robot is looked up once, and all new trials and their
+/// events are inserted with one statement each.
 async fn commit(
     db: &Db,
     batch: &[&CheckedTrial],
 ) -> sqlx::Result<(Vec<Result<Recorded, TrialRejection>>, BTreeSet<String>)> {
+    // Serialised before the write lock is taken.
+    let bodies: Vec<String> = batch.iter().map(|trial| trial.body.to_string()).collect();
     let mut tx = db.begin_write().await?;
     let received_at = clock::now();
     let mut tags: HashMap<&str, Result<(), TagProblem>> = HashMap::new();
     let mut classes: HashMap<&str, Option<String>> = HashMap::new();
-    let mut results = Vec::with_capacity(batch.len());
-    let mut groups = BTreeSet::new();
     for trial in batch {
         if !tags.contains_key(trial.epc.as_str()) {
             tags.insert(&trial.epc, check_tag(&mut tx, &trial.epc).await?);
@@ -144,30 +145,47 @@ async fn commit(
                 .flatten();
             classes.insert(&trial.robot, class);
         }
+    }
+
+    // Trials on active tags; a retry of a trial stored before its tag was archived is still a
+    // retry, so the others are looked up below rather than refused at once.
+    let insertable: Vec<usize> =
+        (0..batch.len()).filter(|&i| tags[batch[i].epc.as_str()].is_ok()).collect();
+    let mut seqs: HashMap<String, i64> = HashMap::new();
+    for chunk in insertable.chunks(INSERT_CHUNK) {
+        let mut insert = sqlx::QueryBuilder::<sqlx::Sqlite>::new(
+            "insert into trials (id, epc, robot, robot_class, action, behavior, outcome, \
+             confirmed, started_at, finished_at, received_at, body) ",
+        );
+        insert.push_values(chunk, |mut row, &i| {
+            let trial = batch[i];
+            row.push_bind(&trial.id)
+                .push_bind(&trial.epc)
+                .push_bind(&trial.robot)
+                .push_bind(classes[trial.robot.as_str()].as_deref())
+                .push_bind(&trial.action)
+                .push_bind(&trial.behavior)
+                .push_bind(&trial.outcome)
+                .push_bind(trial.confirmed)
+                .push_bind(&trial.started_at)
+                .push_bind(&trial.finished_at)
+                .push_bind(&received_at)
+                .push_bind(&bodies[i]);
+        });
+        // A second trial with the same id in one batch meets the first: it is a retry then.
+        insert.push(" on conflict (id) do nothing returning id, seq");
+        let inserted: Vec<(String, i64)> = insert.build_query_as().fetch_all(&mut *tx).await?;
+        seqs.extend(inserted);
+    }
+
+    let mut results = Vec::with_capacity(batch.len());
+    let mut recorded: Vec<(i64, &CheckedTrial)> = Vec::new();
+    let mut groups = BTreeSet::new();
+    for (i, (trial, body)) in batch.iter().zip(bodies).enumerate() {
         let robot_class = classes[trial.robot.as_str()].clone();
-        let body = trial.body.to_string();
-        let seq = match &tags[trial.epc.as_str()] {
-            Ok(()) => {
-                let new = NewTrial {
-                    id: &trial.id,
-                    epc: &trial.epc,
-                    robot: &trial.robot,
-                    robot_class: robot_class.as_deref(),
-                    action: &trial.action,
-                    behavior: &trial.behavior,
-                    outcome: &trial.outcome,
-                    confirmed: trial.confirmed,
-                    started_at: &trial.started_at,
-                    finished_at: &trial.finished_at,
-                    received_at: &received_at,
-                    body: &body,
-                };
-                trials::insert_new(&mut tx, &new).await?
-            }
-            // A retry of a trial stored before its tag was archived is still a retry.
-            Err(_) => None,
-        };
-        let Some(seq) = seq else {
+        // Only the first of duplicate ids in a batch was inserted; the rest are retries.
+        let first = batch[..i].iter().all(|earlier| earlier.id != trial.id);
+        let Some(&seq) = seqs.get(&trial.id).filter(|_| first) else {
             results.push(match trials::find(&mut tx, &trial.id).await? {
                 Some(existing)
                     if retention::same_submission(&existing.submitted(), &trial.body) =>
@@ -182,13 +200,13 @@ async fn commit(
             });
             continue;
         };
-        let data = json!({ "trial": trial.id, "epc": trial.epc, "robot": trial.robot, "action": trial.action, "outcome": trial.outcome, "seq": seq });
-        events::append(&mut tx, EventKind::TrialRecorded, data).await?;
+        recorded.push((seq, trial));
         groups.insert(TrialGroup {
             epc: trial.epc.clone(),
             action: trial.action.clone(),
             behavior: trial.behavior.clone(),
             robot_class: robot_class.clone().unwrap_or_default(),
+            relearn: learning::teaches(trial.body.get("measurements")),
         });
         results.push(Ok(Recorded::New(TrialRow {
             seq,
@@ -203,10 +221,20 @@ async fn commit(
             body,
         })));
     }
+    // The feed announces the trials in the order the registry stored them.
+    recorded.sort_by_key(|(seq, _)| *seq);
+    let announcements: Vec<Value> = recorded
+        .iter()
+        .map(|(seq, trial)| json!({ "trial": trial.id, "epc": trial.epc, "robot": trial.robot, "action": trial.action, "outcome": trial.outcome, "seq": seq }))
+        .collect();
+    events::append_all(&mut tx, EventKind::TrialRecorded, &announcements).await?;
     let relearned = learning::update(&mut tx, &groups).await?;
     tx.commit().await?;
     Ok((results, relearned))
 }
+
+/// Trials inserted by one statement at most (12 values each, well under SQLite's limit).
+const INSERT_CHUNK: usize = 256;
 
 /// Why a tag takes no trials.
 #[derive(Debug, Clone)]

@@ -538,3 +538,35 @@ async fn a_retired_epc_is_never_registered_again() {
     let body = problem(reuse, StatusCode::CONFLICT).await;
     assert!(body["detail"].as_str().unwrap().contains(new), "{body}");
 }
+
+#[tokio::test]
+async fn the_same_trial_sent_many_times_at_once_is_stored_once() {
+    let server = TestServer::start().await;
+    let robot = server.token(Role::Robot, "el-e-1").await;
+    let id = uuid();
+    let body = trial(&id, ADA_SWITCH, "el-e-1", "on", "push_top", "success");
+    let mut racing = tokio::task::JoinSet::new();
+    for n in 0..10 {
+        let mut body = body.clone();
+        if n == 9 {
+            body["outcome"] = "failure".into();
+        }
+        let request =
+            server.request(Method::PUT, &format!("/api/v1/trials/{id}"), Some(&robot)).json(&body);
+        racing.spawn(async move { (n, request.send().await.unwrap().status()) });
+    }
+    let statuses = racing.join_all().await;
+    let created = statuses.iter().filter(|(_, s)| *s == StatusCode::CREATED).count();
+    assert_eq!(created, 1, "{statuses:?}");
+    for (n, status) in statuses {
+        match (n, status) {
+            (9, StatusCode::CREATED) => {} // the odd one out got in first; every other is then a conflict
+            (9, status) => assert_eq!(status, StatusCode::CONFLICT),
+            (_, status) => assert!(matches!(
+                status,
+                StatusCode::CREATED | StatusCode::OK | StatusCode::CONFLICT
+            )),
+        }
+    }
+    assert_eq!(server.get_json("/api/v1/trials").await["items"].as_array().unwrap().len(), 1);
+}

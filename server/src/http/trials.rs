@@ -238,6 +238,7 @@ pub async fn patch(
         action: row.action.clone(),
         behavior,
         robot_class: row.robot_class.clone().unwrap_or_default(),
+        relearn: true,
     };
     let relearned = learning::update(&mut tx, &[group].into()).await?;
     tx.commit().await?;

@@ -76,6 +76,24 @@ pub async fn append(tx: &mut SqliteConnection, kind: EventKind, data: Value) -> 
     Ok(id)
 }
 
+/// Appends one event of `kind` per item of `data`, in order, with one statement.
+pub async fn append_all(
+    tx: &mut SqliteConnection,
+    kind: EventKind,
+    data: &[Value],
+) -> sqlx::Result<()> {
+    let now = clock::now();
+    for chunk in data.chunks(500) {
+        let mut insert =
+            sqlx::QueryBuilder::<sqlx::Sqlite>::new("insert into events (kind, data, created_at) ");
+        insert.push_values(chunk, |mut row, item| {
+            row.push_bind(kind.as_str()).push_bind(item.to_string()).push_bind(&now);
+        });
+        insert.build().execute(&mut *tx).await?;
+    }
+    Ok(())
+}
+
 /// Events with ids above `after`, oldest first.
 #[tracing::instrument(skip_all)]
 pub async fn after(pool: &SqlitePool, after: i64, limit: u32) -> sqlx::Result<Vec<Event>> {

@@ -64,51 +64,6 @@ pub async fn get(pool: &SqlitePool, id: &str) -> sqlx::Result<Option<TrialRow>> 
     find(&mut conn, id).await
 }
 
-/// The fields a new trial row is made of.
-#[derive(Debug)]
-pub struct NewTrial<'a> {
-    pub id: &'a str,
-    pub epc: &'a str,
-    pub robot: &'a str,
-    pub robot_class: Option<&'a str>,
-    pub action: &'a str,
-    pub behavior: &'a str,
-    pub outcome: &'a str,
-    pub confirmed: Option<bool>,
-    pub started_at: &'a str,
-    pub finished_at: &'a str,
-    pub received_at: &'a str,
-    pub body: &'a str,
-}
-
-/// Inserts a trial and returns its sequence number; `None` when a trial with its id exists.
-pub async fn insert_new(
-    conn: &mut SqliteConnection,
-    trial: &NewTrial<'_>,
-) -> sqlx::Result<Option<i64>> {
-    sqlx::query_scalar(
-        "insert into trials (id, epc, robot, robot_class, action, behavior, outcome, confirmed,
-                             started_at, finished_at, received_at, body)
-         values (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)
-         on conflict (id) do nothing
-         returning seq",
-    )
-    .bind(trial.id)
-    .bind(trial.epc)
-    .bind(trial.robot)
-    .bind(trial.robot_class)
-    .bind(trial.action)
-    .bind(trial.behavior)
-    .bind(trial.outcome)
-    .bind(trial.confirmed)
-    .bind(trial.started_at)
-    .bind(trial.finished_at)
-    .bind(trial.received_at)
-    .bind(trial.body)
-    .fetch_optional(conn)
-    .await
-}
-
 /// Trials after sequence number `after`, oldest first.
 #[tracing::instrument(skip_all)]
 pub async fn list(
