@@ -28,6 +28,9 @@ pub struct RunArgs {
     /// The robot's API token.
     #[arg(long, env = "PPS_TOKEN", hide_env_values = true)]
     pub token: String,
+    /// A CA certificate (PEM) to trust for an HTTPS registry with its own certificate.
+    #[arg(long, env = "PPS_CA_CERT")]
+    pub ca_cert: Option<std::path::PathBuf>,
     /// The robot's id in the registry, e.g. el-e-1.
     #[arg(long)]
     pub robot: String,
@@ -238,10 +241,29 @@ pub async fn run_simulated(
     })
 }
 
+/// The registry client both binaries use, trusting `ca_cert` when one is given.
+pub fn connect(
+    server: &str,
+    token: &str,
+    robot: RobotId,
+    state: &std::path::Path,
+    ca_cert: Option<&std::path::Path>,
+) -> anyhow::Result<RegistryClient> {
+    let client = RegistryClient::new(server, token, robot, state)?;
+    Ok(match ca_cert {
+        Some(path) => {
+            let pem = std::fs::read(path)
+                .map_err(|e| anyhow::anyhow!("cannot read --ca-cert {}: {e}", path.display()))?;
+            client.with_ca_certificate(&pem)?
+        }
+        None => client,
+    })
+}
+
 pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let robot = RobotId::parse(&args.robot).map_err(|e| anyhow::anyhow!("--robot: {e}"))?;
     let state = args.state.clone().unwrap_or_else(|| default_state_dir(&args.robot));
-    let registry = RegistryClient::new(&args.server, &args.token, robot, &state)?;
+    let registry = connect(&args.server, &args.token, robot, &state, args.ca_cert.as_deref())?;
     let trial = SimulatedTrial {
         start_angle: args.from.angle(),
         seed: args.seed,

@@ -20,7 +20,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde_json::json;
 
-use super::run::{Fault, SimulatedTrial, default_state_dir, run_simulated};
+use super::run::{Fault, SimulatedTrial, connect, default_state_dir, run_simulated};
 use crate::registry::RegistryClient;
 use crate::sim::{DeviceKind, RoomOptions, StartDirection};
 use crate::task::TaskConfig;
@@ -33,6 +33,9 @@ pub struct TrialsArgs {
     /// The robot's API token.
     #[arg(long, env = "PPS_TOKEN", hide_env_values = true)]
     pub token: String,
+    /// A CA certificate (PEM) to trust for an HTTPS registry with its own certificate.
+    #[arg(long, env = "PPS_CA_CERT")]
+    pub ca_cert: Option<std::path::PathBuf>,
     /// The robot's id in the registry, e.g. el-e-1.
     #[arg(long)]
     pub robot: String,
@@ -332,7 +335,7 @@ pub fn rows_json(rows: &[TableRow]) -> serde_json::Value {
 pub fn run(args: &TrialsArgs) -> anyhow::Result<()> {
     let robot = RobotId::parse(&args.robot).map_err(|e| anyhow::anyhow!("--robot: {e}"))?;
     let state = args.state.clone().unwrap_or_else(|| default_state_dir(&args.robot));
-    let registry = RegistryClient::new(&args.server, &args.token, robot, &state)?;
+    let registry = connect(&args.server, &args.token, robot, &state, args.ca_cert.as_deref())?;
     let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build()?;
     runtime.block_on(async {
         let rows = run_trials(&registry, args.seed, args.randomized, true).await?;

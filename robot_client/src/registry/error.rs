@@ -30,7 +30,7 @@ pub enum RegistryError {
     #[error("the registry refused: {0}")]
     Refused(Problem),
     /// The registry could not be reached (and nothing cached could stand in).
-    #[error("the registry is unreachable: {0}")]
+    #[error("the registry is unreachable: {}", causes(.0))]
     Unreachable(#[source] reqwest::Error),
     /// The answer was not what the API promises.
     #[error("the registry's answer was not understood: {0}")]
@@ -38,6 +38,18 @@ pub enum RegistryError {
     /// The outbox or the entry cache could not be read or written.
     #[error("local storage failed: {0}")]
     Storage(#[from] std::io::Error),
+}
+
+/// An error with its causes, so "error sending request" says why (refused, TLS, timeout).
+fn causes(error: &dyn std::error::Error) -> String {
+    let mut text = error.to_string();
+    let mut source = error.source();
+    while let Some(cause) = source {
+        text.push_str(": ");
+        text.push_str(&cause.to_string());
+        source = cause.source();
+    }
+    text
 }
 
 impl RegistryError {
