@@ -59,7 +59,8 @@ impl Alignment {
     }
 }
 
-/// Moves forward until contact or near contact, then backs off `params.backoff`.
+/// Moves forward until contact or near contact, then backs off until the palm is
+/// `params.backoff` from the surface.
 pub fn close_range_alignment(
     hand: &impl Hand,
     forces: &mut ForceRecorder<'_>,
@@ -72,13 +73,15 @@ pub fn close_range_alignment(
         Some(params.near_range),
         params.max_reach,
     )?;
-    let contact = match touch {
-        Touch::Force(_) => Some(Contact::Force),
-        Touch::NearRange(_) => Some(Contact::NearRange),
-        Touch::Nothing => None,
+    // The back-off is measured from the surface: after a touch the palm is at it, after near
+    // contact the palm range sensor says how far ahead it still is.
+    let (contact, ahead) = match touch {
+        Touch::Force(_) => (Some(Contact::Force), 0.0),
+        Touch::NearRange(range) => (Some(Contact::NearRange), range),
+        Touch::Nothing => (None, 0.0),
     };
     if contact.is_some() {
-        move_arm_by(hand, -params.backoff)?;
+        move_arm_by(hand, ahead - params.backoff)?;
     } else {
         // Nothing there: put the hand back where it was.
         move_arm_by(hand, -travel)?;
