@@ -13,10 +13,10 @@ use pps_schema::{LightSwitchParams, SweepDirection, SwitchMotion};
 
 use super::alignment::{AlignmentParams, close_range_alignment};
 use super::force::ForceRecorder;
+use super::light_check::light_changed_as_wanted;
 use super::motion::{Hand, Touch, advance_until_touch, move_arm_by, set_gripper_deg};
 use super::{BehaviorReport, Evidence, WantedLight, milli};
 use crate::hal::{BrightnessCamera, HalError, LookDirection};
-use crate::perception::{LightChange, brightness_change};
 
 /// Runs the light switch behaviour with the entry's parameters.
 pub fn operate_light_switch(
@@ -65,25 +65,9 @@ pub fn operate_light_switch(
     move_arm_by(robot, -params.alignment_backoff)?;
     robot.move_to_height(start_height, f64::INFINITY)?;
     let after = robot.mean_intensity(look)?;
-    let change = brightness_change(before, after, params.brightness_threshold * 255.0);
-    let success = match wanted {
-        WantedLight::On => change.change == LightChange::TurnedOn,
-        WantedLight::Off => change.change == LightChange::TurnedOff,
-        WantedLight::Changed => change.change != LightChange::Unchanged,
-    };
-    evidence.detector("change", "overall_brightness");
-    evidence.detector("brightness_before", milli(before));
-    evidence.detector("brightness_after", milli(after));
-    evidence.detector("brightness_difference", milli(change.difference));
-    evidence.detector("threshold", milli(params.brightness_threshold * 255.0));
-    evidence.detector("saw", light_change_name(change.change));
+    let success =
+        light_changed_as_wanted(before, after, params.brightness_threshold, wanted, &mut evidence);
     evidence.measure("carriage_travel", milli(travel));
-    evidence.step(format!(
-        "brightness {:.1} -> {:.1}: {}",
-        before,
-        after,
-        light_change_name(change.change)
-    ));
     Ok(evidence.finish(success, forces))
 }
 
@@ -133,12 +117,4 @@ fn press(
     });
     move_arm_by(robot, -moved.min(0.03))?;
     Ok(moved)
-}
-
-pub(crate) fn light_change_name(change: LightChange) -> &'static str {
-    match change {
-        LightChange::TurnedOn => "turned_on",
-        LightChange::TurnedOff => "turned_off",
-        LightChange::Unchanged => "unchanged",
-    }
 }

@@ -11,6 +11,7 @@
 mod alignment;
 mod drop;
 mod force;
+mod light_check;
 mod light_switch;
 mod motion;
 mod pull_back;

@@ -9,11 +9,10 @@ use pps_schema::PullLampParams;
 
 use super::alignment::{AlignmentParams, close_range_alignment};
 use super::force::ForceRecorder;
-use super::light_switch::light_change_name;
+use super::light_check::light_changed_as_wanted;
 use super::motion::{Hand, move_arm_by, set_gripper_deg};
 use super::{BehaviorReport, Evidence, WantedLight, milli};
 use crate::hal::{BrightnessCamera, HalError, LookDirection};
-use crate::perception::{LightChange, brightness_change};
 
 /// Re-grasps after closing on nothing, and how much further each reaches, metres.
 const REGRASPS: usize = 3;
@@ -74,23 +73,7 @@ pub fn pull_lamp(
     move_arm_by(robot, -params.alignment_backoff)?;
 
     let after = robot.mean_intensity(look)?;
-    let change = brightness_change(before, after, params.brightness_threshold * 255.0);
-    let success = match wanted {
-        WantedLight::On => change.change == LightChange::TurnedOn,
-        WantedLight::Off => change.change == LightChange::TurnedOff,
-        WantedLight::Changed => change.change != LightChange::Unchanged,
-    };
-    evidence.detector("change", "overall_brightness");
-    evidence.detector("brightness_before", milli(before));
-    evidence.detector("brightness_after", milli(after));
-    evidence.detector("brightness_difference", milli(change.difference));
-    evidence.detector("threshold", milli(params.brightness_threshold * 255.0));
-    evidence.detector("saw", light_change_name(change.change));
-    evidence.step(format!(
-        "brightness {:.1} -> {:.1}: {}",
-        before,
-        after,
-        light_change_name(change.change)
-    ));
+    let success =
+        light_changed_as_wanted(before, after, params.brightness_threshold, wanted, &mut evidence);
     Ok(evidence.finish(success, forces))
 }

@@ -11,11 +11,10 @@ use pps_schema::{PushParams, StateChange};
 
 use super::alignment::{AlignmentParams, close_range_alignment};
 use super::force::ForceRecorder;
-use super::light_switch::light_change_name;
+use super::light_check::light_changed_as_wanted;
 use super::motion::{Hand, Touch, advance_until_touch, move_arm_by, set_gripper_deg};
 use super::{BehaviorReport, Evidence, WantedLight, milli};
 use crate::hal::{BrightnessCamera, HalError, LookDirection, MobileBase};
-use crate::perception::{LightChange, brightness_change};
 
 /// How far the base pushes between force checks, metres.
 const PUSH_INCREMENT: f64 = 0.02;
@@ -86,17 +85,13 @@ pub fn push(
     let success = match before {
         Some(before) => {
             let after = robot.mean_intensity(look)?;
-            let change = brightness_change(before, after, params.brightness_threshold * 255.0);
-            evidence.detector("change", "overall_brightness");
-            evidence.detector("brightness_before", milli(before));
-            evidence.detector("brightness_after", milli(after));
-            evidence.detector("brightness_difference", milli(change.difference));
-            evidence.detector("saw", light_change_name(change.change));
-            match wanted {
-                WantedLight::On => change.change == LightChange::TurnedOn,
-                WantedLight::Off => change.change == LightChange::TurnedOff,
-                WantedLight::Changed => change.change != LightChange::Unchanged,
-            }
+            light_changed_as_wanted(
+                before,
+                after,
+                params.brightness_threshold,
+                wanted,
+                &mut evidence,
+            )
         }
         None => {
             evidence.detector("change", "location");
