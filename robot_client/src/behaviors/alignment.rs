@@ -3,6 +3,7 @@
 //! in its palm. Upon detection, EL-E backs off a fixed distance (8 to 12 cm depending on the
 //! behavior)" — the back-off is the behaviour's `alignment_backoff` from the entry.
 
+use super::Evidence;
 use super::force::ForceRecorder;
 use super::motion::{Hand, Touch, advance_until_touch, move_arm_by};
 use crate::hal::HalError;
@@ -42,11 +43,14 @@ pub struct Alignment {
     pub contact: Option<Contact>,
     /// How far the arm moved forward before the contact, metres.
     pub travel: f64,
+    /// How far from the surface the hand was left, metres.
+    pub backoff: f64,
 }
 
 impl Alignment {
     /// A short account for the task's report.
-    pub fn describe(&self, backoff: f64) -> String {
+    pub fn describe(&self) -> String {
+        let backoff = self.backoff;
         match self.contact {
             Some(Contact::Force) => {
                 format!("touched after {:.3} m, backed off {backoff} m", self.travel)
@@ -60,11 +64,12 @@ impl Alignment {
 }
 
 /// Moves forward until contact or near contact, then backs off until the palm is
-/// `params.backoff` from the surface.
+/// `params.backoff` from the surface; the outcome is noted in the behaviour's evidence.
 pub fn close_range_alignment(
     hand: &impl Hand,
     forces: &mut ForceRecorder<'_>,
     params: &AlignmentParams,
+    evidence: &mut Evidence,
 ) -> Result<Alignment, HalError> {
     let (touch, travel) = advance_until_touch(
         hand,
@@ -87,5 +92,7 @@ pub fn close_range_alignment(
         move_arm_by(hand, -travel)?;
     }
     forces.sample()?;
-    Ok(Alignment { contact, travel })
+    let alignment = Alignment { contact, travel, backoff: params.backoff };
+    evidence.step(format!("close-range alignment: {}", alignment.describe()));
+    Ok(alignment)
 }

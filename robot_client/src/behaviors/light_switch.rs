@@ -37,9 +37,8 @@ pub fn operate_light_switch(
             contact_force: params.contact_force,
             ..AlignmentParams::with_backoff(params.alignment_backoff)
         },
+        &mut evidence,
     )?;
-    evidence
-        .step(format!("close-range alignment: {}", alignment.describe(params.alignment_backoff)));
     if alignment.contact.is_none() {
         evidence.detector("contact", false);
         evidence.step("nothing within reach: the switch is not where the tag was seen");

@@ -34,9 +34,8 @@ pub fn pull_back(
         robot,
         &mut forces,
         &AlignmentParams::with_backoff(params.alignment_backoff),
+        &mut evidence,
     )?;
-    evidence
-        .step(format!("close-range alignment: {}", alignment.describe(params.alignment_backoff)));
     evidence.detector("expected_distance", params.pull_distance);
     evidence.detector("success_ratio", params.success_ratio);
     if alignment.contact.is_none() {

@@ -32,13 +32,12 @@ pub fn pull_lamp(
     // Open to the entry's angle so the chain can come between the fingers, then align: the
     // palm's range sensor finds the foam, and the short back-off leaves it at the fingers' front.
     set_gripper_deg(robot, params.gripper_deg, f64::INFINITY)?;
-    let alignment = close_range_alignment(
+    close_range_alignment(
         robot,
         &mut forces,
         &AlignmentParams::with_backoff(params.alignment_backoff),
+        &mut evidence,
     )?;
-    evidence
-        .step(format!("close-range alignment: {}", alignment.describe(params.alignment_backoff)));
 
     // Close on the chain until the grip force. Closing on nothing means the foam is still
     // beyond the fingertips (the palm saw it a little early): open, reach a centimetre further,

@@ -32,16 +32,15 @@ pub fn push(
     let by_brightness = change == StateChange::OverallBrightness;
     let before = if by_brightness { Some(robot.mean_intensity(look)?) } else { None };
 
-    let alignment = close_range_alignment(
+    close_range_alignment(
         robot,
         &mut forces,
         &AlignmentParams {
             contact_force: params.contact_force,
             ..AlignmentParams::with_backoff(params.alignment_backoff)
         },
+        &mut evidence,
     )?;
-    evidence
-        .step(format!("close-range alignment: {}", alignment.describe(params.alignment_backoff)));
 
     // The gripper as the entry says: open for a drawer front, closed to poke a switch.
     set_gripper_deg(robot, params.gripper_deg, f64::INFINITY)?;

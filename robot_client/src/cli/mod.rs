@@ -3,6 +3,7 @@
 
 mod bench;
 mod perceive;
+mod registry_args;
 mod run;
 mod scene;
 mod trials;
@@ -11,9 +12,9 @@ use clap::{Parser, Subcommand};
 
 pub use bench::BenchArgs;
 pub use perceive::{PerceiveArgs, PerceiveReport};
+pub use registry_args::RegistryArgs;
 pub use run::{
-    Fault, RunArgs, SimulatedResult, SimulatedTrial, achieved, default_state_dir, run_simulated,
-    start_pose_at,
+    Fault, RunArgs, SimulatedResult, SimulatedTrial, achieved, run_simulated, start_pose_at,
 };
 pub use scene::SceneArgs;
 pub use trials::{

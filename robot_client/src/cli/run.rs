@@ -5,13 +5,12 @@
 //! the action and answers truthfully whether it worked (the person sees the room; the robot
 //! does not). The robot's side is [`run_task`], which sees only the hardware traits.
 
-use std::path::PathBuf;
-
 use clap::Args;
 use nalgebra::{Isometry2, Point3, Rotation2, Vector2};
-use pps_schema::{RobotId, StartPose};
+use pps_schema::StartPose;
 use time::OffsetDateTime;
 
+use super::registry_args::RegistryArgs;
 use crate::hal::{HalError, Operator, PlanarPose, VerticalChoice};
 use crate::registry::RegistryClient;
 use crate::sim::{
@@ -22,18 +21,8 @@ use crate::task::{SimClock, TaskConfig, TaskReport, run_task, vertical_choice_fo
 
 #[derive(Debug, Args)]
 pub struct RunArgs {
-    /// The registry's base URL, e.g. http://127.0.0.1:8080.
-    #[arg(long)]
-    pub server: String,
-    /// The robot's API token.
-    #[arg(long, env = "PPS_TOKEN", hide_env_values = true)]
-    pub token: String,
-    /// A CA certificate (PEM) to trust for an HTTPS registry with its own certificate.
-    #[arg(long, env = "PPS_CA_CERT")]
-    pub ca_cert: Option<std::path::PathBuf>,
-    /// The robot's id in the registry, e.g. el-e-1.
-    #[arg(long)]
-    pub robot: String,
+    #[command(flatten)]
+    pub registry: RegistryArgs,
     /// light-switch, ada-light-switch, lamp, drawer or trash-can.
     #[arg(long, value_parser = parse_device)]
     pub device: DeviceKind,
@@ -49,10 +38,6 @@ pub struct RunArgs {
     /// A failure to inject: lamp-unplugged, drawer-stuck or sticky-object.
     #[arg(long, value_parser = parse_fault)]
     pub fault: Option<Fault>,
-    /// Where the robot keeps its entry cache and trial outbox; default `pps-robot/<ROBOT>` in
-    /// the system's temporary directory.
-    #[arg(long)]
-    pub state: Option<PathBuf>,
 }
 
 /// The failures of the paper's second set of trials.
@@ -81,11 +66,6 @@ pub(crate) fn parse_device(name: &str) -> Result<DeviceKind, String> {
 fn parse_direction(name: &str) -> Result<StartDirection, String> {
     StartDirection::parse(name)
         .ok_or_else(|| format!("`{name}` is not one of far-left, left, front, right, far-right"))
-}
-
-/// The state directory a robot uses when none is given.
-pub fn default_state_dir(robot: &str) -> PathBuf {
-    std::env::temp_dir().join("pps-robot").join(robot)
 }
 
 /// One simulated trial as the experimenter sets it up.
@@ -241,29 +221,8 @@ pub async fn run_simulated(
     })
 }
 
-/// The registry client both binaries use, trusting `ca_cert` when one is given.
-pub fn connect(
-    server: &str,
-    token: &str,
-    robot: RobotId,
-    state: &std::path::Path,
-    ca_cert: Option<&std::path::Path>,
-) -> anyhow::Result<RegistryClient> {
-    let client = RegistryClient::new(server, token, robot, state)?;
-    Ok(match ca_cert {
-        Some(path) => {
-            let pem = std::fs::read(path)
-                .map_err(|e| anyhow::anyhow!("cannot read --ca-cert {}: {e}", path.display()))?;
-            client.with_ca_certificate(&pem)?
-        }
-        None => client,
-    })
-}
-
 pub fn run(args: &RunArgs) -> anyhow::Result<()> {
-    let robot = RobotId::parse(&args.robot).map_err(|e| anyhow::anyhow!("--robot: {e}"))?;
-    let state = args.state.clone().unwrap_or_else(|| default_state_dir(&args.robot));
-    let registry = connect(&args.server, &args.token, robot, &state, args.ca_cert.as_deref())?;
+    let registry = args.registry.connect()?;
     let trial = SimulatedTrial {
         start_angle: args.from.angle(),
         seed: args.seed,
@@ -271,7 +230,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     };
     let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build()?;
     let result = runtime.block_on(run_simulated(&trial, &registry, &TaskConfig::default()))?;
-    eprintln!("state directory: {}", state.display());
+    eprintln!("state directory: {}", args.registry.state_dir().display());
     print!("{}", result.report);
     Ok(())
 }

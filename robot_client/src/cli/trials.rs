@@ -11,34 +11,24 @@
 //! `pps-trials --server URL --token T --robot el-e-1 --randomized 1000 --seed 1`.
 //! Set `PPS_TRIALS_DEBUG` to print the full report of every trial that missed.
 
-use std::path::PathBuf;
 use std::time::Duration;
 
 use clap::Args;
-use pps_schema::{Outcome, RobotId};
+use pps_schema::Outcome;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde_json::json;
 
-use super::run::{Fault, SimulatedTrial, connect, default_state_dir, run_simulated};
+use super::registry_args::RegistryArgs;
+use super::run::{Fault, SimulatedTrial, run_simulated};
 use crate::registry::RegistryClient;
 use crate::sim::{DeviceKind, RoomOptions, StartDirection};
 use crate::task::TaskConfig;
 
 #[derive(Debug, Args)]
 pub struct TrialsArgs {
-    /// The registry's base URL, e.g. http://127.0.0.1:8080.
-    #[arg(long)]
-    pub server: String,
-    /// The robot's API token.
-    #[arg(long, env = "PPS_TOKEN", hide_env_values = true)]
-    pub token: String,
-    /// A CA certificate (PEM) to trust for an HTTPS registry with its own certificate.
-    #[arg(long, env = "PPS_CA_CERT")]
-    pub ca_cert: Option<std::path::PathBuf>,
-    /// The robot's id in the registry, e.g. el-e-1.
-    #[arg(long)]
-    pub robot: String,
+    #[command(flatten)]
+    pub registry: RegistryArgs,
     /// Seed of the simulated world's noise (and, with --randomized, of the trials drawn).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -48,10 +38,6 @@ pub struct TrialsArgs {
     /// Print one JSON document `{"rows": [...]}` and nothing else on stdout.
     #[arg(long)]
     pub json: bool,
-    /// Where the robot keeps its entry cache and trial outbox; default `pps-robot/<ROBOT>` in
-    /// the system's temporary directory.
-    #[arg(long)]
-    pub state: Option<PathBuf>,
 }
 
 /// One row of Table I: a device, a scenario, and the paper's figure for it.
@@ -333,9 +319,7 @@ pub fn rows_json(rows: &[TableRow]) -> serde_json::Value {
 }
 
 pub fn run(args: &TrialsArgs) -> anyhow::Result<()> {
-    let robot = RobotId::parse(&args.robot).map_err(|e| anyhow::anyhow!("--robot: {e}"))?;
-    let state = args.state.clone().unwrap_or_else(|| default_state_dir(&args.robot));
-    let registry = connect(&args.server, &args.token, robot, &state, args.ca_cert.as_deref())?;
+    let registry = args.registry.connect()?;
     let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build()?;
     runtime.block_on(async {
         let rows = run_trials(&registry, args.seed, args.randomized, true).await?;

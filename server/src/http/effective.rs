@@ -46,7 +46,7 @@ pub async fn get(
     caller.require_robot_or_editor(robot.as_str())?;
     let entry = match state.effective.get(epc.as_hex(), robot.as_str()) {
         Some(entry) => entry,
-        None => compute(&state, epc.as_hex(), robot.as_str()).await?,
+        None => compute(&state, &epc, robot.as_str()).await?,
     };
     if precondition::not_modified(&headers, &entry.etag) {
         return Ok((StatusCode::NOT_MODIFIED, [(ETAG, entry.etag.clone())]).into_response());
@@ -63,13 +63,13 @@ pub async fn get(
 /// Merges the entry from the database and caches it.
 async fn compute(
     state: &AppState,
-    epc: &str,
+    parsed: &pps_schema::Epc,
     robot: &str,
 ) -> Result<Arc<CachedEffective>, ApiError> {
     let generation = state.effective.generation();
     let pool = state.db.reader();
-    let parsed = pps_schema::Epc::parse(epc).map_err(|e| anyhow::anyhow!(e))?;
-    let tag = match tags::get(pool, &parsed).await? {
+    let epc = parsed.as_hex();
+    let tag = match tags::get(pool, parsed).await? {
         Some(tag) if !tag.archived => tag,
         Some(_) => {
             return Err(ApiError::NotFound(format!(

@@ -43,13 +43,24 @@ pub fn encode_cursor(key: &str) -> String {
 }
 
 pub fn decode_cursor(cursor: &str) -> Result<String, ApiError> {
-    URL_SAFE_NO_PAD.decode(cursor).ok().and_then(|bytes| String::from_utf8(bytes).ok()).ok_or_else(
-        || {
-            ApiError::BadRequest(
-                "this cursor is not one the registry gave out; pass next_cursor back unchanged"
-                    .into(),
-            )
-        },
+    URL_SAFE_NO_PAD
+        .decode(cursor)
+        .ok()
+        .and_then(|bytes| String::from_utf8(bytes).ok())
+        .ok_or_else(not_ours)
+}
+
+/// The position a numeric cursor (a revision, a sequence number) names; 0 without one.
+pub fn decode_position(cursor: Option<&str>) -> Result<i64, ApiError> {
+    match cursor {
+        None => Ok(0),
+        Some(cursor) => decode_cursor(cursor)?.parse().map_err(|_| not_ours()),
+    }
+}
+
+fn not_ours() -> ApiError {
+    ApiError::BadRequest(
+        "this cursor is not one the registry gave out; pass next_cursor back unchanged".into(),
     )
 }
 

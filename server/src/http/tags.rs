@@ -179,10 +179,7 @@ pub async fn revisions(
     ApiQuery(params): ApiQuery<PageParams>,
 ) -> Result<Json<Page<tags::Revision>>, ApiError> {
     let limit = page::limit(params.limit)?;
-    let after = match params.cursor.as_deref().map(page::decode_cursor).transpose()? {
-        Some(text) => text.parse().map_err(|_| ApiError::BadRequest("malformed cursor".into()))?,
-        None => 0,
-    };
+    let after = page::decode_position(params.cursor.as_deref())?;
     let rows = tags::revisions(state.db.reader(), &epc, after, limit + 1).await?;
     if rows.is_empty() && after == 0 {
         return Err(not_found(&epc));

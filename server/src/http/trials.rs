@@ -284,12 +284,7 @@ pub async fn list(
     ApiQuery(params): ApiQuery<ListParams>,
 ) -> Result<Json<Page<Value>>, ApiError> {
     let limit = page::limit(params.limit)?;
-    let after = match params.cursor.as_deref().map(page::decode_cursor).transpose()? {
-        Some(text) => text.parse().map_err(|_| {
-            ApiError::BadRequest("this cursor is not one the registry gave out".into())
-        })?,
-        None => 0,
-    };
+    let after = page::decode_position(params.cursor.as_deref())?;
     let robot = match (caller.role, params.robot) {
         (Role::Robot, Some(asked)) if Some(&asked) != caller.robot.as_ref() => {
             return Err(ApiError::Forbidden("a robot lists only its own trials".into()));

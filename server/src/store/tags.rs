@@ -91,13 +91,7 @@ pub struct TagFilter {
 
 #[tracing::instrument(skip_all)]
 pub async fn get(pool: &SqlitePool, epc: &Epc) -> sqlx::Result<Option<StoredTag>> {
-    let row: Option<TagRow> = sqlx::query_as(
-        "select epc, entry, revision, archived, updated_at, updated_by from tags where epc = ?",
-    )
-    .bind(epc.as_hex())
-    .fetch_optional(pool)
-    .await?;
-    row.map(StoredTag::try_from).transpose()
+    current(&mut *pool.acquire().await?, epc).await
 }
 
 /// Up to `limit` tags after the EPC `after`, in EPC order.
