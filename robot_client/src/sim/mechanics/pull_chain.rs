@@ -21,8 +21,8 @@ const END_STOP: f64 = 0.035;
 const RETURN_STIFFNESS: f64 = 100.0;
 /// Sideways spring of the hanging chain, newtons per metre: it swings out of the way easily.
 const SWING_STIFFNESS: f64 = 30.0;
-/// Friction between the fingertips and the foam: the most a pinch of total squeeze `s` holds is
-/// `GRIP_FRICTION * s`.
+/// Friction between the fingertips and the foam: a pinch of total squeeze `s` holds up to
+/// `GRIP_FRICTION * s`; pulled harder, the foam slides through it.
 const GRIP_FRICTION: f64 = 2.0;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -75,12 +75,13 @@ impl PullChain {
         let mut clicked_now = false;
         let mut chain_tension = 0.0;
         if left > 0.0 && right > 0.0 {
+            // The most the pinch holds before the foam slides through it.
+            let hold = GRIP_FRICTION * (left + right);
             let grip = *self.grip_height.get_or_insert(hand.palm.z + self.pull);
             let free_pull = grip - hand.palm.z;
+            let through_pinch = move |p: f64| (FINGER_STIFFNESS * (free_pull - p)).min(hold);
             // The chain settles where the fingers' pull through the pinch balances its tension.
-            let balance = |clicked: bool| {
-                move |p: f64| FINGER_STIFFNESS * (free_pull - p) - tension(p, clicked)
-            };
+            let balance = |clicked: bool| move |p: f64| through_pinch(p) - tension(p, clicked);
             let mut pull = last_positive(0.0, CLICK_PULL, balance(self.clicked));
             if !self.clicked && pull >= CLICK_PULL {
                 self.clicked = true;
@@ -91,14 +92,14 @@ impl PullChain {
                 pull = last_positive(0.0, END_STOP, balance(true));
             }
             chain_tension = if pull >= END_STOP {
-                FINGER_STIFFNESS * (free_pull - END_STOP)
+                through_pinch(END_STOP)
             } else {
                 tension(pull, self.clicked)
             };
-            if chain_tension > GRIP_FRICTION * (left + right) {
-                // The foam slides out of the pinch and the chain springs back.
-                self.release();
-                return ([Vector3::zeros(); 2], clicked_now);
+            if FINGER_STIFFNESS * (free_pull - pull) > hold {
+                // The foam slides down through the pinch: the fingers now hold it higher up,
+                // until they slip off its lower end (`squeeze` then finds nothing between them).
+                self.grip_height = Some(hand.palm.z + pull + hold / FINGER_STIFFNESS);
             }
             self.pull = pull;
         } else {
@@ -139,23 +140,38 @@ mod tests {
     use crate::sim::mechanics::contact::hand_facing;
 
     #[test]
-    fn a_pinched_chain_clicks_past_its_force_and_a_loose_one_never_does() {
+    fn a_pinched_chain_clicks_once_past_its_force_and_a_loose_one_never_does() {
         let room = Room::paper();
         let out = room.device(crate::sim::DeviceKind::Lamp).tag_normal;
-        for (half_span, clicks) in [(0.015, true), (0.04, false)] {
+        for (half_span, clicks) in [(0.015, 1), (0.04, 0)] {
             let mut chain = PullChain::new(&room, false);
-            let mut peak: f64 = 0.0;
-            for step in 0..70 {
+            let (mut peak, mut before_click, mut count): (f64, f64, usize) = (0.0, 0.0, 0);
+            // An 8 cm pull, well past the end stop.
+            for step in 0..80 {
                 let palm = chain.foam + out * 0.08 - Vector3::z() * (0.001 * f64::from(step));
                 let (forces, clicked) = chain.settle(&hand_facing(out, palm, 0.1, half_span));
+                let pulling = forces[0].z + forces[1].z;
                 if clicked {
-                    break;
+                    count += 1;
+                    before_click = peak;
                 }
-                peak = peak.max(forces[0].z + forces[1].z);
+                peak = peak.max(pulling);
             }
-            assert_eq!(chain.switched_on, clicks, "half span {half_span}");
-            if clicks {
-                assert!((CLICK_FORCE - peak).abs() < 0.5, "tension before the click {peak:.2} N");
+            assert_eq!(count, clicks, "half span {half_span}");
+            assert_eq!(chain.switched_on, clicks == 1, "half span {half_span}");
+            if clicks == 1 {
+                assert!(
+                    (CLICK_FORCE - before_click).abs() < 0.5,
+                    "before the click {before_click:.2} N"
+                );
+                // Past the end stop the foam slides through the pinch instead of the pull
+                // growing without bound, and at last slips off the fingers' lower edge.
+                let (left, right) = chain.squeeze(
+                    &hand_facing(out, chain.foam + out * 0.08, 0.1, half_span),
+                    &chain.foam,
+                );
+                assert!(peak <= GRIP_FRICTION * (left + right) + 0.1, "peak pull {peak:.2} N");
+                assert_eq!(chain.grip_height, None, "the foam slipped out of the pinch");
             }
         }
     }
