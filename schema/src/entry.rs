@@ -67,6 +67,15 @@ pub struct Properties {
     pub other: Map<String, Value>,
 }
 
+impl Properties {
+    /// The tag's colour as one robot's camera sees it, in an effective entry (where the registry
+    /// has merged that robot's `robots` overrides into the properties); `None` when the entry has
+    /// none or it is malformed.
+    pub fn color_segmentation(&self) -> Option<ColorSegmentation> {
+        self.other.get("color_segmentation").and_then(|v| serde_json::from_value(v.clone()).ok())
+    }
+}
+
 /// The compliant, high-friction material of a PPS-tag (paper §III-A).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]

@@ -15,6 +15,7 @@ pub use perceive::{PerceiveArgs, PerceiveReport};
 pub use registry_args::RegistryArgs;
 pub use run::{
     Fault, RunArgs, SimulatedResult, SimulatedTrial, achieved, run_simulated, start_pose_at,
+    start_up,
 };
 pub use scene::SceneArgs;
 pub use trials::{

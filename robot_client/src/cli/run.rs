@@ -12,10 +12,10 @@ use time::OffsetDateTime;
 
 use super::registry_args::RegistryArgs;
 use crate::hal::{HalError, Operator, PlanarPose, VerticalChoice};
-use crate::registry::RegistryClient;
+use crate::registry::{RegistryClient, RegistryError};
 use crate::sim::{
-    DeviceKind, DeviceTruth, OperatorScript, Room, RoomOptions, Scenario, SimOperator, SimRobot,
-    StartDirection,
+    DeviceKind, DeviceTruth, OperatorScript, Room, RoomOptions, Scenario, SimBody, SimOperator,
+    SimRobot, StartDirection,
 };
 use crate::task::{SimClock, TaskConfig, TaskReport, run_task, vertical_choice_for};
 
@@ -79,6 +79,8 @@ pub struct SimulatedTrial {
     pub start_angle: f64,
     pub start_distance: f64,
     pub seed: u64,
+    /// The robot's simulated body, as its class in the registry says.
+    pub body: SimBody,
 }
 
 impl SimulatedTrial {
@@ -108,6 +110,7 @@ impl SimulatedTrial {
             start_angle: 0.0,
             start_distance: 1.5,
             seed: 0,
+            body: SimBody::ElE,
         }
     }
 }
@@ -175,6 +178,36 @@ pub fn start_pose_at(room: &Room, device: DeviceKind, angle: f64, distance: f64)
     Isometry2::new(position, toward.y.atan2(toward.x))
 }
 
+/// What the robot does when it starts: learns its class from the registry, so the simulator
+/// builds that class's body, and reads the registry's tags into its cache. Without the registry
+/// it goes on with what it cached before, in an EL-E-like body.
+pub async fn start_up(registry: &RegistryClient) -> anyhow::Result<SimBody> {
+    let record = match registry.robot_record().await {
+        Ok(record) => record,
+        Err(error @ RegistryError::Unreachable(_)) => {
+            eprintln!("{error}; simulating an EL-E-like robot with the entries cached before");
+            return Ok(SimBody::ElE);
+        }
+        Err(error) if error.status() == Some(404) => anyhow::bail!(
+            "robot {0} is not registered: an admin registers it, with its class, by \
+             PUT /api/v1/robots/{0}",
+            registry.robot()
+        ),
+        Err(error) => return Err(error.into()),
+    };
+    let class = record["class"].as_str().unwrap_or_default();
+    let Some(body) = SimBody::for_class(class) else {
+        let known: Vec<_> = SimBody::ALL.iter().map(|b| b.class()).collect();
+        anyhow::bail!(
+            "robot {} has class `{class}`; the simulator builds robots of class {}",
+            registry.robot(),
+            known.join(" or ")
+        );
+    };
+    registry.sync_entries().await?;
+    Ok(body)
+}
+
 /// Runs one task in a fresh simulated room against the registry.
 pub async fn run_simulated(
     trial: &SimulatedTrial,
@@ -183,7 +216,7 @@ pub async fn run_simulated(
 ) -> anyhow::Result<SimulatedResult> {
     let room = Room::new(trial.room);
     let start = start_pose_at(&room, trial.device, trial.start_angle, trial.start_distance);
-    let robot = SimRobot::with_scenario(room, start, trial.seed, trial.scenario);
+    let robot = SimRobot::of_class(room, start, trial.seed, trial.scenario, trial.body);
     // The person picks up or down as the interface's convention has it for the entry.
     let choice = match registry.effective_entry(&trial.device.epc()).await {
         Ok(fetched) => vertical_choice_for(&fetched.entry.entry, &trial.action),
@@ -223,13 +256,16 @@ pub async fn run_simulated(
 
 pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let registry = args.registry.connect()?;
-    let trial = SimulatedTrial {
-        start_angle: args.from.angle(),
-        seed: args.seed,
-        ..SimulatedTrial::new(args.device, &args.action, args.fault)
-    };
     let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build()?;
-    let result = runtime.block_on(run_simulated(&trial, &registry, &TaskConfig::default()))?;
+    let result = runtime.block_on(async {
+        let trial = SimulatedTrial {
+            start_angle: args.from.angle(),
+            seed: args.seed,
+            body: start_up(&registry).await?,
+            ..SimulatedTrial::new(args.device, &args.action, args.fault)
+        };
+        run_simulated(&trial, &registry, &TaskConfig::default()).await
+    })?;
     eprintln!("state directory: {}", args.registry.state_dir().display());
     print!("{}", result.report);
     Ok(())

@@ -20,7 +20,7 @@ use rand_chacha::ChaCha8Rng;
 use serde_json::json;
 
 use super::registry_args::RegistryArgs;
-use super::run::{Fault, SimulatedTrial, run_simulated};
+use super::run::{Fault, SimulatedTrial, run_simulated, start_up};
 use crate::registry::RegistryClient;
 use crate::sim::{DeviceKind, RoomOptions, StartDirection};
 use crate::task::TaskConfig;
@@ -170,6 +170,7 @@ pub async fn run_trials(
         .iter()
         .map(|p| TableRow { protocol: *p, successes: 0, trials: 0, misses: Vec::new() })
         .collect();
+    let body = start_up(registry).await?;
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let plan: Vec<(usize, SimulatedTrial)> = match randomized {
         None => TABLE_ONE
@@ -180,6 +181,7 @@ pub async fn run_trials(
                     let trial = SimulatedTrial {
                         start_angle: direction.angle(),
                         seed: seed.wrapping_mul(1000) + (i * 4 + k) as u64,
+                        body,
                         ..SimulatedTrial::new(p.device, p.action, p.fault)
                     };
                     (i, trial)
@@ -201,6 +203,7 @@ pub async fn run_trials(
                         ..RoomOptions::default()
                     },
                     seed: seed.wrapping_mul(1_000_003) + n as u64,
+                    body,
                     ..SimulatedTrial::new(p.device, p.action, p.fault)
                 };
                 (i, trial)

@@ -15,6 +15,7 @@ mod mask;
 mod occupancy;
 mod projection;
 mod tag;
+mod tag_colours;
 
 pub use brightness::{BrightnessChange, LightChange, brightness_change};
 pub use hsv::{HsvThresholds, ThresholdError, segment_color};
@@ -24,3 +25,4 @@ pub use projection::{OcclusionTest, points_on_mask};
 pub use tag::{
     PerceptionError, TagDetection, TagSearchParams, TagSighting, choose_tag, locate_tag,
 };
+pub use tag_colours::{covering_colour, describe_colour};

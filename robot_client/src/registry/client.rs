@@ -159,6 +159,42 @@ impl RegistryClient {
         }
     }
 
+    /// Reads the effective entry of every registered tag into the cache, as a robot does when it
+    /// starts: then it knows the home's tags (and the colours its camera sees them in) before
+    /// reading any of them, also while the registry is away. Returns how many tags there are.
+    pub async fn sync_entries(&self) -> Result<usize, RegistryError> {
+        let mut epcs = Vec::new();
+        let mut cursor: Option<String> = None;
+        loop {
+            let mut path = String::from("/api/v1/tags?limit=500");
+            if let Some(cursor) = &cursor {
+                path.push_str("&cursor=");
+                path.push_str(cursor);
+            }
+            let page: TagPage = self.get_json(&path).await?;
+            epcs.extend(page.items.into_iter().map(|tag| tag.epc));
+            match page.next_cursor {
+                Some(next) => cursor = Some(next),
+                None => break,
+            }
+        }
+        for epc in &epcs {
+            match self.effective_entry(epc).await {
+                // Archived since the listing: the fetch already forgot it.
+                Err(error) if error.status() == Some(404) => {}
+                Err(error) => return Err(error),
+                Ok(_) => {}
+            }
+        }
+        Ok(epcs.len())
+    }
+
+    /// The effective entries this robot holds, as its cache has them (unchecked against the
+    /// registry: for what does not depend on the latest revision, such as the tags' colours).
+    pub fn known_entries(&self) -> Vec<EffectiveEntry> {
+        self.cache.entries().iter().filter_map(|cached| parse_entry(&cached.entry).ok()).collect()
+    }
+
     /// Records a trial: durably into the outbox first, then uploads what is waiting.
     pub async fn record_trial(&self, trial: &Trial) -> Result<FlushReport, RegistryError> {
         self.outbox.push(trial)?;
@@ -266,6 +302,18 @@ impl RegistryClient {
         }
         response.json().await.map_err(|e| RegistryError::Malformed(e.to_string()))
     }
+}
+
+/// One page of the tag list; only the EPCs matter here.
+#[derive(serde::Deserialize)]
+struct TagPage {
+    items: Vec<ListedTag>,
+    next_cursor: Option<String>,
+}
+
+#[derive(serde::Deserialize)]
+struct ListedTag {
+    epc: Epc,
 }
 
 /// The HTTP client: short connect timeout (a robot must notice quickly that it is offline), an

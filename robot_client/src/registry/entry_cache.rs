@@ -66,6 +66,12 @@ impl EntryCache {
         Some((slot.cached.clone(), fresh))
     }
 
+    /// Every cached entry, in no particular order.
+    pub fn entries(&self) -> Vec<CachedEntry> {
+        let slots = self.slots.lock().unwrap_or_else(|e| e.into_inner());
+        slots.values().map(|slot| slot.cached.clone()).collect()
+    }
+
     /// Stores an entry just confirmed by the registry; `fresh` when the change feed is live.
     pub fn put(&self, epc: &str, cached: CachedEntry, fresh: bool) -> std::io::Result<()> {
         let path = self.dir.join(format!("{epc}.json"));

@@ -9,10 +9,8 @@ use super::laser::LaserModel;
 use super::rfid::Antenna;
 use crate::hal::{AntennaId, CameraCalibration, CameraIntrinsics, Finger, PlanarPose};
 
-/// How far each finger's base sits from the palm's centre line, metres.
-pub const KNUCKLE_OFFSET: f64 = 0.015;
-
-/// Fixed geometry of an EL-E-like robot, base frame.
+/// Fixed geometry of the simulated robot, base frame: EL-E-like by default; see
+/// [`SimBody`](super::SimBody) for the classes the simulator builds.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BodyGeometry {
     pub camera: CameraCalibration,
@@ -28,6 +26,8 @@ pub struct BodyGeometry {
     pub gripper_travel: (f64, f64),
     /// Length of the fingers beyond the palm, metres.
     pub finger_length: f64,
+    /// How far each finger's base sits from the palm's centre line, metres.
+    pub knuckle_offset: f64,
 }
 
 /// A camera 1.3 m up looking ahead and 12° down; `scale` 1.0 gives 1280×960, 0.25 gives 320×240.
@@ -65,6 +65,7 @@ impl Default for BodyGeometry {
             arm_travel: (0.0, 0.5),
             gripper_travel: (0.0, 1.6),
             finger_length: 0.1,
+            knuckle_offset: 0.015,
         }
     }
 }
@@ -117,7 +118,7 @@ impl BodyState {
         self.palm(geometry)
             + Vector3::new(
                 geometry.finger_length * half_angle.cos(),
-                side * (KNUCKLE_OFFSET + geometry.finger_length * half_angle.sin()),
+                side * (geometry.knuckle_offset + geometry.finger_length * half_angle.sin()),
                 0.0,
             )
     }

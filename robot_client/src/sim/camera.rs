@@ -33,11 +33,25 @@ pub struct Exposure {
     pub flash_power: f32,
     /// Standard deviation of per-channel noise, in 0..1 sRGB units.
     pub noise: f32,
+    /// The sensor's colour response: row `i` says how much of the scene's linear red, green and
+    /// blue reaches the image's channel `i`. Cameras differ here (filter dyes, crosstalk, white
+    /// balance), which is why a tag's HSV thresholds belong to a robot class, not to the tag.
+    pub colour_response: [[f32; 3]; 3],
 }
+
+/// A sensor whose channels see only their own colour.
+pub const TRUE_COLOUR: [[f32; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 
 impl Default for Exposure {
     fn default() -> Self {
-        Self { flash_power: 1.4, noise: 0.008 }
+        Self { flash_power: 1.4, noise: 0.008, colour_response: TRUE_COLOUR }
+    }
+}
+
+impl Exposure {
+    /// What the sensor's channels make of linear `radiance`.
+    fn respond(&self, radiance: [f32; 3]) -> [f32; 3] {
+        self.colour_response.map(|row| row.iter().zip(&radiance).map(|(w, c)| w * c).sum())
     }
 }
 
@@ -102,7 +116,7 @@ pub fn render_color(
                 .scene
                 .cast(&origin, &dir, 50.0)
                 .map_or([0.0; 3], |hit| shade(room, lighting, &hit, flash));
-            for c in radiance {
+            for c in exposure.respond(radiance) {
                 let value =
                     linear_to_srgb(c.clamp(0.0, 1.0)) + exposure.noise * noise.gaussian() as f32;
                 image.rgb[i] = (value * 255.0).round().clamp(0.0, 255.0) as u8;

@@ -29,6 +29,7 @@ mod robot;
 mod room;
 mod scenario;
 mod scene;
+mod sim_body;
 
 pub use body::{BodyGeometry, BodyState, head_camera};
 pub use camera::{Exposure, Lighting, render_color, render_gray};
@@ -41,3 +42,4 @@ pub use robot::{SimRobot, SimState};
 pub use room::{Device, DeviceKind, Room, RoomOptions};
 pub use scenario::{DeviceTruth, Scenario};
 pub use scene::{Hit, LightSource, Part, Scene, Surface, WallFrame};
+pub use sim_body::SimBody;

@@ -28,6 +28,7 @@ impl SimState {
             tips: [tip(Finger::Left), tip(Finger::Right)],
             forward: world * Vector3::x(),
             left: world * Vector3::y(),
+            knuckle_offset: self.geometry.knuckle_offset,
         }
     }
 

@@ -21,6 +21,7 @@ use super::noise::gaussian;
 use super::rfid::RfidModel;
 use super::room::Room;
 use super::scenario::{DeviceTruth, Scenario};
+use super::sim_body::SimBody;
 use crate::hal::{
     Arm, BrightnessCamera, CameraCalibration, CameraIntrinsics, Carriage, ColorCamera, ColorImage,
     Finger, FingerForceTorque, GrayImage, Gripper, HalError, LookDirection, MobileBase, PalmRange,
@@ -74,7 +75,18 @@ impl SimRobot {
         seed: u64,
         scenario: Scenario,
     ) -> Self {
-        Self::build(room, world_from_base, BodyGeometry::default(), seed, scenario)
+        Self::of_class(room, world_from_base, seed, scenario, SimBody::ElE)
+    }
+
+    /// A robot of the class `body` as [`SimRobot::with_scenario`].
+    pub fn of_class(
+        room: Room,
+        world_from_base: PlanarPose,
+        seed: u64,
+        scenario: Scenario,
+        body: SimBody,
+    ) -> Self {
+        Self::build(room, world_from_base, body.geometry(), body.exposure(), seed, scenario)
     }
 
     pub fn with_geometry(
@@ -83,13 +95,14 @@ impl SimRobot {
         geometry: BodyGeometry,
         seed: u64,
     ) -> Self {
-        Self::build(room, world_from_base, geometry, seed, Scenario::office())
+        Self::build(room, world_from_base, geometry, Exposure::default(), seed, Scenario::office())
     }
 
     fn build(
         room: Room,
         world_from_base: PlanarPose,
         geometry: BodyGeometry,
+        exposure: Exposure,
         seed: u64,
         scenario: Scenario,
     ) -> Self {
@@ -100,7 +113,7 @@ impl SimRobot {
         let mut state = SimState {
             devices: DeviceMechanics::new(&room, &scenario),
             room,
-            exposure: Exposure::default(),
+            exposure,
             clock: VirtualClock::default(),
             body,
             geometry,

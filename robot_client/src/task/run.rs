@@ -8,12 +8,13 @@ use super::act::{ActionChoice, choose_action, run_behavior};
 use super::approach::approach_tag;
 use super::drive::{drive_toward, in_base, in_odom};
 use super::identify::servo_and_read;
-use super::report::TaskReport;
+use super::report::{PhaseReport, TaskReport};
 use crate::behaviors::{Clock, DropGeometry, ForceRecorder, Hand, RobotBody};
 use crate::hal::{
     BrightnessCamera, ColorCamera, MobileBase, Operator, RfidReader, TiltSweep, TiltingLaser,
 };
 use crate::navigation::{ApproachParams, RfidIdentity};
+use crate::perception::{HsvThresholds, covering_colour, describe_colour};
 use crate::registry::{RegistryClient, Source};
 
 /// Everything the task needs of a robot.
@@ -89,6 +90,7 @@ pub async fn run_task(
 
     // Phase 2: find the tag and the surface behind it; drive to the waypoint.
     let phase = report.phase(2, "approach the tag perpendicular to its surface");
+    let config = &with_known_tag_colours(config, registry, phase);
     let Some(mut tag) = approach_tag(robot, &target, &config.sweep, &config.approach, phase)?
     else {
         return Ok(report);
@@ -128,6 +130,34 @@ pub async fn run_task(
     report.epc = Some(epc.clone());
     act(robot, operator, registry, clock, config, &epc, tag_here, &mut report).await?;
     Ok(report)
+}
+
+/// The task's settings with the tag search looking for the colours this robot's camera sees the
+/// registry's tags in (their entries' `color_segmentation`, merged for this robot).
+fn with_known_tag_colours(
+    config: &TaskConfig,
+    registry: &RegistryClient,
+    phase: &mut PhaseReport,
+) -> TaskConfig {
+    let known = registry.known_entries();
+    let colours = known.iter().filter_map(|e| e.entry.properties.color_segmentation());
+    let colour = covering_colour(colours.clone());
+    let mut config = config.clone();
+    match HsvThresholds::new(&colour) {
+        Ok(thresholds) => {
+            phase.note(format!(
+                "looking for {} (the colours of {} of {} known tags)",
+                describe_colour(&colour),
+                colours.count(),
+                known.len()
+            ));
+            config.approach.tag.thresholds = thresholds;
+        }
+        Err(error) => phase.note(format!(
+            "the entries' colours cannot be used ({error}); looking for the default red"
+        )),
+    }
+    config
 }
 
 #[allow(clippy::too_many_arguments)]

@@ -99,6 +99,25 @@ impl Registry {
         page["items"].as_array().unwrap().clone()
     }
 
+    /// Changes a tag's entry as a caretaker would: read it, edit it, save it over that revision.
+    pub async fn edit_tag(&self, epc: &str, edit: impl FnOnce(&mut serde_json::Value)) {
+        let http = reqwest::Client::new();
+        let url = format!("{}/api/v1/tags/{epc}", self.url());
+        let response = http.get(&url).bearer_auth(&self.admin).send().await.unwrap();
+        let etag = response.headers()["etag"].to_str().unwrap().to_owned();
+        let mut entry: serde_json::Value = response.json().await.unwrap();
+        edit(&mut entry);
+        let saved = http
+            .put(&url)
+            .bearer_auth(&self.admin)
+            .header("if-match", etag)
+            .json(&entry)
+            .send()
+            .await
+            .unwrap();
+        assert_eq!(saved.status(), 200, "{}", saved.text().await.unwrap());
+    }
+
     pub async fn stop(&mut self) {
         if let Some((stop, task)) = self.stop.take() {
             let _ = stop.send(());

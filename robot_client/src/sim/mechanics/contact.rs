@@ -23,6 +23,8 @@ pub struct Hand {
     /// The base's x axis (along the fingers) and y axis (across, toward the left finger).
     pub forward: Vector3<f64>,
     pub left: Vector3<f64>,
+    /// How far each finger's base sits from the palm's centre line.
+    pub knuckle_offset: f64,
 }
 
 impl Hand {
@@ -152,6 +154,7 @@ pub fn hand_facing(out: Vector3<f64>, palm: Point3<f64>, ahead: f64, half_span: 
         ],
         forward,
         left,
+        knuckle_offset: 0.015,
     }
 }
 

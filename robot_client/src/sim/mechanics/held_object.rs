@@ -5,7 +5,7 @@
 use nalgebra::{Isometry3, Point3, Vector3};
 
 use super::contact::{FINGER_STIFFNESS, FingerForces, Hand, TIP_RADIUS, cuboid, part, pinch};
-use crate::sim::body::{BodyGeometry, KNUCKLE_OFFSET};
+use crate::sim::body::BodyGeometry;
 use crate::sim::room::Room;
 
 /// Radius and weight of the object (a ball of tape, as in the paper's sticky trial).
@@ -36,7 +36,8 @@ impl HeldObject {
     /// The gripper opening, radians, at which the fingers hold the object with a firm squeeze.
     pub fn holding_opening(geometry: &BodyGeometry) -> f64 {
         let contact = OBJECT_RADIUS + TIP_RADIUS - START_SQUEEZE / FINGER_STIFFNESS;
-        2.0 * ((contact - KNUCKLE_OFFSET) / OBJECT_AHEAD.min(geometry.finger_length)).asin()
+        2.0 * ((contact - geometry.knuckle_offset) / OBJECT_AHEAD.min(geometry.finger_length))
+            .asin()
     }
 
     /// Settles the object in the hand; returns the fingers' forces.
@@ -48,8 +49,8 @@ impl HeldObject {
         let along = OBJECT_AHEAD / hand.ahead(&hand.tips[0]).max(OBJECT_AHEAD);
         let at_object = |tip: &Point3<f64>| {
             let lateral = hand.lateral(tip);
-            lateral.signum() * KNUCKLE_OFFSET
-                + (lateral - lateral.signum() * KNUCKLE_OFFSET) * along
+            let knuckle = lateral.signum() * hand.knuckle_offset;
+            knuckle + (lateral - knuckle) * along
         };
         let (left, right) = pinch(
             at_object(&hand.tips[0]),
