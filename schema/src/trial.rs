@@ -86,9 +86,9 @@ pub struct ForceSample {
     /// Seconds since the trial's `started_at`.
     pub t: f64,
     pub finger: Finger,
-    /// `[fx, fy, fz]`, newtons, in the sensor's frame.
+    /// `[fx, fy, fz]`, newtons, on the finger, in the robot's base frame (x forward, y left, z up).
     pub force: [f64; 3],
-    /// `[tx, ty, tz]`, newton-metres, in the sensor's frame.
+    /// `[tx, ty, tz]`, newton-metres, about the finger's base, in the robot's base frame.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub torque: Option<[f64; 3]>,
 }
