@@ -195,13 +195,17 @@ pub async fn start_up(registry: &RegistryClient) -> anyhow::Result<SimBody> {
         ),
         Err(error) => return Err(error.into()),
     };
-    let class = record["class"].as_str().unwrap_or_default();
-    let Some(body) = SimBody::for_class(class) else {
-        let known: Vec<_> = SimBody::ALL.iter().map(|b| b.class()).collect();
+    let known = SimBody::ALL.map(SimBody::class).join(" or ");
+    let Some(class) = record["class"].as_str() else {
         anyhow::bail!(
-            "robot {} has class `{class}`; the simulator builds robots of class {}",
-            registry.robot(),
-            known.join(" or ")
+            "robot {0} has no class yet: an admin sets one ({known}) by PUT /api/v1/robots/{0}",
+            registry.robot()
+        );
+    };
+    let Some(body) = SimBody::for_class(class) else {
+        anyhow::bail!(
+            "robot {} has class `{class}`; the simulator builds robots of class {known}",
+            registry.robot()
         );
     };
     registry.sync_entries().await?;
