@@ -5,7 +5,7 @@
 mod support;
 
 use pps_robot::cli::{SimulatedTrial, run_simulated};
-use pps_robot::sim::DeviceKind;
+use pps_robot::sim::{DeviceKind, RoomOptions};
 use pps_robot::task::TaskConfig;
 use pps_schema::Outcome;
 
@@ -105,4 +105,32 @@ async fn an_action_the_robot_cannot_run_is_not_attempted() {
     assert!(report.to_string().contains("unavailable to this robot"), "{report}");
     assert!(!result.after.lamp_on);
     assert!(registry.trials().await.is_empty(), "nothing attempted, nothing recorded");
+}
+
+/// A rocker switch mounted 5.5 cm lower than the paper's: from the waypoint the laser's usual
+/// sweep catches only the tag's lower half, which put its centre 3 cm low and the press on the
+/// wrong half of the paddle (one randomized trial in sixty). The second look sweeps where the
+/// tag should be.
+#[tokio::test(flavor = "multi_thread")]
+async fn a_lower_rocker_switch_is_pressed_on_the_half_the_action_needs() {
+    let dir = tempfile::tempdir().unwrap();
+    let registry = support::Registry::start(dir.path()).await;
+    let client = registry.client(dir.path());
+    pps_robot::cli::start_up(&client).await.unwrap();
+    for action in ["on", "off"] {
+        let trial = SimulatedTrial {
+            room: RoomOptions {
+                switch_raise: -0.055,
+                switch_spacing: 2.7,
+                ..RoomOptions::default()
+            },
+            start_angle: 28f64.to_radians(),
+            start_distance: 1.57,
+            seed: 4,
+            ..SimulatedTrial::new(DeviceKind::AdaLightSwitch, action, None)
+        };
+        let result = run_simulated(&trial, &client, &TaskConfig::default()).await.unwrap();
+        assert_eq!(result.report.outcome, Some(Outcome::Success), "{}", result.report);
+        assert!(result.achieved, "{}", result.report);
+    }
 }

@@ -196,10 +196,15 @@ pub async fn run_trials(
                     // Anywhere on the paper's half-circle and its ends (±67.5°), nearer or further.
                     start_angle: rng.random_range(-67.5f64..67.5).to_radians(),
                     start_distance: rng.random_range(1.2..2.0),
-                    // The rocker moves along the wall, but not over the sideboard, where no
-                    // robot could stand to reach it.
+                    // Tags where homes put them: the switches higher or lower, the rocker
+                    // along the wall (but not over the sideboard, where no robot could stand
+                    // to reach it), the lamp and the trash can along their walls (clear of the
+                    // furniture beside them).
                     room: RoomOptions {
                         switch_spacing: rng.random_range(2.2..2.9),
+                        switch_raise: rng.random_range(-0.08..0.08),
+                        lamp_along: rng.random_range(4.3..4.7),
+                        trash_can_along: rng.random_range(2.35..3.2),
                         ..RoomOptions::default()
                     },
                     seed: seed.wrapping_mul(1_000_003) + n as u64,

@@ -69,12 +69,25 @@ pub struct RoomOptions {
     pub red_tags: bool,
     /// Distance along the wall between the flip switch and the rocker switch, metres.
     pub switch_spacing: f32,
+    /// How much higher than the paper's (1.2 m and 1.22 m) both switches sit, metres.
+    pub switch_raise: f32,
+    /// Where the floor lamp and the trash can stand along their walls, metres from the walls'
+    /// left ends as seen from the room.
+    pub lamp_along: f32,
+    pub trash_can_along: f32,
     pub wood_furniture: bool,
 }
 
 impl Default for RoomOptions {
     fn default() -> Self {
-        Self { red_tags: true, switch_spacing: 2.5, wood_furniture: true }
+        Self {
+            red_tags: true,
+            switch_spacing: 2.5,
+            switch_raise: 0.0,
+            lamp_along: 4.5,
+            trash_can_along: 2.65,
+            wood_furniture: true,
+        }
     }
 }
 
@@ -173,25 +186,21 @@ impl Room {
 
         // Flip-type light switch, its toggle in a red foam tube pointing out and 20° up.
         let (a, (s, c)) = (2.0, 20f32.to_radians().sin_cos());
-        parts.push(north.cuboid("switch plate", [a, 0.003, 1.2], [0.035, 0.003, 0.0575], PLASTIC));
-        let foam = [a, 0.008 + 0.015 * c, 1.2 + 0.015 * s];
+        let h = 1.2 + options.switch_raise;
+        parts.push(north.cuboid("switch plate", [a, 0.003, h], [0.035, 0.003, 0.0575], PLASTIC));
+        let foam = [a, 0.008 + 0.015 * c, h + 0.015 * s];
         parts.push(north.cylinder("switch foam tube", foam, [0.0, c, s], 0.015, 0.013, red(FOAM)));
         tag(DeviceKind::LightSwitch, &north, foam);
 
         // ADA rocker switch, its paddle under a red Dycem patch.
-        let a = 2.0 + options.switch_spacing;
-        parts.push(north.cuboid("rocker plate", [a, 0.003, 1.22], [0.035, 0.003, 0.0575], PLASTIC));
-        parts.push(north.cuboid("rocker paddle", [a, 0.009, 1.22], [0.018, 0.003, 0.033], PLASTIC));
-        parts.push(north.cuboid(
-            "rocker dycem",
-            [a, 0.0135, 1.22],
-            [0.03, 0.0015, 0.03],
-            red(DYCEM),
-        ));
-        tag(DeviceKind::AdaLightSwitch, &north, [a, 0.0135, 1.22]);
+        let (a, h) = (2.0 + options.switch_spacing, 1.22 + options.switch_raise);
+        parts.push(north.cuboid("rocker plate", [a, 0.003, h], [0.035, 0.003, 0.0575], PLASTIC));
+        parts.push(north.cuboid("rocker paddle", [a, 0.009, h], [0.018, 0.003, 0.033], PLASTIC));
+        parts.push(north.cuboid("rocker dycem", [a, 0.0135, h], [0.03, 0.0015, 0.03], red(DYCEM)));
+        tag(DeviceKind::AdaLightSwitch, &north, [a, 0.0135, h]);
 
         // Floor lamp by the south wall, its pull chain toward the room, red foam on the chain.
-        let a = 4.5;
+        let a = options.lamp_along;
         let lamp_light = south.point(a, 0.25, 1.42);
         parts.push(south.cylinder(
             "lamp base",
@@ -249,7 +258,7 @@ impl Room {
         tag(DeviceKind::Drawer, &east, [a, 0.495, 0.52]);
 
         // Trash can against the west wall, a red Dycem patch near the top of its front.
-        let a = 2.65;
+        let a = options.trash_can_along;
         parts.push(west.cuboid("trash can", [a, 0.145, 0.225], [0.15, 0.125, 0.225], DARK_PLASTIC));
         parts.push(west.cuboid(
             "trash can dycem",

@@ -10,7 +10,9 @@ use super::drive::{in_base, in_odom, in_view};
 use super::report::PhaseReport;
 use super::run::TaskConfig;
 use crate::behaviors::Hand;
-use crate::hal::{ColorCamera, Finger, HalError, MobileBase, RfidReader, TiltingLaser};
+use crate::hal::{
+    ColorCamera, Finger, HalError, MobileBase, RfidReader, TiltSweep, TiltingLaser,
+};
 use crate::navigation::{RfidIdentity, identify_tag};
 
 /// Force that means the fingers bumped into something on the way, newtons.
@@ -20,6 +22,9 @@ const HOLDING_FORCE: f64 = 0.5;
 /// How far to move closer when two tags answer about as strongly, metres, and how often.
 const CLOSER_STEP: f64 = 0.04;
 const CLOSER_TRIES: usize = 2;
+/// Half the tilt range of the second look at the tag, radians: from the waypoint, about 10 cm
+/// either side of it.
+const TAG_SWEEP_HALF: f64 = 0.26;
 
 /// Servoes to the tag (odometry frame, updated when seen again) and reads its RFID; `None`
 /// when no tag answered.
@@ -30,8 +35,10 @@ pub(crate) fn servo_and_read(
     report: &mut PhaseReport,
 ) -> Result<Option<RfidIdentity>, HalError> {
     // Look again where the camera can see the tag from here; odometry has drifted on the way.
-    if in_view(&robot.calibration(), &in_base(robot, tag)?, 0.05) {
-        let plan = perceive(robot, tag, &config.sweep, &config.approach)?;
+    let expected = in_base(robot, tag)?;
+    if in_view(&robot.calibration(), &expected, 0.05) {
+        let sweep = sweep_toward(&config.body.laser, &expected, &config.sweep);
+        let plan = perceive(robot, tag, &sweep, &config.approach)?;
         match plan.tag.as_ref().map(|s| s.nearest().centroid) {
             Some(seen) => {
                 let seen = in_odom(robot, &seen)?;
@@ -100,6 +107,15 @@ pub(crate) fn servo_and_read(
         None => report.fail("no RFID tag answered"),
     }
     Ok(identity)
+}
+
+/// A sweep in `usual`'s steps, centred on the tilt that points the laser at `point` (base
+/// frame). From the waypoint the usual sweep can cut a high tag in half, and half a tag's points
+/// put its centre centimetres off: enough to press the wrong half of a rocker switch.
+fn sweep_toward(laser: &Point3<f64>, point: &Point3<f64>, usual: &TiltSweep) -> TiltSweep {
+    // Positive tilt turns the scan plane's forward edge down.
+    let tilt = -(point.z - laser.z).atan2(point.x - laser.x);
+    TiltSweep { from: tilt - TAG_SWEEP_HALF, to: tilt + TAG_SWEEP_HALF, step: usual.step }
 }
 
 fn read(robot: &impl RfidReader, config: &TaskConfig) -> Result<Option<RfidIdentity>, HalError> {
