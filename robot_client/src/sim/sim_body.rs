@@ -18,17 +18,18 @@ pub enum SimBody {
 }
 
 /// How the Stretch-like camera's channels mix the scene's linear colours: reds come out about
-/// 27° toward orange, and less saturated, than in the EL-E-like camera. Its gain is about half
-/// the EL-E-like camera's, so the flash on a tag at arm's length does not clip the red channel
-/// (clipped, the tag's orange would drift further, toward the wood's hue).
+/// 27° toward orange, and less saturated, than in the EL-E-like camera. With about half the
+/// gain and half the flash, a tag at arm's length does not clip its red channel (clipped, the
+/// tag's orange would drift further, toward the wood's hue).
 const STRETCH_COLOUR: [[f32; 3]; 3] = {
-    const GAIN: f32 = 0.55;
+    const GAIN: f32 = 0.5;
     [
         [0.76 * GAIN, 0.19 * GAIN, 0.05 * GAIN],
         [0.27 * GAIN, 0.70 * GAIN, 0.03 * GAIN],
         [0.03 * GAIN, 0.09 * GAIN, 0.88 * GAIN],
     ]
 };
+const STRETCH_FLASH: f32 = 0.6;
 
 impl SimBody {
     pub const ALL: [Self; 2] = [Self::ElE, Self::Stretch];
@@ -58,10 +59,13 @@ impl SimBody {
     }
 
     pub fn exposure(self) -> Exposure {
-        let colour_response = match self {
-            Self::ElE => TRUE_COLOUR,
-            Self::Stretch => STRETCH_COLOUR,
-        };
-        Exposure { colour_response, ..Exposure::default() }
+        match self {
+            Self::ElE => Exposure { colour_response: TRUE_COLOUR, ..Exposure::default() },
+            Self::Stretch => Exposure {
+                colour_response: STRETCH_COLOUR,
+                flash_power: STRETCH_FLASH,
+                ..Exposure::default()
+            },
+        }
     }
 }
