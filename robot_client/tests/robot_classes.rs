@@ -62,3 +62,28 @@ async fn each_class_acts_by_its_overrides_in_the_shared_entries() {
     assert_eq!(result.report.outcome, Some(Outcome::Success), "{}", result.report);
     assert_eq!(registry.trials().await.len(), 3, "the stretch's last attempt never acted");
 }
+
+#[tokio::test(flavor = "multi_thread")]
+async fn a_robot_starting_while_the_registry_is_away_keeps_its_class_and_tags() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut registry = support::Registry::start(dir.path()).await;
+    let stretch = registry.add_robot("stretch-1", "stretch", &CAPABILITIES, dir.path()).await;
+    assert_eq!(start_up(&stretch).await.unwrap(), SimBody::Stretch);
+    registry.stop().await;
+
+    let result = lamp_on(&stretch).await;
+    let report = &result.report;
+    assert_eq!(report.outcome, Some(Outcome::Success), "{report}");
+    assert!(report.to_string().contains("hue 12..33°"), "{report}");
+    assert_eq!(report.waiting_upload, 1, "{report}");
+
+    let never_online = RegistryClient::new(
+        &registry.url(),
+        "token",
+        pps_schema::RobotId::parse("stretch-2").unwrap(),
+        &dir.path().join("stretch-2"),
+    )
+    .unwrap();
+    let error = start_up(&never_online).await.unwrap_err().to_string();
+    assert!(error.contains("knows neither its class nor any tag"), "{error}");
+}

@@ -180,14 +180,13 @@ pub fn start_pose_at(room: &Room, device: DeviceKind, angle: f64, distance: f64)
 
 /// What the robot does when it starts: learns its class from the registry, so the simulator
 /// builds that class's body, and reads the registry's tags into its cache. Without the registry
-/// it goes on with what it cached before, in an EL-E-like body.
+/// it goes on with the record and the entries it kept from the last time.
 pub async fn start_up(registry: &RegistryClient) -> anyhow::Result<SimBody> {
     let record = match registry.robot_record().await {
         Ok(record) => record,
-        Err(error @ RegistryError::Unreachable(_)) => {
-            eprintln!("{error}; simulating an EL-E-like robot with the entries cached before");
-            return Ok(SimBody::ElE);
-        }
+        Err(error @ RegistryError::Unreachable(_)) => anyhow::bail!(
+            "{error}; this robot has never reached it, so it knows neither its class nor any tag"
+        ),
         Err(error) if error.status() == Some(404) => anyhow::bail!(
             "robot {0} is not registered: an admin registers it, with its class, by \
              PUT /api/v1/robots/{0}",
@@ -208,7 +207,13 @@ pub async fn start_up(registry: &RegistryClient) -> anyhow::Result<SimBody> {
             registry.robot()
         );
     };
-    registry.sync_entries().await?;
+    match registry.sync_entries().await {
+        Ok(_) => {}
+        Err(error @ RegistryError::Unreachable(_)) => {
+            eprintln!("{error}; going on with the {} entries kept", registry.known_entries().len())
+        }
+        Err(error) => return Err(error.into()),
+    }
     Ok(body)
 }
 

@@ -1,6 +1,6 @@
 //! Typed calls to the registry for everything a robot does with it.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -58,6 +58,8 @@ pub struct RegistryClient {
     cache: Arc<EntryCache>,
     outbox: TrialOutbox,
     feed_live: Arc<AtomicBool>,
+    /// Where the robot's own record from the registry is kept for when it is unreachable.
+    record_file: PathBuf,
 }
 
 impl RegistryClient {
@@ -76,6 +78,7 @@ impl RegistryClient {
             cache: Arc::new(EntryCache::open(state_dir.join("entries"))?),
             outbox: TrialOutbox::open(state_dir.join("outbox"))?,
             feed_live: Arc::new(AtomicBool::new(false)),
+            record_file: state_dir.join("robot.json"),
         })
     }
 
@@ -270,9 +273,22 @@ impl RegistryClient {
         self.get_json(&format!("/api/v1/trials/{id}")).await
     }
 
-    /// This robot's record in the robot registry.
+    /// This robot's record in the robot registry (its class, capabilities and limits); the copy
+    /// kept from the last time when the registry is unreachable.
     pub async fn robot_record(&self) -> Result<Value, RegistryError> {
-        self.get_json(&format!("/api/v1/robots/{}", self.robot)).await
+        match self.get_json::<Value>(&format!("/api/v1/robots/{}", self.robot)).await {
+            Ok(record) => {
+                let temporary = self.record_file.with_extension("tmp");
+                std::fs::write(&temporary, record.to_string())?;
+                std::fs::rename(&temporary, &self.record_file)?;
+                Ok(record)
+            }
+            Err(unreachable @ RegistryError::Unreachable(_)) => std::fs::read(&self.record_file)
+                .ok()
+                .and_then(|kept| serde_json::from_slice(&kept).ok())
+                .ok_or(unreachable),
+            Err(other) => Err(other),
+        }
     }
 
     /// Keeps the entry cache in step with the registry's change feed while it runs.

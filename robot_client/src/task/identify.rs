@@ -10,9 +10,7 @@ use super::drive::{in_base, in_odom, in_view};
 use super::report::PhaseReport;
 use super::run::TaskConfig;
 use crate::behaviors::Hand;
-use crate::hal::{
-    ColorCamera, Finger, HalError, MobileBase, RfidReader, TiltSweep, TiltingLaser,
-};
+use crate::hal::{ColorCamera, Finger, HalError, MobileBase, RfidReader, TiltSweep, TiltingLaser};
 use crate::navigation::{RfidIdentity, identify_tag};
 
 /// Force that means the fingers bumped into something on the way, newtons.
