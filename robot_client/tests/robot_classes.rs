@@ -30,7 +30,7 @@ async fn each_class_acts_by_its_overrides_in_the_shared_entries() {
     assert_eq!(start_up(&el_e).await.unwrap(), SimBody::ElE);
     assert_eq!(start_up(&stretch).await.unwrap(), SimBody::Stretch);
 
-    for (client, colour) in [(&el_e, "hue 340..20°"), (&stretch, "hue 12..33°")] {
+    for (client, colour) in [(&el_e, "hue 340..20°"), (&stretch, "hue 16..32°")] {
         let result = lamp_on(client).await;
         let report = &result.report;
         assert_eq!(report.outcome, Some(Outcome::Success), "{report}");
@@ -74,7 +74,7 @@ async fn a_robot_starting_while_the_registry_is_away_keeps_its_class_and_tags() 
     let result = lamp_on(&stretch).await;
     let report = &result.report;
     assert_eq!(report.outcome, Some(Outcome::Success), "{report}");
-    assert!(report.to_string().contains("hue 12..33°"), "{report}");
+    assert!(report.to_string().contains("hue 16..32°"), "{report}");
     assert_eq!(report.waiting_upload, 1, "{report}");
 
     let never_online = RegistryClient::new(

@@ -330,6 +330,9 @@ pub fn run(args: &TrialsArgs) -> anyhow::Result<()> {
     let registry = args.registry.connect()?;
     let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build()?;
     runtime.block_on(async {
+        // A robot at work for minutes follows the change feed, so it uses its cached entries
+        // without asking each time and still sees a caretaker's edit.
+        let _watch = registry.watch_changes();
         let rows = run_trials(&registry, args.seed, args.randomized, true).await?;
         flush_until_stored(&registry).await?;
         if args.json {
