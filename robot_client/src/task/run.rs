@@ -145,12 +145,11 @@ fn with_known_tag_colours(
     let mut config = config.clone();
     match HsvThresholds::new(&colour) {
         Ok(thresholds) => {
-            phase.note(format!(
-                "looking for {} (the colours of {} of {} known tags)",
-                describe_colour(&colour),
-                colours.count(),
-                known.len()
-            ));
+            let from = match colours.count() {
+                0 => format!("the paper's red: none of {} known tags gives a colour", known.len()),
+                n => format!("the colours of {n} of {} known tags", known.len()),
+            };
+            phase.note(format!("looking for {} ({from})", describe_colour(&colour)));
             config.approach.tag.thresholds = thresholds;
         }
         Err(error) => phase.note(format!(
