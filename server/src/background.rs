@@ -48,7 +48,10 @@ pub async fn flush(state: &AppState) {
 fn invalidate(state: &AppState, event: &Event) {
     let epc = |key: &str| event.data.get(key).and_then(Value::as_str).map(str::to_owned);
     match event.kind {
-        EventKind::TagChanged | EventKind::TagArchived | EventKind::TagRetagged => {
+        EventKind::TagChanged
+        | EventKind::TagArchived
+        | EventKind::TagRetagged
+        | EventKind::LearnedChanged => {
             for epc in [epc("epc"), epc("new_epc")].into_iter().flatten() {
                 state.effective.forget_tag(&epc);
             }

@@ -82,6 +82,8 @@ pub async fn update(
     let mut changed = BTreeSet::new();
     for group in groups {
         if group.relearn && update_learned(conn, group).await? {
+            let data = json!({ "epc": group.epc, "robot_class": group.robot_class });
+            events::append(conn, EventKind::LearnedChanged, data).await?;
             changed.insert(group.epc.clone());
         }
         update_reliability(conn, group).await?;

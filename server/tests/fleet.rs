@@ -312,6 +312,10 @@ async fn stats_and_learned_values_follow_the_trials() {
     let effective = format!("/api/v1/robots/el-e-1/tags/{DRAWER}");
     let before: Value = server.get(&effective, &robot).await.json().await.unwrap();
     assert_eq!(before["entry"]["behaviors"]["pull_open"]["pull_distance"], 0.3);
+    // Another robot of the class follows the feed: it hears that its entry changed too.
+    register_robot(&server, "el-e-2", "el-e", ALL, 15.0).await;
+    let sibling = server.token(Role::Robot, "el-e-2").await;
+    let mut feed = SseClient::connect(&server, &sibling, None).await;
     for (displacement, outcome) in
         [(0.34, "success"), (0.36, "success"), (0.05, "failure"), (0.35, "success")]
     {
@@ -329,6 +333,8 @@ async fn stats_and_learned_values_follow_the_trials() {
         "the median of the successful pulls"
     );
     assert_eq!(after["provenance"]["/behaviors/pull_open/pull_distance"], "learned");
+    let learned = feed.until("learned_changed", "epc", DRAWER).await;
+    assert_eq!(learned.data["robot_class"], "el-e");
 
     let stats = server.get_json(&format!("/api/v1/tags/{DRAWER}/stats")).await;
     let group = &stats["groups"][0];

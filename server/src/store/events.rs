@@ -18,10 +18,12 @@ pub enum EventKind {
     RobotChanged,
     InboxChanged,
     ReliabilityChanged,
+    /// A robot class's trials taught a tag new values: its robots' effective entries changed.
+    LearnedChanged,
 }
 
 impl EventKind {
-    pub const ALL: [EventKind; 8] = [
+    pub const ALL: [EventKind; 9] = [
         Self::TagChanged,
         Self::TagArchived,
         Self::TagRetagged,
@@ -30,6 +32,7 @@ impl EventKind {
         Self::RobotChanged,
         Self::InboxChanged,
         Self::ReliabilityChanged,
+        Self::LearnedChanged,
     ];
 
     pub fn as_str(self) -> &'static str {
@@ -42,6 +45,7 @@ impl EventKind {
             Self::RobotChanged => "robot_changed",
             Self::InboxChanged => "inbox_changed",
             Self::ReliabilityChanged => "reliability_changed",
+            Self::LearnedChanged => "learned_changed",
         }
     }
 
@@ -49,9 +53,13 @@ impl EventKind {
         Self::ALL.into_iter().find(|kind| kind.as_str() == text)
     }
 
-    /// Whether the event is about a tag (as opposed to trials, robots, the inbox).
+    /// Whether the event changes what robots read for a tag (as opposed to trials, robots, the
+    /// inbox): every robot sees these.
     pub fn is_tag_event(self) -> bool {
-        matches!(self, Self::TagChanged | Self::TagArchived | Self::TagRetagged)
+        matches!(
+            self,
+            Self::TagChanged | Self::TagArchived | Self::TagRetagged | Self::LearnedChanged
+        )
     }
 }
 

@@ -160,9 +160,14 @@ export async function render(main, [epc]) {
 
   const trialsChanged = debounce(refreshTrials, 150);
   const tagChanged = debounce(refreshTag, 150);
+  const learnedChanged = debounce(() => {
+    refreshTrials();
+    section(robotsBox, () => renderRobotView(robotsBox, tag.epc));
+  }, 150);
   return subscribe((type, data) => {
     if (data.epc !== tag.epc) return;
     if (['trial_recorded', 'trial_updated', 'reliability_changed'].includes(type)) trialsChanged();
+    else if (type === 'learned_changed') learnedChanged();
     else if (type === 'tag_retagged') {
       const to = data.new_epc ?? data.to;
       replace(notice, h('p', { class: 'banner' }, 'This tag moved to a new EPC. ', to ? h('a', { href: `#/tags/${seg(to)}` }, 'Open it.') : null));
