@@ -158,17 +158,9 @@ async fn update_reliability(conn: &mut SqliteConnection, group: &TrialGroup) -> 
     .await?;
     let reliable = is_reliable(attempts, successes);
     let before = learning::reliability(conn, &group.epc, &group.action, &group.robot_class).await?;
-    if before == Some(reliable) || (before.is_none() && !reliable) {
-        if before.is_none() {
-            learning::store_reliability(
-                conn,
-                &group.epc,
-                &group.action,
-                &group.robot_class,
-                reliable,
-            )
-            .await?;
-        }
+    // No row means "not reliable": a group stays rowless (and costs no write) until it first
+    // becomes reliable.
+    if before.unwrap_or(false) == reliable {
         return Ok(());
     }
     learning::store_reliability(conn, &group.epc, &group.action, &group.robot_class, reliable)
