@@ -1,11 +1,14 @@
 //! The registry client against a real registry: cached entries that follow the change feed,
 //! and trials that survive the registry going away and the robot restarting.
 
+mod support;
+
 use std::net::SocketAddr;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
 use pps_robot::registry::{RegistryClient, Source};
+use pps_robot::sim::DeviceKind;
 use pps_schema::{Epc, RobotId, Trial};
 use pps_server::auth::Role;
 use pps_server::store::{robots, tokens};
@@ -236,4 +239,18 @@ async fn the_registry_is_reached_over_https_with_the_lans_own_certificate_author
         .unwrap();
     assert_eq!(trusting.effective_entry(&epc).await.unwrap().source, Source::Registry);
     assert_eq!(trusting.record_trial(&trial("el-e-1")).await.unwrap().uploaded, 1);
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn starting_up_reads_every_tag_and_forgets_the_archived_ones() {
+    let dir = tempfile::tempdir().unwrap();
+    let registry = support::Registry::start(dir.path()).await;
+    let client = registry.client(dir.path());
+    assert_eq!(client.sync_entries().await.unwrap(), 5);
+    assert_eq!(client.known_entries().len(), 5);
+    registry.archive_tag(DeviceKind::Lamp.epc().as_hex()).await;
+    assert_eq!(client.sync_entries().await.unwrap(), 4);
+    let known = client.known_entries();
+    assert_eq!(known.len(), 4);
+    assert!(known.iter().all(|e| e.epc != DeviceKind::Lamp.epc()));
 }

@@ -162,9 +162,10 @@ impl RegistryClient {
         }
     }
 
-    /// Reads the effective entry of every registered tag into the cache, as a robot does when it
-    /// starts: then it knows the home's tags (and the colours its camera sees them in) before
-    /// reading any of them, also while the registry is away. Returns how many tags there are.
+    /// Reads the effective entry of every registered tag into the cache (and forgets tags no
+    /// longer registered), as a robot does when it starts: then it knows the home's tags (and
+    /// the colours its camera sees them in) before reading any of them, also while the registry
+    /// is away. Returns how many tags there are.
     pub async fn sync_entries(&self) -> Result<usize, RegistryError> {
         let mut epcs = Vec::new();
         let mut cursor: Option<String> = None;
@@ -181,6 +182,7 @@ impl RegistryClient {
                 None => break,
             }
         }
+        self.cache.keep_only(&epcs.iter().map(|epc| epc.as_hex().to_owned()).collect());
         for epc in &epcs {
             match self.effective_entry(epc).await {
                 // Archived since the listing: the fetch already forgot it.

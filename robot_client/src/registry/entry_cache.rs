@@ -99,6 +99,17 @@ impl EntryCache {
         let _ = fs::remove_file(self.dir.join(format!("{epc}.json")));
     }
 
+    /// Forgets every tag not in `registered` (archived or retagged while this robot was away).
+    pub fn keep_only(&self, registered: &std::collections::HashSet<String>) {
+        let gone: Vec<String> = {
+            let slots = self.slots.lock().unwrap_or_else(|e| e.into_inner());
+            slots.keys().filter(|epc| !registered.contains(*epc)).cloned().collect()
+        };
+        for epc in gone {
+            self.remove(&epc);
+        }
+    }
+
     /// The tag changed: ask the registry before using the entry again.
     pub fn invalidate(&self, epc: &str) {
         if let Some(slot) = self.slots.lock().unwrap_or_else(|e| e.into_inner()).get_mut(epc) {

@@ -118,6 +118,17 @@ impl Registry {
         assert_eq!(saved.status(), 200, "{}", saved.text().await.unwrap());
     }
 
+    /// Archives a tag as a caretaker would.
+    pub async fn archive_tag(&self, epc: &str) {
+        let http = reqwest::Client::new();
+        let url = format!("{}/api/v1/tags/{epc}", self.url());
+        let response = http.get(&url).bearer_auth(&self.admin).send().await.unwrap();
+        let etag = response.headers()["etag"].to_str().unwrap().to_owned();
+        let archived =
+            http.delete(&url).bearer_auth(&self.admin).header("if-match", etag).send().await;
+        assert_eq!(archived.unwrap().status(), 200);
+    }
+
     pub async fn stop(&mut self) {
         if let Some((stop, task)) = self.stop.take() {
             let _ = stop.send(());
