@@ -1,5 +1,6 @@
 //! The registry client against a real registry: cached entries that follow the change feed,
-//! and trials that survive the registry going away and the robot restarting.
+//! the start-up read of every tag, and trials that survive the registry going away and the
+//! robot restarting.
 
 mod support;
 
