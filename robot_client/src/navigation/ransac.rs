@@ -243,9 +243,9 @@ mod tests {
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
 
+    /// A standard normal sample for test data (the navigation code never touches the simulator).
     fn gaussian(rng: &mut ChaCha8Rng) -> f32 {
-        let (a, b): (f32, f32) = (rng.random_range(1e-9..1.0), rng.random());
-        (-2.0 * a.ln()).sqrt() * (std::f32::consts::TAU * b).cos()
+        crate::sim::gaussian(rng) as f32
     }
 
     /// A wall at x = 2 (1 m wide, 1 m tall), a floor patch, and a cube of dense volumetric noise.

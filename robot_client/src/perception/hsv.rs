@@ -128,19 +128,9 @@ pub fn segment_color(image: &ColorImage, thresholds: &HsvThresholds) -> Mask {
 mod tests {
     use super::*;
 
+    /// 8-bit sRGB of a colour (test data; perception itself never touches the simulator).
     fn hsv_to_rgb(h: f64, s: f64, v: f64) -> [u8; 3] {
-        let c = v * s;
-        let x = c * (1.0 - ((h / 60.0) % 2.0 - 1.0).abs());
-        let (r, g, b) = match (h / 60.0) as u32 {
-            0 => (c, x, 0.0),
-            1 => (x, c, 0.0),
-            2 => (0.0, c, x),
-            3 => (0.0, x, c),
-            4 => (x, 0.0, c),
-            _ => (c, 0.0, x),
-        };
-        let m = v - c;
-        [r, g, b].map(|ch| ((ch + m) * 255.0).round() as u8)
+        crate::sim::hsv_to_srgb(h as f32, s as f32, v as f32).map(|c| (c * 255.0).round() as u8)
     }
 
     #[test]

@@ -36,10 +36,12 @@ pub use camera::{Exposure, Lighting, render_color, render_gray};
 pub use capture::{CaptureSettings, SceneCapture, StartDirection, capture_scene, start_pose};
 pub use clock::VirtualClock;
 pub use laser::{LaserModel, sweep_scan};
+#[cfg(test)]
+pub(crate) use noise::gaussian;
 pub use operator::{OperatorScript, SimOperator};
 pub use rfid::{Antenna, RfidModel};
 pub use robot::{SimRobot, SimState};
 pub use room::{Device, DeviceKind, Room, RoomOptions};
 pub use scenario::{DeviceTruth, Scenario};
-pub use scene::{Hit, LightSource, Part, Scene, Surface, WallFrame};
+pub use scene::{Hit, LightSource, Part, Scene, Surface, WallFrame, hsv_to_srgb};
 pub use sim_body::SimBody;

@@ -141,6 +141,11 @@ impl Scene {
 
 /// Linear reflectance of a colour given as sRGB hue (degrees), saturation and value.
 pub fn srgb_hsv_to_linear(h: f32, s: f32, v: f32) -> [f32; 3] {
+    hsv_to_srgb(h, s, v).map(srgb_to_linear)
+}
+
+/// sRGB channels (0..1) of a colour given as hue (degrees), saturation and value.
+pub fn hsv_to_srgb(h: f32, s: f32, v: f32) -> [f32; 3] {
     let c = v * s;
     let hp = h.rem_euclid(360.0) / 60.0;
     let x = c * (1.0 - (hp % 2.0 - 1.0).abs());
@@ -153,7 +158,7 @@ pub fn srgb_hsv_to_linear(h: f32, s: f32, v: f32) -> [f32; 3] {
         _ => (c, 0.0, x),
     };
     let m = v - c;
-    [r + m, g + m, b + m].map(srgb_to_linear)
+    [r + m, g + m, b + m]
 }
 
 pub fn srgb_to_linear(c: f32) -> f32 {
