@@ -4,67 +4,15 @@
 
 mod support;
 
-use std::net::SocketAddr;
-use std::path::Path;
 use std::time::{Duration, Instant};
 
 use pps_robot::registry::{RegistryClient, Source};
 use pps_robot::sim::DeviceKind;
 use pps_schema::{Epc, RobotId, Trial};
-use pps_server::auth::Role;
-use pps_server::store::{robots, tokens};
 use pps_server::{AppState, Db};
 use serde_json::json;
-use tokio::sync::oneshot;
 
 const ADA_SWITCH: &str = "355AB1C60000002000000001";
-
-/// A registry on a fixed address that can be stopped and started again on the same file.
-struct Registry {
-    address: SocketAddr,
-    db_path: std::path::PathBuf,
-    stop: Option<(oneshot::Sender<()>, tokio::task::JoinHandle<std::io::Result<()>>)>,
-}
-
-impl Registry {
-    async fn create(dir: &Path) -> (Self, String, String) {
-        let db_path = dir.join("registry.db");
-        let db = Db::open(&db_path).await.unwrap();
-        pps_server::seed::seed_if_empty(&db).await.unwrap();
-        let robot = json!({ "id": "el-e-1", "class": "el-e", "name": "EL-E", "capabilities": ["light_switch", "pull_back", "push", "pull_lamp", "drop"], "limits": { "max_force": 15.0 } });
-        robots::put(&db, "el-e-1", &robot, "test").await.unwrap();
-        let admin = tokens::create(&db, Role::Admin, "admin", None).await.unwrap().token;
-        let robot_token = tokens::create(&db, Role::Robot, "el-e-1", None).await.unwrap().token;
-        db.close().await;
-        let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
-        let address = listener.local_addr().unwrap();
-        drop(listener);
-        let mut registry = Self { address, db_path, stop: None };
-        registry.start().await;
-        (registry, admin, robot_token)
-    }
-
-    fn url(&self) -> String {
-        format!("http://{}", self.address)
-    }
-
-    async fn start(&mut self) {
-        let db = Db::open(&self.db_path).await.unwrap();
-        let listener = tokio::net::TcpListener::bind(self.address).await.unwrap();
-        let (stop, stopped) = oneshot::channel::<()>();
-        let task = tokio::spawn(pps_server::serve(listener, AppState::new(db), async move {
-            let _ = stopped.await;
-        }));
-        self.stop = Some((stop, task));
-    }
-
-    async fn stop(&mut self) {
-        if let Some((stop, task)) = self.stop.take() {
-            let _ = stop.send(());
-            task.await.unwrap().unwrap();
-        }
-    }
-}
 
 fn trial(robot: &str) -> Trial {
     serde_json::from_value(json!({
@@ -76,23 +24,11 @@ fn trial(robot: &str) -> Trial {
     .unwrap()
 }
 
-async fn stored_trials(registry: &Registry, admin: &str) -> Vec<String> {
-    let page: serde_json::Value = reqwest::Client::new()
-        .get(format!("{}/api/v1/trials?limit=500", registry.url()))
-        .bearer_auth(admin)
-        .send()
-        .await
-        .unwrap()
-        .json()
-        .await
-        .unwrap();
-    page["items"].as_array().unwrap().iter().map(|t| t["id"].as_str().unwrap().to_owned()).collect()
-}
-
 #[tokio::test]
 async fn cached_entries_follow_the_change_feed_and_serve_while_offline() {
     let dir = tempfile::tempdir().unwrap();
-    let (mut registry, admin, token) = Registry::create(dir.path()).await;
+    let mut registry = support::Registry::start(dir.path()).await;
+    let token = registry.robot_token.clone();
     let client = RegistryClient::new(
         &registry.url(),
         &token,
@@ -118,20 +54,11 @@ async fn cached_entries_follow_the_change_feed_and_serve_while_offline() {
     }
 
     // A caretaker changes the tag: the feed invalidates the cached entry.
-    let http = reqwest::Client::new();
-    let url = format!("{}/api/v1/tags/{ADA_SWITCH}", registry.url());
-    let mut entry: serde_json::Value =
-        http.get(&url).bearer_auth(&admin).send().await.unwrap().json().await.unwrap();
-    entry["behaviors"]["push_top"]["force_threshold"] = json!(4.0);
-    let saved = http
-        .put(&url)
-        .bearer_auth(&admin)
-        .header("if-match", "\"r1\"")
-        .json(&entry)
-        .send()
-        .await
-        .unwrap();
-    assert_eq!(saved.status(), 200);
+    registry
+        .edit_tag(ADA_SWITCH, |entry| {
+            entry["behaviors"]["push_top"]["force_threshold"] = json!(4.0);
+        })
+        .await;
     let deadline = Instant::now() + Duration::from_secs(5);
     let updated = loop {
         let fetched = client.effective_entry(&epc).await.unwrap();
@@ -154,7 +81,8 @@ async fn cached_entries_follow_the_change_feed_and_serve_while_offline() {
 #[tokio::test]
 async fn trials_recorded_offline_upload_exactly_once_after_a_restart() {
     let dir = tempfile::tempdir().unwrap();
-    let (mut registry, admin, token) = Registry::create(dir.path()).await;
+    let mut registry = support::Registry::start(dir.path()).await;
+    let token = registry.robot_token.clone();
     let state = dir.path().join("robot");
     let robot = RobotId::parse("el-e-1").unwrap();
     let client = RegistryClient::new(&registry.url(), &token, robot.clone(), &state).unwrap();
@@ -174,7 +102,7 @@ async fn trials_recorded_offline_upload_exactly_once_after_a_restart() {
     // The robot restarts (a new client on the same state), then the registry comes back.
     let restarted = RegistryClient::new(&registry.url(), &token, robot, &state).unwrap();
     assert_eq!(restarted.outbox().len().unwrap(), 3, "nothing lost across the restart");
-    registry.start().await;
+    registry.restart().await;
     // One answer was lost on the way back: the registry has it, the outbox does not know.
     let resent = reqwest::Client::new()
         .put(format!("{}/api/v1/trials/{}", registry.url(), offline[0].id))
@@ -190,7 +118,8 @@ async fn trials_recorded_offline_upload_exactly_once_after_a_restart() {
 
     let mut expected: Vec<String> =
         std::iter::once(&online).chain(&offline).map(|t| t.id.to_string()).collect();
-    let mut stored = stored_trials(&registry, &admin).await;
+    let mut stored: Vec<String> =
+        registry.trials().await.iter().map(|t| t["id"].as_str().unwrap().to_owned()).collect();
     expected.sort();
     stored.sort();
     assert_eq!(stored, expected, "each trial stored exactly once");
@@ -207,7 +136,8 @@ async fn trials_recorded_offline_upload_exactly_once_after_a_restart() {
 #[tokio::test]
 async fn the_registry_is_reached_over_https_with_the_lans_own_certificate_authority() {
     let dir = tempfile::tempdir().unwrap();
-    let (mut plain, _admin, token) = Registry::create(dir.path()).await;
+    let mut plain = support::Registry::start(dir.path()).await;
+    let token = plain.robot_token.clone();
     plain.stop().await;
 
     let made = rcgen::generate_simple_self_signed(vec!["localhost".to_owned()]).unwrap();
@@ -220,7 +150,7 @@ async fn the_registry_is_reached_over_https_with_the_lans_own_certificate_author
     };
     let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
     let url = format!("https://localhost:{}", listener.local_addr().unwrap().port());
-    let db = Db::open(&plain.db_path).await.unwrap();
+    let db = Db::open(plain.db_path()).await.unwrap();
     let options = pps_server::ServeOptions { transport, ..Default::default() };
     tokio::spawn(pps_server::serve_with(
         listener,

@@ -54,6 +54,10 @@ impl Registry {
         self.serve(listener, db);
     }
 
+    pub fn db_path(&self) -> &Path {
+        &self.db_path
+    }
+
     pub fn url(&self) -> String {
         format!("http://{}", self.address)
     }
