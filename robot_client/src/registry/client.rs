@@ -13,6 +13,7 @@ use super::change_watch::ChangeWatch;
 use super::entry_cache::{CachedEntry, EntryCache};
 use super::error::RegistryError;
 use super::outbox::TrialOutbox;
+use super::state_file;
 
 /// Where an effective entry came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -280,9 +281,7 @@ impl RegistryClient {
     pub async fn robot_record(&self) -> Result<Value, RegistryError> {
         match self.get_json::<Value>(&format!("/api/v1/robots/{}", self.robot)).await {
             Ok(record) => {
-                let temporary = self.record_file.with_extension("tmp");
-                std::fs::write(&temporary, record.to_string())?;
-                std::fs::rename(&temporary, &self.record_file)?;
+                state_file::replace(&self.record_file, record.to_string().as_bytes())?;
                 Ok(record)
             }
             Err(unreachable @ RegistryError::Unreachable(_)) => std::fs::read(&self.record_file)

@@ -14,6 +14,8 @@ use std::time::{Duration, Instant};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
+use super::state_file;
+
 /// Longest an entry is trusted without asking, even when no change was announced (a robot's
 /// own class or limits changing is not announced to robots).
 pub const FRESH_FOR: Duration = Duration::from_secs(60);
@@ -74,10 +76,7 @@ impl EntryCache {
 
     /// Stores an entry just confirmed by the registry; `fresh` when the change feed is live.
     pub fn put(&self, epc: &str, cached: CachedEntry, fresh: bool) -> std::io::Result<()> {
-        let path = self.dir.join(format!("{epc}.json"));
-        let temporary = path.with_extension("tmp");
-        fs::write(&temporary, serde_json::to_vec(&cached)?)?;
-        fs::rename(&temporary, &path)?;
+        state_file::replace(&self.dir.join(format!("{epc}.json")), &serde_json::to_vec(&cached)?)?;
         let fresh_until = fresh.then(|| Instant::now() + FRESH_FOR);
         self.slots
             .lock()

@@ -8,6 +8,7 @@ mod client;
 mod entry_cache;
 mod error;
 mod outbox;
+mod state_file;
 
 pub use change_watch::ChangeWatch;
 pub use client::{Fetched, FlushReport, RegistryClient, Source};

@@ -7,11 +7,12 @@
 //! never deleted.
 
 use std::fs;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::{SystemTime, UNIX_EPOCH};
 
 use pps_schema::Trial;
+
+use super::state_file;
 
 #[derive(Debug, Clone)]
 pub struct TrialOutbox {
@@ -47,13 +48,7 @@ impl TrialOutbox {
         }
         let nanos = SystemTime::now().duration_since(UNIX_EPOCH).map_or(0, |d| d.as_nanos());
         let path = self.dir.join(format!("{nanos:020}{suffix}"));
-        let temporary = path.with_extension("tmp");
-        let mut file = fs::File::create(&temporary)?;
-        file.write_all(&serde_json::to_vec_pretty(trial)?)?;
-        file.sync_all()?;
-        fs::rename(&temporary, &path)?;
-        // The rename is durable only once the directory itself is synced.
-        fs::File::open(&self.dir)?.sync_all()
+        state_file::replace_durably(&path, &serde_json::to_vec_pretty(trial)?)
     }
 
     /// Trials waiting for upload, oldest first. A file that cannot be read is set aside.
