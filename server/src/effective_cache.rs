@@ -41,7 +41,11 @@ impl EffectiveCache {
     pub fn get(&self, epc: &str, robot: &str) -> Option<Arc<CachedEffective>> {
         let entries = self.entries.read().unwrap_or_else(|e| e.into_inner());
         let slot = entries.get(epc)?.get(robot)?;
-        slot.read.store(true, Ordering::Relaxed);
+        // Only the first read since an eviction writes: the hot path's many readers of one
+        // entry then share its cache line instead of bouncing it between cores.
+        if !slot.read.load(Ordering::Relaxed) {
+            slot.read.store(true, Ordering::Relaxed);
+        }
         Some(slot.entry.clone())
     }
 
