@@ -35,16 +35,9 @@ impl Default for RobotBody {
 pub const FEEL_STEP: f64 = 0.01;
 
 /// Sets the gripper's opening from the entry's degrees. A gripper that cannot open as wide as
-/// the entry asks (an entry written for another robot's hand) opens as far as it goes, found in
-/// 5° steps down from the request.
+/// the entry asks (an entry written for another robot's hand) opens as far as it goes.
 pub fn set_gripper_deg(hand: &impl Hand, degrees: f64, max_force: f64) -> Result<f64, HalError> {
-    let mut asked = degrees;
-    loop {
-        match hand.set_opening(asked.to_radians(), max_force) {
-            Err(HalError::OutOfRange { .. }) if asked > 5.0 => asked -= 5.0,
-            other => return other,
-        }
-    }
+    hand.set_opening(degrees.to_radians().min(hand.widest()), max_force)
 }
 
 /// How an advance of the hand ended.

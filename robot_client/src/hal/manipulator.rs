@@ -28,6 +28,9 @@ pub trait Gripper: Send + Sync {
     /// Opening angle between the fingers, radians (0 is closed).
     fn opening(&self) -> Result<f64, HalError>;
 
+    /// The widest opening the gripper reaches, radians.
+    fn widest(&self) -> f64;
+
     /// Sets the opening angle, radians, stopping early when the grip force exceeds `max_force`
     /// newtons. Returns the angle reached.
     fn set_opening(&self, angle: f64, max_force: f64) -> Result<f64, HalError>;

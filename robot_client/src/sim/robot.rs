@@ -348,6 +348,10 @@ impl Gripper for SimRobot {
         Ok(self.state().body.gripper_opening)
     }
 
+    fn widest(&self) -> f64 {
+        self.state().geometry.gripper_travel.1
+    }
+
     fn set_opening(&self, angle: f64, max_force: f64) -> Result<f64, HalError> {
         let mut s = self.state();
         check_travel("gripper", angle, s.geometry.gripper_travel)?;
