@@ -72,7 +72,7 @@ impl Properties {
     /// has merged that robot's `robots` overrides into the properties); `None` when the entry has
     /// none or it is malformed.
     pub fn color_segmentation(&self) -> Option<ColorSegmentation> {
-        self.other.get("color_segmentation").and_then(|v| serde_json::from_value(v.clone()).ok())
+        self.other.get("color_segmentation").and_then(|v| ColorSegmentation::deserialize(v).ok())
     }
 }
 
