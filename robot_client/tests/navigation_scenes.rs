@@ -3,8 +3,8 @@
 use nalgebra::{Isometry2, Point3, Vector2, Vector3};
 use pps_robot::hal::{Arm, Carriage, RfidReader};
 use pps_robot::navigation::{
-    ApproachParams, Clearance, PlaneSearchParams, RfidIdentity, VolumeOfInterest,
-    choose_backing_plane, find_planes, identify_tag, nearest_plane_to_target, plan_approach,
+    ApproachParams, Clearance, RfidIdentity, choose_backing_plane, identify_tag,
+    nearest_plane_to_target, plan_approach,
 };
 use pps_robot::sim::{
     CaptureSettings, DeviceKind, Room, RoomOptions, SimRobot, StartDirection, capture_scene,
@@ -87,19 +87,21 @@ fn drawer_front_is_chosen_where_the_nearest_plane_picks_the_side_face() {
             let plan =
                 plan_approach(&scene.image, &scene.cloud, &scene.calibration, &target, &params)
                     .expect("consistent inputs");
-            let tag = plan.tag.expect("the towel is within reach of the target").nearest().centroid;
-            let voi = VolumeOfInterest::around(target, params.voi_radius, params.voi_half_height)
-                .crop(&scene.cloud.points);
-            let planes = find_planes(
-                &voi,
+            let tag = plan.tag.as_ref().expect("the towel is within reach of the target").nearest();
+            // Both rules judge the planes the search found around the tag.
+            let (planes, points) = (&plan.planes, &plan.surface_points);
+            let ours = choose_backing_plane(
+                planes,
+                points,
+                &tag.centroid,
+                tag.radius,
                 &robot,
-                &PlaneSearchParams::default(),
-                &mut ChaCha8Rng::seed_from_u64(0),
-            );
-            let ours = choose_backing_plane(&planes, &voi, &tag, &robot, &params.backing)
-                .expect("a backing plane");
+                &params.backing,
+            )
+            .plane
+            .expect("a backing plane");
             assert!(ours.normal.dot(&normal) > 0.98, "{direction:?}: ours took {ours:?}");
-            let paper = nearest_plane_to_target(&planes, &voi, &target).expect("some plane");
+            let paper = nearest_plane_to_target(planes, points, &target).expect("some plane");
             trials += 1;
             if paper.normal.dot(&normal) < 0.5 {
                 paper_wrong += 1;

@@ -50,14 +50,18 @@ pub fn drop_object(
     let points = voi.crop(&cloud.points);
     let sensor = geometry.body.laser;
     let mut rng = ChaCha8Rng::seed_from_u64(geometry.seed);
-    let planes = find_planes(&points, &sensor, &PlaneSearchParams::default(), &mut rng);
+    let planes = find_planes(&points, &sensor, &PlaneSearchParams::default(), &mut rng).planes;
+    // The tag on a trash can is a patch: 5 cm of reach is plenty for the foot-gap rule.
     let Some(front) = choose_backing_plane(
         &planes,
         &points,
         &geometry.tag,
+        0.05,
         &sensor,
         &BackingPlaneRule::default(),
-    ) else {
+    )
+    .plane
+    else {
         evidence.detector("container_found", false);
         evidence.step(format!("no container front among {} planes", planes.len()));
         return Ok(evidence.finish(false, forces));

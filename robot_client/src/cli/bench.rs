@@ -58,7 +58,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         scene.image.height,
         scene.cloud.len(),
         last.voi_points,
-        last.planes,
+        last.planes.len(),
         found.map_or("not found".to_string(), |e| format!("found {:.1} cm from truth", e * 100.0))
     );
     println!("{:<20} {:>10} {:>10}", "step", "median ms", "min ms");

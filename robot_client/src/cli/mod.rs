@@ -2,6 +2,7 @@
 //! The binary only parses and dispatches, so adding a subcommand is one variant here.
 
 mod bench;
+mod overlay;
 mod perceive;
 mod registry_args;
 mod run;
@@ -11,6 +12,7 @@ mod trials;
 use clap::{Parser, Subcommand};
 
 pub use bench::BenchArgs;
+pub use overlay::draw_overlay;
 pub use perceive::{PerceiveArgs, PerceiveReport};
 pub use registry_args::RegistryArgs;
 pub use run::{

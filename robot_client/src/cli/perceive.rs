@@ -10,9 +10,10 @@ use nalgebra::Point3;
 use pps_schema::ColorSegmentation;
 use serde::Serialize;
 
+use super::overlay::draw_overlay;
 use crate::navigation::{ApproachParams, ApproachPlan, Clearance, plan_approach};
 use crate::perception::{HsvThresholds, TagDetection, TagSighting};
-use crate::recording::{read_camera_file, read_ply, read_png};
+use crate::recording::{read_camera_file, read_ply, read_png, write_png};
 use crate::timings::StepTimings;
 
 #[derive(Debug, Args)]
@@ -36,6 +37,10 @@ pub struct PerceiveArgs {
     /// Print one JSON document on stdout and nothing else.
     #[arg(long)]
     pub json: bool,
+    /// Also draw the paper's Fig. 5 into the camera image and write it here as PNG: volume of
+    /// interest cyan, tag red, backing plane dark green, waypoint and footprint yellow-green.
+    #[arg(long, value_name = "PNG")]
+    pub overlay: Option<PathBuf>,
 }
 
 fn parse_numbers(text: &str, count: usize, what: &str) -> Result<Vec<f64>, String> {
@@ -75,6 +80,19 @@ pub struct PerceiveReport {
     pub waypoint: Option<WaypointJson>,
     pub load_ms: f64,
     pub timings_ms: StepTimings,
+    /// Every plane found or tried that was not taken as the backing plane, and why.
+    pub rejected_planes: Vec<RejectedPlaneJson>,
+    /// The laser's noise across surfaces as measured in the cloud (standard deviation, metres;
+    /// the median over the planes found, null when none was).
+    pub laser_noise: Option<f64>,
+}
+
+#[derive(Debug, Serialize)]
+pub struct RejectedPlaneJson {
+    pub normal: [f64; 3],
+    pub offset: f64,
+    pub points: usize,
+    pub why: String,
 }
 
 #[derive(Debug, Serialize)]
@@ -127,6 +145,17 @@ impl PerceiveReport {
             }),
             load_ms,
             timings_ms: plan.timings.clone(),
+            rejected_planes: plan
+                .rejected_planes
+                .iter()
+                .map(|r| RejectedPlaneJson {
+                    normal: r.normal.into(),
+                    offset: r.offset,
+                    points: r.points,
+                    why: r.why.to_string(),
+                })
+                .collect(),
+            laser_noise: plan.laser_noise(),
         }
     }
 }
@@ -144,6 +173,9 @@ pub fn run(args: &PerceiveArgs) -> anyhow::Result<()> {
     let plan = plan_approach(&image, &cloud, &calibration, &args.target, &params)
         .context("cannot run perception on these files")?;
     let report = PerceiveReport::new(&plan, load_ms);
+    if let Some(path) = &args.overlay {
+        write_png(path, &draw_overlay(&image, &calibration, &plan, &params.footprint))?;
+    }
     if args.json {
         println!("{}", serde_json::to_string(&report)?);
     } else {
@@ -154,9 +186,13 @@ pub fn run(args: &PerceiveArgs) -> anyhow::Result<()> {
 
 fn print_summary(report: &PerceiveReport, plan: &ApproachPlan, cloud_points: usize) {
     let f3 = |v: [f64; 3]| format!("({:.3}, {:.3}, {:.3})", v[0], v[1], v[2]);
+    let noise =
+        report.laser_noise.map_or("unknown".to_string(), |sigma| format!("{:.1} mm", sigma * 1e3));
     println!(
-        "cloud: {cloud_points} points, {} in the volume of interest, {} planes",
-        plan.voi_points, plan.planes
+        "cloud: {cloud_points} points, {} in the volume of interest, {} planes; laser noise \
+         across them {noise}",
+        plan.voi_points,
+        plan.planes.len(),
     );
     match &report.tag {
         Some(tag) => {
@@ -177,7 +213,16 @@ fn print_summary(report: &PerceiveReport, plan: &ApproachPlan, cloud_points: usi
             p.offset,
             p.points
         ),
-        None => println!("backing plane: none"),
+        None => println!("backing plane: none qualified"),
+    }
+    for r in &report.rejected_planes {
+        println!(
+            "  not taken: plane with normal {}, offset {:.3} m, {} points: {}",
+            f3(r.normal),
+            r.offset,
+            r.points,
+            r.why
+        );
     }
     match &report.waypoint {
         Some(w) => println!(

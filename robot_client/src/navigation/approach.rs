@@ -2,20 +2,23 @@
 //! all planes in it, the tag (§III-B), the backing plane, the waypoint and its collision check.
 //!
 //! The paper chose the plane before finding the tag; here the tag is found first because the
-//! backing-plane rule needs its centroid.
+//! backing-plane rule needs its centroid, and because the tag's own points are no evidence of
+//! the surface behind it: a towel standing proud of a narrow front would otherwise thicken the
+//! front into something that looks like a slab, or be taken for the front itself.
 
 use nalgebra::Point3;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use super::backing_plane::{BackingPlane, BackingPlaneRule, choose_backing_plane};
-use super::ransac::{PlaneSearchParams, find_planes};
+use super::ransac::{DetectedPlane, PlaneSearch, PlaneSearchParams, find_planes};
+use super::rejection::RejectedPlane;
 use super::voi::VolumeOfInterest;
 use super::waypoint::{
     ApproachWaypoint, Clearance, RobotFootprint, approach_waypoint, check_clearance,
 };
 use crate::hal::{CameraCalibration, ColorImage, PointCloud};
-use crate::perception::{PerceptionError, TagSearchParams, TagSighting, locate_tag};
+use crate::perception::{OccupancyGrid, PerceptionError, TagSearchParams, TagSighting, locate_tag};
 use crate::timings::StepTimings;
 
 /// Everything the approach is tuned by.
@@ -53,13 +56,32 @@ impl Default for ApproachParams {
 #[derive(Debug, Clone, PartialEq)]
 pub struct ApproachPlan {
     pub tag: Option<TagSighting>,
-    /// Points in the volume of interest and planes found among them.
+    /// The points in the volume of interest, the tag's own left out: what the planes were
+    /// searched in, and what their inlier indices refer to.
+    pub surface_points: Vec<Point3<f32>>,
+    /// Points in the volume of interest, the tag's included.
     pub voi_points: usize,
-    pub planes: usize,
+    /// The surfaces found among them, largest first.
+    pub planes: Vec<DetectedPlane>,
+    /// Index into `planes` of the backing plane.
+    pub backing_index: Option<usize>,
     pub backing_plane: Option<BackingPlane>,
+    /// Every plane not taken and why: first the search's non-surfaces, then the surfaces the
+    /// backing-plane rule turned down.
+    pub rejected_planes: Vec<RejectedPlane>,
     pub waypoint: Option<ApproachWaypoint>,
     pub clearance: Option<Clearance>,
     pub timings: StepTimings,
+}
+
+impl ApproachPlan {
+    /// The laser's noise across surfaces here (standard deviation, metres): the median over
+    /// the planes found, `None` when none was.
+    pub fn laser_noise(&self) -> Option<f64> {
+        let mut noise: Vec<f64> = self.planes.iter().map(|p| p.noise).collect();
+        noise.sort_by(f64::total_cmp);
+        noise.get(noise.len() / 2).copied()
+    }
 }
 
 /// Runs the approach on one registered image and cloud (base frame) around `target`.
@@ -75,14 +97,39 @@ pub fn plan_approach(
     // The robot's sensors sit near the camera: planes face there, and so must the backing plane.
     let robot = Point3::from(calibration.base_from_camera.translation.vector);
     let voi = VolumeOfInterest::around(*target, params.voi_radius, params.voi_half_height);
-    let voi_points = timings.time("volume_of_interest", || voi.crop(&cloud.points));
-    let mut rng = ChaCha8Rng::seed_from_u64(params.seed);
-    let planes =
-        timings.time("ransac", || find_planes(&voi_points, &robot, &params.planes, &mut rng));
-    let backing_plane = timings.time("backing_plane", || {
-        let tag = tag.as_ref()?.nearest();
-        choose_backing_plane(&planes, &voi_points, &tag.centroid, &robot, &params.backing)
+    let (voi_points, surface_points) = timings.time("volume_of_interest", || {
+        let inside = voi.crop(&cloud.points);
+        let count = inside.len();
+        let surface = match &tag {
+            Some(sighting) => {
+                let own = OccupancyGrid::new(&sighting.nearest().members, params.tag.voxel_size);
+                inside.into_iter().filter(|p| !own.contains(p)).collect()
+            }
+            None => inside,
+        };
+        (count, surface)
     });
+    let mut rng = ChaCha8Rng::seed_from_u64(params.seed);
+    let PlaneSearch { planes, rejected: mut rejected_planes } =
+        timings.time("ransac", || find_planes(&surface_points, &robot, &params.planes, &mut rng));
+    let choice = timings.time("backing_plane", || {
+        let tag = tag.as_ref()?.nearest();
+        Some(choose_backing_plane(
+            &planes,
+            &surface_points,
+            &tag.centroid,
+            tag.radius,
+            &robot,
+            &params.backing,
+        ))
+    });
+    let (backing_index, backing_plane) = match choice {
+        Some(choice) => {
+            rejected_planes.extend(choice.rejected);
+            (choice.index, choice.plane)
+        }
+        None => (None, None),
+    };
     let waypoint = timings.time("waypoint", || {
         approach_waypoint(
             &tag.as_ref()?.nearest().centroid,
@@ -96,9 +143,12 @@ pub fn plan_approach(
     });
     Ok(ApproachPlan {
         tag,
-        voi_points: voi_points.len(),
-        planes: planes.len(),
+        surface_points,
+        voi_points,
+        planes,
+        backing_index,
         backing_plane,
+        rejected_planes,
         waypoint,
         clearance,
         timings,

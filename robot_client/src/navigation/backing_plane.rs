@@ -13,6 +13,7 @@
 use nalgebra::{Point3, Vector3};
 
 use super::ransac::DetectedPlane;
+use super::rejection::{PlaneRejection, RejectedPlane};
 
 /// The plane the robot will approach perpendicular to.
 #[derive(Debug, Clone, PartialEq)]
@@ -42,7 +43,8 @@ pub struct BackingPlaneRule {
     pub tag_behind_tolerance: f64,
     /// How far in front of the plane the tag may hang (a pull chain before a wall), metres.
     pub max_tag_height: f64,
-    /// Greatest gap between the tag's foot on the plane and the plane's nearest point, metres.
+    /// Greatest gap between the tag's foot on the plane and the plane's nearest point beyond the
+    /// tag's own reach, metres: the surface must show itself beside the tag.
     pub max_foot_gap: f64,
     /// Least width of the plane in both in-plane directions, metres.
     pub min_extent: f64,
@@ -61,44 +63,107 @@ impl Default for BackingPlaneRule {
     }
 }
 
-/// The plane behind the tag, nearest to it, among those that could carry it; `None` when no
-/// plane qualifies. `points` is the cloud the planes' inlier indices refer to.
+/// The backing plane, if any qualified, and why every other plane did not.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct BackingChoice {
+    pub plane: Option<BackingPlane>,
+    /// Its index among the planes judged.
+    pub index: Option<usize>,
+    pub rejected: Vec<RejectedPlane>,
+}
+
+/// The plane behind the tag, nearest to it, among those that could carry it. `points` is the
+/// cloud the planes' inlier indices refer to; `tag_radius` is how far the tag's own points
+/// reach from its centroid (metres): a big towel covers the front right around its foot.
 pub fn choose_backing_plane(
     planes: &[DetectedPlane],
     points: &[Point3<f32>],
     tag: &Point3<f64>,
+    tag_radius: f64,
     robot: &Point3<f64>,
     rule: &BackingPlaneRule,
-) -> Option<BackingPlane> {
-    let toward_robot = {
-        let d = robot - tag;
-        Vector3::new(d.x, d.y, 0.0).try_normalize(1e-9)?
-    };
-    planes
+) -> BackingChoice {
+    let d = robot - tag;
+    let toward_robot = Vector3::new(d.x, d.y, 0.0).try_normalize(1e-9).unwrap_or(Vector3::x());
+    let verdicts: Vec<Result<f64, PlaneRejection>> =
+        planes.iter().map(|p| judge(p, points, tag, tag_radius, &toward_robot, rule)).collect();
+    let chosen = verdicts
         .iter()
-        .filter_map(|p| {
-            let plane = &p.plane;
-            if plane.tilt_from_vertical() > rule.max_tilt || p.extent[1] < rule.min_extent {
-                return None;
-            }
-            let facing = plane.normal.dot(&toward_robot).clamp(-1.0, 1.0).acos();
-            if facing > rule.max_facing_angle {
-                return None;
-            }
-            let height = plane.signed_distance(tag);
-            if height < -rule.tag_behind_tolerance || height > rule.max_tag_height {
-                return None;
-            }
-            let foot = tag - plane.normal * height;
-            let gap_sq = p
-                .inliers
-                .iter()
-                .map(|&i| (points[i as usize].cast::<f64>() - foot).norm_squared())
-                .fold(f64::INFINITY, f64::min);
-            (gap_sq <= rule.max_foot_gap * rule.max_foot_gap).then_some((p, height))
+        .enumerate()
+        .filter_map(|(i, v)| v.as_ref().ok().map(|&height| (i, height)))
+        .min_by(|a, b| a.1.total_cmp(&b.1));
+    let rejected = planes
+        .iter()
+        .zip(&verdicts)
+        .enumerate()
+        .filter(|&(i, _)| chosen.is_none_or(|(c, _)| c != i))
+        .map(|(_, (p, verdict))| RejectedPlane {
+            normal: p.plane.normal,
+            offset: p.plane.offset,
+            points: p.inliers.len(),
+            why: match *verdict {
+                Err(why) => why,
+                Ok(height) => PlaneRejection::FartherThanChosen {
+                    height,
+                    chosen: chosen.map_or(0.0, |(_, h)| h),
+                },
+            },
         })
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-        .map(|(p, _)| BackingPlane::from_detected(p))
+        .collect();
+    BackingChoice {
+        plane: chosen.map(|(i, _)| BackingPlane::from_detected(&planes[i])),
+        index: chosen.map(|(i, _)| i),
+        rejected,
+    }
+}
+
+/// How far in front of `p` the tag is when `p` could carry it; otherwise the rule it fails.
+fn judge(
+    p: &DetectedPlane,
+    points: &[Point3<f32>],
+    tag: &Point3<f64>,
+    tag_radius: f64,
+    toward_robot: &Vector3<f64>,
+    rule: &BackingPlaneRule,
+) -> Result<f64, PlaneRejection> {
+    let plane = &p.plane;
+    let tilt = plane.tilt_from_vertical();
+    if tilt > rule.max_tilt {
+        return Err(PlaneRejection::Tilted { tilt, max: rule.max_tilt });
+    }
+    if p.extent[1] < rule.min_extent {
+        return Err(PlaneRejection::Small { width: p.extent[1], min: rule.min_extent });
+    }
+    // Judged in the horizontal: a camera pitched down sees a wall's normal tipped up at it.
+    let horizontal = Vector3::new(plane.normal.x, plane.normal.y, 0.0)
+        .try_normalize(1e-9)
+        .unwrap_or(plane.normal);
+    let facing = horizontal.dot(toward_robot).clamp(-1.0, 1.0).acos();
+    if facing > rule.max_facing_angle {
+        return Err(PlaneRejection::EdgeOn { angle: facing, max: rule.max_facing_angle });
+    }
+    let height = plane.signed_distance(tag);
+    if height < -rule.tag_behind_tolerance {
+        return Err(PlaneRejection::TagBehind {
+            depth: -height,
+            tolerance: rule.tag_behind_tolerance,
+        });
+    }
+    if height > rule.max_tag_height {
+        return Err(PlaneRejection::TagTooFarOut { height, max: rule.max_tag_height });
+    }
+    let foot = tag - plane.normal * height;
+    let gap = p
+        .inliers
+        .iter()
+        .map(|&i| (points[i as usize].cast::<f64>() - foot).norm_squared())
+        .fold(f64::INFINITY, f64::min)
+        .sqrt();
+    let max_gap = rule.max_foot_gap + tag_radius;
+    if gap > max_gap {
+        return Err(PlaneRejection::AwayFromTag { gap, max: max_gap });
+    }
+    Ok(height)
 }
 
 /// The paper's rule: the plane whose points come closest to the target, whatever it is.
@@ -148,6 +213,8 @@ mod tests {
             centroid,
             inliers,
             extent: [a.norm(), b.norm()],
+            noise: 0.0,
+            inlier_distance: 0.012,
         }
     }
 
@@ -176,9 +243,17 @@ mod tests {
         let target = Point3::new(2.03, 0.23, 0.6);
         let paper = nearest_plane_to_target(&planes, &points, &target).unwrap();
         assert!(paper.normal.y > 0.99, "the paper's rule takes the side face");
-        let ours =
-            choose_backing_plane(&planes, &points, &tag, &robot, &BackingPlaneRule::default())
-                .unwrap();
+        let choice =
+            choose_backing_plane(&planes, &points, &tag, 0.1, &robot, &BackingPlaneRule::default());
+        let ours = choice.plane.unwrap();
+        assert!(
+            matches!(
+                choice.rejected[..],
+                [RejectedPlane { why: PlaneRejection::TagBehind { .. }, .. }]
+            ),
+            "{:?}",
+            choice.rejected
+        );
         assert!(ours.normal.x < -0.99, "the front carries the tag");
         assert!((ours.offset - 2.0).abs() < 1e-6);
     }

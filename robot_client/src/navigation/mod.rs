@@ -3,7 +3,8 @@
 //!
 //! In the paper's order: [`VolumeOfInterest`] (a vertical cylinder around the target),
 //! [`find_planes`] (every plane in it, dropping those under 100 points and slabs that are not
-//! surfaces), [`choose_backing_plane`] (the surface behind the tag; the paper's nearest-plane rule
+//! surfaces, each judged against the noise measured across it),
+//! [`choose_backing_plane`] (the surface behind the tag; the paper's nearest-plane rule
 //! is kept as [`nearest_plane_to_target`]), [`approach_waypoint`] (50 cm out along its normal,
 //! facing the tag), [`check_clearance`] (the robot with its arm extended against the cloud);
 //! [`plan_approach`] runs them all. [`identify_tag`] picks the strongest RFID read.
@@ -12,20 +13,23 @@
 
 mod approach;
 mod backing_plane;
+mod cells;
 mod plane;
 mod plane_evidence;
 mod ransac;
+mod rejection;
 mod rfid_choice;
 mod voi;
 mod waypoint;
 
 pub use approach::{ApproachParams, ApproachPlan, plan_approach};
 pub use backing_plane::{
-    BackingPlane, BackingPlaneRule, choose_backing_plane, nearest_plane_to_target,
+    BackingChoice, BackingPlane, BackingPlaneRule, choose_backing_plane, nearest_plane_to_target,
 };
 pub use plane::Plane;
 pub use plane_evidence::{PlanarPatch, PlaneEvidenceRule, assess_plane};
-pub use ransac::{DetectedPlane, PlaneSearchParams, find_planes};
+pub use ransac::{DetectedPlane, PlaneSearch, PlaneSearchParams, find_planes};
+pub use rejection::{PlaneRejection, RejectedPlane};
 pub use rfid_choice::{RfidIdentity, TagSignal, identify_tag};
 pub use voi::VolumeOfInterest;
 pub use waypoint::{

@@ -9,16 +9,29 @@
 //! over a few centimetres, a plane's residuals vanish, while a slab tangent to a curved surface
 //! (a lamp shade) has residuals that rise and fall across it; (5) fill: a surface covers the
 //! rectangle it spans, while thin things that happen to line up (a pole and a chain) do not.
+//!
+//! Nothing here is in units of one laser's noise. The band `±t` is a multiple of the noise
+//! measured across the plane itself (the robust spread of the points' distances from it), so a
+//! laser with 1 cm of range noise fills its band as ours does, and a towel 2 cm proud of a
+//! drawer front stays out of the band of a quiet one; waviness is what the cells' means wander
+//! beyond what their own scatter explains, so a sparse oblique scan is judged like a dense one.
 
 use nalgebra::{Matrix2, Matrix3, Point3, SymmetricEigen, Vector2, Vector3};
 
 use super::plane::Plane;
+use super::rejection::PlaneRejection;
 
 /// Thresholds of the plane evidence test.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlaneEvidenceRule {
     /// Points a plane must hold after the test (the paper's 100).
     pub min_points: usize,
+    /// The band's half-width `t` in multiples of the noise measured across the plane.
+    pub noise_multiple: f64,
+    /// Bounds of `t`, metres: at least what a laser's quantisation and a surface's texture
+    /// blur, and at most what still tells a towel from the front it hangs on.
+    pub min_band: f64,
+    pub max_band: f64,
     /// Most the ±2t band may hold relative to the ±t band (1.0 for a perfect surface, 2.0 for
     /// uniform volume noise).
     pub max_thickness_ratio: f64,
@@ -27,8 +40,9 @@ pub struct PlaneEvidenceRule {
     pub cell: f64,
     /// Least width of the patch across its narrowest in-plane direction, metres.
     pub min_extent: f64,
-    /// Largest RMS of the cells' mean residuals about their linear trend, metres: noise averages
-    /// out within a cell of a plane, the bulge of a curved surface does not.
+    /// Largest RMS of the cells' mean residuals about their linear trend beyond what the cells'
+    /// own scatter explains, metres: noise averages out within a cell of a plane, the bulge of a
+    /// curved surface does not.
     pub max_waviness: f64,
     /// Least fraction of the rectangle a patch spans that its cells occupy: a surface is filled,
     /// a lamp pole and a pull chain that happen to be coplanar are not.
@@ -39,6 +53,9 @@ impl Default for PlaneEvidenceRule {
     fn default() -> Self {
         Self {
             min_points: 100,
+            noise_multiple: 2.5,
+            min_band: 0.012,
+            max_band: 0.04,
             max_thickness_ratio: 1.3,
             cell: 0.04,
             min_extent: 0.06,
@@ -57,34 +74,58 @@ pub struct PlanarPatch {
     pub band: Vec<u32>,
     /// Widths along the patch's major and minor in-plane axes, metres.
     pub extent: [f64; 2],
+    /// The noise across the plane (standard deviation, metres) and the band `t` it gave.
+    pub noise: f64,
+    pub inlier_distance: f64,
     pub thickness_ratio: f64,
     pub waviness: f64,
     pub fill: f64,
 }
 
-/// Applies the rule to `plane` over the `alive` points; `None` when it is not a surface.
+/// The noise across a plane, from the distances `d` of the points near it: the median
+/// absolute distance within `±window`, scaled to a standard deviation (1.4826 for a normal
+/// distribution). A surface's own points dominate that median; the strips of other surfaces
+/// crossing the plane and the fringe of clutter barely move it.
+fn noise_across(distances: impl Iterator<Item = f64>, window: f64) -> Option<f64> {
+    let mut near: Vec<f64> = distances.map(f64::abs).filter(|d| *d < window).collect();
+    if near.is_empty() {
+        return None;
+    }
+    let middle = near.len() / 2;
+    Some(1.4826 * *near.select_nth_unstable_by(middle, f64::total_cmp).1)
+}
+
+/// Applies the rule to `plane` over the `alive` points; the first rule it fails when it is not
+/// a surface.
 pub fn assess_plane(
     points: &[Point3<f32>],
     alive: &[bool],
     plane: &Plane,
-    inlier_distance: f64,
     rule: &PlaneEvidenceRule,
-) -> Option<PlanarPatch> {
+) -> Result<PlanarPatch, PlaneRejection> {
+    let too_few = |points: usize| PlaneRejection::TooFewPoints { points, min: rule.min_points };
     let (u, v) = plane.basis();
-    // Points of the ±2t band with their in-plane coordinates and signed residual.
-    let mut band = Vec::new();
+    // Every point the widest band could take in, with its in-plane coordinates and residual.
+    let mut window = Vec::new();
     for (i, p) in points.iter().enumerate() {
         if !alive[i] {
             continue;
         }
         let p: Point3<f64> = p.cast();
         let d = plane.signed_distance(&p);
-        if d.abs() < 2.0 * inlier_distance {
-            band.push((i as u32, Vector2::new(u.dot(&p.coords), v.dot(&p.coords)), d));
+        if d.abs() < 2.0 * rule.max_band {
+            window.push((i as u32, Vector2::new(u.dot(&p.coords), v.dot(&p.coords)), d));
         }
     }
+    let Some(noise) = noise_across(window.iter().map(|w| w.2), rule.max_band) else {
+        return Err(too_few(0));
+    };
+    let inlier_distance = (rule.noise_multiple * noise).clamp(rule.min_band, rule.max_band);
+    // The ±2t band.
+    let band: Vec<(u32, Vector2<f64>, f64)> =
+        window.into_iter().filter(|w| w.2.abs() < 2.0 * inlier_distance).collect();
     if band.len() < rule.min_points {
-        return None;
+        return Err(too_few(band.len()));
     }
     // Raster the near points in the plane, then label 8-connected occupied cells.
     let (mut lo, mut hi) = (Vector2::repeat(f64::INFINITY), Vector2::repeat(f64::NEG_INFINITY));
@@ -139,7 +180,7 @@ pub fn assess_plane(
         }
     }
     if (best_count as usize) < rule.min_points {
-        return None;
+        return Err(too_few(best_count as usize));
     }
     // Over the patch's cells (and their neighbours, where its edge noise falls), compare bands.
     let in_patch = |cell: usize| {
@@ -158,8 +199,8 @@ pub fn assess_plane(
     let mut inliers = Vec::with_capacity(best_count as usize);
     let mut wide = Vec::new();
     let (mut sum, mut outer) = (Vector2::zeros(), Matrix2::zeros());
-    // Per cell: the sums of in-plane position and residual of its near points.
-    let mut cell_sums = vec![(Vector2::zeros(), 0.0); cols * rows];
+    // Per cell: the sums of in-plane position, residual and squared residual of its near points.
+    let mut cell_sums = vec![(Vector2::zeros(), 0.0, 0.0); cols * rows];
     for (i, q, d) in &band {
         let cell = cell_of(q);
         if near(*d) && label[cell] == best_label {
@@ -168,20 +209,24 @@ pub fn assess_plane(
             outer += q * q.transpose();
             cell_sums[cell].0 += q;
             cell_sums[cell].1 += d;
+            cell_sums[cell].2 += d * d;
         }
         if in_patch(cell) {
             wide.push(*i);
         }
     }
     let thickness_ratio = wide.len() as f64 / inliers.len() as f64;
-    let cell_means: Vec<(Vector2<f64>, f64)> = cell_sums
+    let cells: Vec<CellResiduals> = cell_sums
         .iter()
         .zip(&count)
         .enumerate()
         .filter(|&(cell, (_, &n))| n >= 4 && label[cell] == best_label)
-        .map(|(_, (&(q, d), &n))| (q / f64::from(n), d / f64::from(n)))
+        .map(|(_, (&(q, d, dd), &n))| {
+            let n = f64::from(n);
+            CellResiduals { at: q / n, mean: d / n, square_sum: dd - d * d / n, points: n }
+        })
         .collect();
-    let waviness = waviness(&cell_means);
+    let waviness = waviness_beyond_noise(&cells);
     let n = inliers.len() as f64;
     let mean = sum / n;
     let covariance = outer / n - mean * mean.transpose();
@@ -210,29 +255,69 @@ pub fn assess_plane(
     let rectangle = (side(0) * side(1)).min(side(2) * side(3));
     let patch_cells = label.iter().filter(|&&l| l == best_label).count() as f64;
     let fill = patch_cells * rule.cell * rule.cell / rectangle;
-    let surface = thickness_ratio <= rule.max_thickness_ratio
-        && extent[1] >= rule.min_extent
-        && waviness <= rule.max_waviness
-        && fill >= rule.min_fill;
-    surface.then_some(PlanarPatch { inliers, band: wide, extent, thickness_ratio, waviness, fill })
+    if thickness_ratio > rule.max_thickness_ratio {
+        return Err(PlaneRejection::Thick {
+            ratio: thickness_ratio,
+            max: rule.max_thickness_ratio,
+        });
+    }
+    if extent[1] < rule.min_extent {
+        return Err(PlaneRejection::Narrow { width: extent[1], min: rule.min_extent });
+    }
+    if waviness > rule.max_waviness {
+        return Err(PlaneRejection::Wavy { waviness, max: rule.max_waviness });
+    }
+    if fill < rule.min_fill {
+        return Err(PlaneRejection::Unfilled { fill, min: rule.min_fill });
+    }
+    Ok(PlanarPatch {
+        inliers,
+        band: wide,
+        extent,
+        noise,
+        inlier_distance,
+        thickness_ratio,
+        waviness,
+        fill,
+    })
 }
 
-/// RMS of the cells' mean residuals about the best linear trend through them: the trend is a
-/// slightly misfitted plane, what remains is curvature.
-fn waviness(cells: &[(Vector2<f64>, f64)]) -> f64 {
+/// The near points of one cell of a patch, by their residuals from the plane.
+struct CellResiduals {
+    /// Mean in-plane position, metres.
+    at: Vector2<f64>,
+    mean: f64,
+    /// Sum of squared residuals about `mean`.
+    square_sum: f64,
+    points: f64,
+}
+
+/// RMS of the cells' mean residuals about the best linear trend through them (a slightly
+/// misfitted plane), less what the noise within the cells explains: a sparse scan's cell means
+/// scatter by σ/√n on a perfect plane, and only what is left over is curvature.
+fn waviness_beyond_noise(cells: &[CellResiduals]) -> f64 {
     if cells.len() < 4 {
         return 0.0;
     }
     let (mut normal, mut rhs) = (Matrix3::zeros(), Vector3::zeros());
-    for (q, d) in cells {
-        let x = Vector3::new(1.0, q.x, q.y);
+    for c in cells {
+        let x = Vector3::new(1.0, c.at.x, c.at.y);
         normal += x * x.transpose();
-        rhs += x * *d;
+        rhs += x * c.mean;
     }
     let trend = normal.try_inverse().map_or(Vector3::zeros(), |inverse| inverse * rhs);
-    let square_sum: f64 =
-        cells.iter().map(|(q, d)| (d - trend.dot(&Vector3::new(1.0, q.x, q.y))).powi(2)).sum();
-    (square_sum / cells.len() as f64).sqrt()
+    let k = cells.len() as f64;
+    let wander: f64 = cells
+        .iter()
+        .map(|c| (c.mean - trend.dot(&Vector3::new(1.0, c.at.x, c.at.y))).powi(2))
+        .sum::<f64>()
+        / k;
+    // Pooled within-cell variance, and what it makes the cell means scatter by on average.
+    let (square_sum, freedom) =
+        cells.iter().fold((0.0, 0.0), |(s, f), c| (s + c.square_sum, f + c.points - 1.0));
+    let variance = if freedom > 0.0 { square_sum / freedom } else { 0.0 };
+    let noise = variance * cells.iter().map(|c| 1.0 / c.points).sum::<f64>() / k;
+    (wander - noise).max(0.0).sqrt()
 }
 
 #[cfg(test)]
@@ -283,10 +368,7 @@ mod tests {
             let held =
                 points.iter().filter(|p| plane.signed_distance(&p.cast()).abs() < 0.01).count();
             assert!(held >= 100, "the slab holds {held} points");
-            assert_eq!(
-                assess_plane(&points, &alive, &plane, 0.01, &PlaneEvidenceRule::default()),
-                None
-            );
+            assert!(assess_plane(&points, &alive, &plane, &PlaneEvidenceRule::default()).is_err());
         }
     }
 
@@ -294,8 +376,9 @@ mod tests {
     fn slabs_across_a_wall_are_not_planes_but_the_wall_is() {
         let mut rng = ChaCha8Rng::seed_from_u64(12);
         let mut accepted = 0;
-        for _ in 0..100 {
-            // A 1 m × 1 m surface in any orientation, laser noise of 6 mm along its normal.
+        for trial in 0..100 {
+            // A 1 m × 1 m surface in any orientation, laser noise of 2 to 12 mm along its normal.
+            let sigma = [0.002, 0.006, 0.009, 0.012][trial % 4];
             let normal = random_unit(&mut rng);
             let wall = Plane { normal, offset: rng.random_range(-1.0..1.0) };
             let (u, v) = wall.basis();
@@ -305,13 +388,23 @@ mod tests {
                     (origin
                         + u * rng.random_range(-0.5..0.5)
                         + v * rng.random_range(-0.5..0.5)
-                        + normal * 0.006 * gaussian(&mut rng))
+                        + normal * sigma * gaussian(&mut rng))
                     .cast()
                 })
                 .collect();
             let alive = vec![true; points.len()];
-            let patch = assess_plane(&points, &alive, &wall, 0.015, &PlaneEvidenceRule::default());
-            accepted += usize::from(patch.is_some_and(|p| p.inliers.len() > 7000));
+            let patch = assess_plane(&points, &alive, &wall, &PlaneEvidenceRule::default());
+            if let Ok(patch) = &patch {
+                // The band follows the noise: at least the floor, else 2.5 σ.
+                let expected = (2.5 * sigma).max(0.012);
+                assert!(
+                    (patch.inlier_distance / expected - 1.0).abs() < 0.1,
+                    "σ {sigma}: band ±{:.4} m from noise {:.4} m",
+                    patch.inlier_distance,
+                    patch.noise
+                );
+            }
+            accepted += usize::from(patch.is_ok_and(|p| p.inliers.len() > 7400));
             // A slab crossing it at 30° to 90° holds a band of hundreds of its points.
             let across = loop {
                 let candidate = random_unit(&mut rng);
@@ -320,10 +413,7 @@ mod tests {
                 }
             };
             let cut = Plane { normal: across, offset: -across.dot(&origin.coords) };
-            assert_eq!(
-                assess_plane(&points, &alive, &cut, 0.01, &PlaneEvidenceRule::default()),
-                None
-            );
+            assert!(assess_plane(&points, &alive, &cut, &PlaneEvidenceRule::default()).is_err());
         }
         assert_eq!(accepted, 100, "every wall is a plane");
     }
@@ -344,10 +434,10 @@ mod tests {
             let alive = vec![true; points.len()];
             let depth = rng.random_range(0.0..0.015);
             let tangent = Plane { normal: -Vector3::x(), offset: 2.0 - radius + depth };
-            assert_eq!(
-                assess_plane(&points, &alive, &tangent, 0.015, &PlaneEvidenceRule::default()),
-                None
-            );
+            assert!(matches!(
+                assess_plane(&points, &alive, &tangent, &PlaneEvidenceRule::default()),
+                Err(PlaneRejection::Wavy { .. } | PlaneRejection::Thick { .. })
+            ));
         }
     }
 }

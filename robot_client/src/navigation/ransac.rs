@@ -6,17 +6,22 @@
 //! one's 10 cm cell, so a sample lies on one surface far more often than three points drawn from
 //! the whole volume; hypotheses are scored on a fixed random subset; and the iteration count
 //! adapts to the best support found so far (the usual RANSAC stopping rule).
+//!
+//! The band hypotheses are scored in is fixed; the band a plane is finally judged and kept in is
+//! measured from the plane's own noise (see [`super::plane_evidence`]).
 
 use nalgebra::Point3;
 use rand::Rng;
 
+use super::cells::CellIndex;
 use super::plane::Plane;
 use super::plane_evidence::{PlaneEvidenceRule, assess_plane};
+use super::rejection::RejectedPlane;
 
 /// The knobs of the plane search.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlaneSearchParams {
-    /// Greatest distance of an inlier from its plane, metres.
+    /// Half-width of the band hypotheses are scored and refitted in, metres.
     pub inlier_distance: f64,
     /// Side of the cells the second and third sample points are drawn from, metres.
     pub sample_cell: f32,
@@ -58,6 +63,18 @@ pub struct DetectedPlane {
     pub inliers: Vec<u32>,
     /// Widths along its major and minor in-plane axes, metres.
     pub extent: [f64; 2],
+    /// The laser's noise across it (standard deviation, metres) and the band its inliers lie in.
+    pub noise: f64,
+    pub inlier_distance: f64,
+}
+
+/// What the plane search found, and what it judged not to be a surface.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct PlaneSearch {
+    /// Largest support first, normals toward the viewpoint.
+    pub planes: Vec<DetectedPlane>,
+    /// Hypotheses that held many points but failed the evidence test, in the order tried.
+    pub rejected: Vec<RejectedPlane>,
 }
 
 /// Every plane in `points`, largest support first, normals toward `viewpoint`.
@@ -66,13 +83,15 @@ pub fn find_planes(
     viewpoint: &Point3<f64>,
     params: &PlaneSearchParams,
     rng: &mut impl Rng,
-) -> Vec<DetectedPlane> {
+) -> PlaneSearch {
     let n = points.len();
-    let mut planes = Vec::new();
+    let mut search = PlaneSearch::default();
     if n < params.evidence.min_points || n >= u32::MAX as usize {
-        return planes;
+        return search;
     }
-    let cells = SampleCells::new(points, params.sample_cell);
+    let cells = CellIndex::new(points, params.sample_cell);
+    let t = params.inlier_distance;
+    let PlaneSearch { planes, rejected } = &mut search;
     let subset: Vec<u32> = if n <= params.score_sample {
         (0..n as u32).collect()
     } else {
@@ -84,7 +103,6 @@ pub fn find_planes(
     let mut seedable = vec![true; n];
     let mut alive_count = n;
     let mut rejections = 0;
-    let t = params.inlier_distance;
     while planes.len() < params.max_planes
         && alive_count >= params.evidence.min_points
         && rejections < params.max_rejections
@@ -101,7 +119,7 @@ pub fn find_planes(
         let mut iteration = 0;
         while iteration < needed.max(params.min_iterations) {
             iteration += 1;
-            let Some(plane) = cells.sample_plane(points, &alive, &seeds, rng) else {
+            let Some(plane) = sample_plane(&cells, points, &alive, &seeds, rng) else {
                 continue;
             };
             // Support minus the points just outside the band: a slab through a volume scores ~0.
@@ -142,8 +160,8 @@ pub fn find_planes(
                 refined = plane;
             }
         }
-        match assess_plane(points, &alive, &refined, t, &params.evidence) {
-            Some(patch) => {
+        match assess_plane(points, &alive, &refined, &params.evidence) {
+            Ok(patch) => {
                 rejections = 0;
                 // The surface's whole noise band goes, lest its fringes come back as phantom planes.
                 for &i in &patch.band {
@@ -158,82 +176,60 @@ pub fn find_planes(
                     centroid,
                     inliers: patch.inliers,
                     extent: patch.extent,
+                    noise: patch.noise,
+                    inlier_distance: patch.inlier_distance,
                 });
             }
-            None => {
+            Err(why) => {
                 rejections += 1;
+                let mut within = 0;
                 for &i in &alive_indices {
                     if refined.signed_distance(&points[i as usize].cast()).abs() < t {
                         seedable[i as usize] = false;
+                        within += 1;
                     }
                 }
+                let plane = refined.facing(viewpoint);
+                rejected.push(RejectedPlane {
+                    normal: plane.normal,
+                    offset: plane.offset,
+                    points: within,
+                    why,
+                });
             }
         }
     }
-    planes
+    search
 }
 
-/// Points grouped by cubic cell, for drawing samples that lie close together.
-struct SampleCells {
-    /// Point indices ordered by cell.
-    order: Vec<u32>,
-    /// For each point, the range of `order` holding its cell.
-    range_of: Vec<(u32, u32)>,
-}
-
-impl SampleCells {
-    fn new(points: &[Point3<f32>], size: f32) -> Self {
-        let key = |p: &Point3<f32>| {
-            let c =
-                [p.x, p.y, p.z].map(|v| ((v / size).floor() as i64 + (1 << 20)) as u64 & 0x1F_FFFF);
-            c[0] << 42 | c[1] << 21 | c[2]
-        };
-        let mut keyed: Vec<(u64, u32)> =
-            points.iter().enumerate().map(|(i, p)| (key(p), i as u32)).collect();
-        keyed.sort_unstable();
-        let mut range_of = vec![(0, 0); points.len()];
-        let mut start = 0;
-        while start < keyed.len() {
-            let mut end = start;
-            while end < keyed.len() && keyed[end].0 == keyed[start].0 {
-                end += 1;
-            }
-            for &(_, i) in &keyed[start..end] {
-                range_of[i as usize] = (start as u32, end as u32);
-            }
-            start = end;
-        }
-        Self { order: keyed.into_iter().map(|(_, i)| i).collect(), range_of }
+/// A plane through a random seed point and two alive points of its cell: a sample of three
+/// points close together lies on one surface far more often than three drawn from anywhere.
+fn sample_plane(
+    cells: &CellIndex,
+    points: &[Point3<f32>],
+    alive: &[bool],
+    seeds: &[u32],
+    rng: &mut impl Rng,
+) -> Option<Plane> {
+    let first = *seeds.get(rng.random_range(0..seeds.len().max(1)))?;
+    let cell = cells.cell_of(first);
+    if cell.len() < 3 {
+        return None;
     }
-
-    /// A plane through a random seed point and two alive points of its cell.
-    fn sample_plane(
-        &self,
-        points: &[Point3<f32>],
-        alive: &[bool],
-        seeds: &[u32],
-        rng: &mut impl Rng,
-    ) -> Option<Plane> {
-        let first = *seeds.get(rng.random_range(0..seeds.len().max(1)))?;
-        let (from, to) = self.range_of[first as usize];
-        if to - from < 3 {
-            return None;
-        }
-        let mut pick = || {
-            (0..8)
-                .map(|_| self.order[rng.random_range(from..to) as usize])
-                .find(|&i| i != first && alive[i as usize])
-        };
-        let (second, third) = (pick()?, pick()?);
-        if second == third {
-            return None;
-        }
-        Plane::through(
-            &points[first as usize].cast(),
-            &points[second as usize].cast(),
-            &points[third as usize].cast(),
-        )
+    let mut pick = || {
+        (0..8)
+            .map(|_| cell[rng.random_range(0..cell.len())])
+            .find(|&i| i != first && alive[i as usize])
+    };
+    let (second, third) = (pick()?, pick()?);
+    if second == third {
+        return None;
     }
+    Plane::through(
+        &points[first as usize].cast(),
+        &points[second as usize].cast(),
+        &points[third as usize].cast(),
+    )
 }
 
 #[cfg(test)]
@@ -286,7 +282,8 @@ mod tests {
                 &Point3::new(0.0, 0.0, 1.0),
                 &PlaneSearchParams::default(),
                 &mut rng,
-            );
+            )
+            .planes;
             let wall = planes.iter().filter(|p| p.plane.normal.dot(&-Vector3::x()) > 0.99).count();
             let floor = planes.iter().filter(|p| p.plane.normal.dot(&Vector3::z()) > 0.99).count();
             assert_eq!((wall, floor, planes.len()), (1, 1, 2), "seed {seed}: {planes:#?}");
@@ -309,6 +306,7 @@ mod tests {
             .collect();
         assert!(
             find_planes(&points, &Point3::origin(), &PlaneSearchParams::default(), &mut rng)
+                .planes
                 .is_empty()
         );
     }

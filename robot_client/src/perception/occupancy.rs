@@ -14,6 +14,10 @@ pub struct Component {
     pub voxels: usize,
     /// Distance from the target to the component's nearest point, metres.
     pub distance_to_target: f64,
+    /// Half the diagonal of the points' bounding box, metres: how far the lump reaches.
+    pub radius: f64,
+    /// The points themselves.
+    pub members: Vec<Point3<f32>>,
 }
 
 /// Occupied voxels of a cloud at a fixed resolution.
@@ -77,6 +81,12 @@ impl OccupancyGrid {
         self.resolution
     }
 
+    /// Whether `p` falls in an occupied voxel.
+    pub fn contains(&self, p: &Point3<f32>) -> bool {
+        let v = [p.x, p.y, p.z].map(|c| (c / self.resolution).floor() as i64);
+        key_of(v).is_some_and(|k| self.keys.binary_search(&k).is_ok())
+    }
+
     /// How many voxels are occupied.
     pub fn occupied(&self) -> usize {
         self.keys.len()
@@ -96,10 +106,15 @@ impl OccupancyGrid {
             stack.push(seed);
             let (mut sum, mut points, mut voxels, mut nearest) =
                 (nalgebra::Vector3::zeros(), 0, 0, f64::INFINITY);
+            let (mut lo, mut hi) =
+                (Point3::from([f32::INFINITY; 3]), Point3::from([f32::NEG_INFINITY; 3]));
+            let mut members = Vec::new();
             while let Some(v) = stack.pop() {
                 voxels += 1;
                 let (from, to) = self.ranges[v];
                 for p in &self.points[from as usize..to as usize] {
+                    (lo, hi) = (lo.inf(p), hi.sup(p));
+                    members.push(*p);
                     let p: Point3<f64> = p.cast();
                     sum += p.coords;
                     points += 1;
@@ -125,6 +140,8 @@ impl OccupancyGrid {
                 points,
                 voxels,
                 distance_to_target: nearest,
+                radius: f64::from((hi - lo).norm()) / 2.0,
+                members,
             });
         }
         components

@@ -59,6 +59,10 @@ pub struct TagDetection {
     pub voxels: usize,
     /// From the target to the tag's nearest point, metres.
     pub distance_to_target: f64,
+    /// How far the tag's points reach from its centroid (half its bounding box's diagonal), metres.
+    pub radius: f64,
+    /// The tag's laser points, base frame.
+    pub members: Vec<Point3<f32>>,
 }
 
 impl From<&Component> for TagDetection {
@@ -68,6 +72,8 @@ impl From<&Component> for TagDetection {
             points: c.points,
             voxels: c.voxels,
             distance_to_target: c.distance_to_target,
+            radius: c.radius,
+            members: c.members.clone(),
         }
     }
 }
@@ -163,6 +169,8 @@ mod tests {
             points,
             voxels: points / 2,
             distance_to_target: distance,
+            radius: 0.05,
+            members: Vec::new(),
         }
     }
 

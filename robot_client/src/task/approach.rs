@@ -6,8 +6,8 @@ use nalgebra::{Point3, Vector2};
 
 use super::drive::{in_base, in_odom};
 use super::report::PhaseReport;
-use crate::hal::{ColorCamera, HalError, MobileBase, TiltSweep, TiltingLaser};
-use crate::navigation::{ApproachParams, ApproachPlan, Clearance, plan_approach};
+use crate::hal::{ColorCamera, HalError, MobileBase, Operator, TiltSweep, TiltingLaser};
+use crate::navigation::{ApproachParams, ApproachPlan, Clearance, RejectedPlane, plan_approach};
 
 /// Perceives around `target` (odometry frame) from where the robot stands.
 pub(crate) fn perceive(
@@ -25,25 +25,48 @@ pub(crate) fn perceive(
 
 /// Finds the tag and drives to its waypoint; returns the tag's centre in the odometry frame,
 /// or `None` (with the reason in the report) when there is no way to approach it.
+///
+/// When a look finds the tag but no surface behind it, the robot first looks again from a
+/// better place (square to the surface it half saw, or further back), as the paper's person
+/// would otherwise be asked to point again; only when that look fails too is the person asked.
 pub(crate) fn approach_tag(
     robot: &(impl ColorCamera + TiltingLaser + MobileBase),
+    operator: &dyn Operator,
     target: &Point3<f64>,
     sweep: &TiltSweep,
     params: &ApproachParams,
     report: &mut PhaseReport,
 ) -> Result<Option<Point3<f64>>, HalError> {
-    let mut plan = perceive(robot, target, sweep, params)?;
+    let mut target = *target;
+    let mut plan = perceive(robot, &target, sweep, params)?;
     if plan.tag.is_none() {
         // Too close to see it whole, or at the image's edge: step back once and look again.
         robot.drive(-0.25)?;
         report.note("no tag near the pointed location; backed off 0.25 m to look again");
-        plan = perceive(robot, target, sweep, params)?;
-    } else if plan.backing_plane.is_none() {
-        // A sparse scan of an oblique surface: one more look usually finds it.
-        report
-            .note(format!("no surface behind the tag among {} planes; looking again", plan.planes));
+        plan = perceive(robot, &target, sweep, params)?;
+    }
+    if plan.tag.is_some() && plan.backing_plane.is_none() {
+        report.note(format!(
+            "no surface behind the tag among {} planes ({})",
+            plan.planes.len(),
+            nearest_rejection(&plan)
+        ));
+        let moved = step_to_a_better_view(robot, &plan, report)?;
         let again = ApproachParams { seed: params.seed.wrapping_add(1), ..params.clone() };
-        plan = perceive(robot, target, sweep, &again)?;
+        plan = perceive(robot, &target, sweep, &again)?;
+        if plan.backing_plane.is_none() {
+            report.note(format!(
+                "still no surface behind the tag {}; asking the person to point again",
+                if moved { "from there" } else { "on a second look" }
+            ));
+            match operator.pointed_target()? {
+                Some(pointed) => {
+                    target = in_odom(robot, &pointed)?;
+                    plan = perceive(robot, &target, sweep, &again)?;
+                }
+                None => report.note("nobody pointed again"),
+            }
+        }
     }
     let Some(sighting) = &plan.tag else {
         report.fail("no red tag near the pointed location");
@@ -57,12 +80,17 @@ pub(crate) fn approach_tag(
         if sighting.is_ambiguous() { " (another tag about as near)" } else { "" }
     ));
     let (Some(plane), Some(waypoint)) = (&plan.backing_plane, &plan.waypoint) else {
-        report.fail(format!("no surface behind the tag among {} planes", plan.planes));
+        report.fail(format!(
+            "no surface behind the tag among {} planes ({})",
+            plan.planes.len(),
+            nearest_rejection(&plan)
+        ));
         return Ok(None);
     };
     report.note(format!(
         "backing plane: {} points, {} planes in the volume of interest",
-        plane.points, plan.planes
+        plane.points,
+        plan.planes.len()
     ));
     if let Some(Clearance::Blocked { points, .. }) = plan.clearance {
         report
@@ -78,4 +106,61 @@ pub(crate) fn approach_tag(
         w.y.atan2(w.x).to_degrees()
     ));
     Ok(Some(tag_odom))
+}
+
+/// Why the plane nearest the tag was not taken, for the report.
+fn nearest_rejection(plan: &ApproachPlan) -> String {
+    let Some(tag) = plan.tag.as_ref().map(|s| s.nearest().centroid) else {
+        return "no tag".into();
+    };
+    plan.rejected_planes
+        .iter()
+        .min_by(|a, b| {
+            let height = |r: &RejectedPlane| (r.normal.dot(&tag.coords) + r.offset).abs();
+            height(a).total_cmp(&height(b))
+        })
+        .map_or("no plane was even tried".into(), |r| format!("the nearest: {}", r.why))
+}
+
+/// Moves the base to look at the tag from a better place: square to the vertical surface the
+/// look half saw nearest the tag (a front seen too obliquely, or too sparsely to pass as one),
+/// at the same distance; or, with no such surface, 0.3 m further back for a wider view. Says
+/// where it went; `false` when it did not move.
+fn step_to_a_better_view(
+    robot: &(impl ColorCamera + TiltingLaser + MobileBase),
+    plan: &ApproachPlan,
+    report: &mut PhaseReport,
+) -> Result<bool, HalError> {
+    let Some(tag) = plan.tag.as_ref().map(|s| s.nearest().centroid) else { return Ok(false) };
+    let here = Vector2::new(tag.x, tag.y);
+    let distance = here.norm().clamp(0.8, 1.3);
+    // The surface is the vertical plane nearest the tag, its normal toward the robot.
+    let facing = plan
+        .rejected_planes
+        .iter()
+        .filter(|r| r.normal.z.abs() < 20f64.to_radians().sin())
+        .filter(|r| (r.normal.dot(&tag.coords) + r.offset).abs() < 0.1)
+        .min_by(|a, b| {
+            let height = |r: &RejectedPlane| (r.normal.dot(&tag.coords) + r.offset).abs();
+            height(a).total_cmp(&height(b))
+        })
+        .and_then(|r| Vector2::new(r.normal.x, r.normal.y).try_normalize(1e-6));
+    match facing {
+        Some(out) if out.dot(&-here.normalize()).acos() > 15f64.to_radians() => {
+            let stand = here + out * distance;
+            robot.move_relative(stand, (-out.y).atan2(-out.x))?;
+            report.note(format!(
+                "stepped {:.2} m to look square at the surface the tag seems to be on, \
+                 {:.2} m out from it",
+                stand.norm(),
+                distance
+            ));
+            Ok(true)
+        }
+        _ => {
+            robot.drive(-0.3)?;
+            report.note("backed off 0.3 m for a wider view of the tag's surroundings");
+            Ok(true)
+        }
+    }
 }

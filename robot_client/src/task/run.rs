@@ -91,7 +91,8 @@ pub async fn run_task(
     // Phase 2: find the tag and the surface behind it; drive to the waypoint.
     let phase = report.phase(2, "approach the tag perpendicular to its surface");
     let config = &with_known_tag_colours(config, registry, phase);
-    let Some(mut tag) = approach_tag(robot, &target, &config.sweep, &config.approach, phase)?
+    let Some(mut tag) =
+        approach_tag(robot, operator, &target, &config.sweep, &config.approach, phase)?
     else {
         return Ok(report);
     };
