@@ -1,14 +1,22 @@
 //! The paper's Table I protocol (§V): 48 trials in the simulator against an in-process
 //! registry, every one of them stored there. All 48 must come out right (the paper got 43), for
-//! the EL-E-like robot and for the Stretch-like one, which acts by its class's overrides.
+//! the EL-E-like robot and for the Stretch-like one, which acts by its class's overrides. In a
+//! home (red things beside the tags, the switches 30 cm apart, lacquer, evening light) at most
+//! one of the 48 may miss.
 
 mod support;
 
 use pps_robot::cli::{flush_until_stored, render_table, run_trials};
 use pps_robot::registry::RegistryClient;
+use pps_robot::sim::RoomOptions;
 
-async fn protocol(registry: &support::Registry, client: &RegistryClient) {
-    let rows = run_trials(client, 0, None, false).await.unwrap();
+async fn protocol(
+    registry: &support::Registry,
+    client: &RegistryClient,
+    room: RoomOptions,
+    least: u32,
+) {
+    let rows = run_trials(client, room, 0, None, false).await.unwrap();
     flush_until_stored(client).await.unwrap();
     println!("{}", render_table(&rows, false));
 
@@ -19,21 +27,40 @@ async fn protocol(registry: &support::Registry, client: &RegistryClient) {
     let own = stored.iter().filter(|t| t["robot"] == robot.as_str()).count();
     assert_eq!(own, 48, "every trial is stored in the registry");
     let successes: u32 = rows.iter().map(|r| r.successes).sum();
-    assert_eq!(successes, 48, "every trial right:\n{}", render_table(&rows, false));
+    assert!(successes >= least, "{successes} of 48 right:\n{}", render_table(&rows, false));
+}
+
+async fn second_class(registry: &support::Registry, dir: &std::path::Path) -> RegistryClient {
+    let capabilities = ["light_switch", "pull_back", "push", "pull_lamp", "drop"];
+    registry.add_robot("stretch-1", "stretch", &capabilities, dir).await
 }
 
 #[tokio::test(flavor = "multi_thread")]
 async fn table_one_protocol() {
     let dir = tempfile::tempdir().unwrap();
     let registry = support::Registry::start(dir.path()).await;
-    protocol(&registry, &registry.client(dir.path())).await;
+    protocol(&registry, &registry.client(dir.path()), RoomOptions::default(), 48).await;
 }
 
 #[tokio::test(flavor = "multi_thread")]
 async fn table_one_protocol_for_the_second_robot_class() {
     let dir = tempfile::tempdir().unwrap();
     let registry = support::Registry::start(dir.path()).await;
-    let capabilities = ["light_switch", "pull_back", "push", "pull_lamp", "drop"];
-    let stretch = registry.add_robot("stretch-1", "stretch", &capabilities, dir.path()).await;
-    protocol(&registry, &stretch).await;
+    let stretch = second_class(&registry, dir.path()).await;
+    protocol(&registry, &stretch, RoomOptions::default(), 48).await;
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn table_one_protocol_in_a_home() {
+    let dir = tempfile::tempdir().unwrap();
+    let registry = support::Registry::start(dir.path()).await;
+    protocol(&registry, &registry.client(dir.path()), RoomOptions::home(), 47).await;
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn table_one_protocol_in_a_home_for_the_second_robot_class() {
+    let dir = tempfile::tempdir().unwrap();
+    let registry = support::Registry::start(dir.path()).await;
+    let stretch = second_class(&registry, dir.path()).await;
+    protocol(&registry, &stretch, RoomOptions::home(), 47).await;
 }

@@ -38,6 +38,10 @@ pub struct RunArgs {
     /// A failure to inject: lamp-unplugged, drawer-stuck or sticky-object.
     #[arg(long, value_parser = parse_fault)]
     pub fault: Option<Fault>,
+    /// The simulated room: paper (the paper's lab) or home (red things beside the tags, the
+    /// switches' tags 30 cm apart, lacquered fronts, evening light).
+    #[arg(long, default_value = "paper", value_parser = RoomOptions::named)]
+    pub room: RoomOptions,
 }
 
 /// The failures of the paper's second set of trials.
@@ -270,6 +274,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         let trial = SimulatedTrial {
             start_angle: args.from.angle(),
             seed: args.seed,
+            room: args.room,
             body: start_up(&registry).await?,
             ..SimulatedTrial::new(args.device, &args.action, args.fault)
         };

@@ -38,6 +38,10 @@ pub struct TrialsArgs {
     /// Print one JSON document `{"rows": [...]}` and nothing else on stdout.
     #[arg(long)]
     pub json: bool,
+    /// The simulated room: paper (the paper's lab) or home (red things beside the tags, the
+    /// switches' tags 30 cm apart, lacquered fronts, evening light).
+    #[arg(long, default_value = "paper", value_parser = RoomOptions::named)]
+    pub room: RoomOptions,
 }
 
 /// One row of Table I: a device, a scenario, and the paper's figure for it.
@@ -159,9 +163,10 @@ fn counts(protocol: &Protocol, outcome: Option<Outcome>, achieved: bool) -> bool
     }
 }
 
-/// Runs the protocol (or `randomized` random trials) and returns the table.
+/// Runs the protocol (or `randomized` random trials) in `room` and returns the table.
 pub async fn run_trials(
     registry: &RegistryClient,
+    room: RoomOptions,
     seed: u64,
     randomized: Option<usize>,
     progress: bool,
@@ -182,6 +187,7 @@ pub async fn run_trials(
                         start_angle: direction.angle(),
                         seed: seed.wrapping_mul(1000) + (i * 4 + k) as u64,
                         body,
+                        room,
                         ..SimulatedTrial::new(p.device, p.action, p.fault)
                     };
                     (i, trial)
@@ -200,12 +206,17 @@ pub async fn run_trials(
                     // along the wall (but not over the sideboard, where no robot could stand
                     // to reach it), the lamp and the trash can along their walls (clear of the
                     // furniture beside them).
+                    // In a home the switches keep their tags 25–35 cm apart.
                     room: RoomOptions {
-                        switch_spacing: rng.random_range(2.2..2.9),
+                        switch_spacing: if room.switch_spacing < 1.0 {
+                            rng.random_range(0.25..0.35)
+                        } else {
+                            rng.random_range(2.2..2.9)
+                        },
                         switch_raise: rng.random_range(-0.08..0.08),
                         lamp_along: rng.random_range(4.3..4.7),
                         trash_can_along: rng.random_range(2.35..3.2),
-                        ..RoomOptions::default()
+                        ..room
                     },
                     seed: seed.wrapping_mul(1_000_003) + n as u64,
                     body,
@@ -333,7 +344,7 @@ pub fn run(args: &TrialsArgs) -> anyhow::Result<()> {
         // A robot at work for minutes follows the change feed, so it uses its cached entries
         // without asking each time and still sees a caretaker's edit.
         let _watch = registry.watch_changes();
-        let rows = run_trials(&registry, args.seed, args.randomized, true).await?;
+        let rows = run_trials(&registry, args.room, args.seed, args.randomized, true).await?;
         flush_until_stored(&registry).await?;
         if args.json {
             println!("{}", rows_json(&rows));

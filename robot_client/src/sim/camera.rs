@@ -69,15 +69,22 @@ fn shade(
     hit: &Hit,
     flash: Option<(&Point3<f32>, f32)>,
 ) -> [f32; 3] {
-    let mut irradiance = 0.05;
+    let mut irradiance = room.daylight;
     if lighting.ceiling_on {
         irradiance += 0.2 + point_light(hit, &room.ceiling_light, 2.0);
     }
     if lighting.lamp_on {
         irradiance += 0.05 + point_light(hit, &room.lamp_light, 0.6);
     }
+    let mut highlight = 0.0;
     if let Some((origin, power)) = flash {
-        irradiance += point_light(hit, origin, power);
+        let from_flash = point_light(hit, origin, power);
+        irradiance += from_flash;
+        if let Surface::Glossy { shine, .. } = room.scene.parts()[hit.part].surface {
+            // The flash sits at the lens, so the mirror direction is straight back along the ray.
+            let facing = hit.normal.dot(&(origin - hit.point).normalize()).max(0.0);
+            highlight = shine * from_flash * facing.powi(60);
+        }
     }
     let reflectance = room.scene.reflectance(hit);
     let glow = match room.scene.parts()[hit.part].surface {
@@ -89,7 +96,7 @@ fn shade(
         }
         _ => 0.0,
     };
-    reflectance.map(|r| r * irradiance + glow)
+    reflectance.map(|r| r * irradiance + glow + highlight)
 }
 
 /// Renders the colour image a camera at `world_from_camera` (optical frame: z out of the lens,

@@ -1,6 +1,9 @@
 //! The room of the paper's experiments (§V): walls, and the five PPS-tagged devices, the
 //! switches on a wall at about 1.2 m, the lamp, drawer and trash can each next to a wall, plus
-//! reddish-brown wooden furniture to tempt the red segmentation.
+//! reddish-brown wooden furniture to tempt the red segmentation. [`RoomOptions::home`] adds what
+//! homes have and the paper's lab did not: red things that are not tags beside the tagged
+//! devices, the two switches' tags 30 cm apart, lacquered fronts that mirror the flash, and
+//! evening light.
 
 use nalgebra::{Point3, Vector3};
 use pps_schema::Epc;
@@ -76,6 +79,30 @@ pub struct RoomOptions {
     pub lamp_along: f32,
     pub trash_can_along: f32,
     pub wood_furniture: bool,
+    /// Red things that are not tags within 30 cm of the tags (a book on the cabinet, a scarf on
+    /// the lamp's pole, a cloth over the trash can's side, a picture by the switch), and
+    /// lacquered drawer fronts and trash can that mirror the flash.
+    pub clutter: bool,
+    /// Evening: little daylight, the rooms lit mainly by their lamps.
+    pub evening: bool,
+}
+
+impl RoomOptions {
+    /// A home rather than a lab: clutter, the two switches' tags 30 cm apart, evening light.
+    pub fn home() -> Self {
+        Self { clutter: true, evening: true, switch_spacing: 0.3, ..Self::default() }
+    }
+
+    /// The room a command line names: `paper` (the lab of the paper's trials) or `home`.
+    pub fn named(name: &str) -> Result<Self, String> {
+        match name {
+            "paper" => Ok(Self::default()),
+            "home" => Ok(Self::home()),
+            _ => Err(format!(
+                "`{name}` is not a room: paper (the paper's lab) or home (clutter, evening light)"
+            )),
+        }
+    }
 }
 
 impl Default for RoomOptions {
@@ -87,6 +114,8 @@ impl Default for RoomOptions {
             lamp_along: 4.5,
             trash_can_along: 2.65,
             wood_furniture: true,
+            clutter: false,
+            evening: false,
         }
     }
 }
@@ -98,6 +127,8 @@ pub struct Room {
     pub devices: Vec<Device>,
     pub ceiling_light: Point3<f32>,
     pub lamp_light: Point3<f32>,
+    /// Irradiance from daylight through the windows, on every surface alike.
+    pub daylight: f32,
 }
 
 const WIDTH: f32 = 7.0; // along x
@@ -114,6 +145,9 @@ const BLUE: Surface = Surface::Matte([0.05, 0.09, 0.35]);
 const FOAM: Surface = Surface::Matte([0.55, 0.030, 0.035]);
 const DYCEM: Surface = Surface::Matte([0.50, 0.025, 0.040]);
 const TOWEL: Surface = Surface::Matte([0.45, 0.020, 0.030]);
+/// Red things that are not tags: as red as the tags, so colour alone cannot tell them apart.
+const RED_BOOK: Surface = Surface::Matte([0.48, 0.022, 0.030]);
+const RED_CLOTH: Surface = Surface::Matte([0.52, 0.028, 0.034]);
 
 impl Room {
     /// The paper's room with the default options.
@@ -250,16 +284,24 @@ impl Room {
 
         // Drawer cabinet against the east wall; a red towel hangs from the top drawer's handle.
         let a = 3.775;
+        let lacquer = |s: Surface| match s {
+            Surface::Matte(reflectance) if options.clutter => {
+                Surface::Glossy { reflectance, shine: 4.0 }
+            }
+            other => other,
+        };
         parts.push(east.cuboid("cabinet", [a, 0.225, 0.375], [0.225, 0.225, 0.375], LAMINATE));
-        parts.push(east.cuboid("top drawer", [a, 0.4575, 0.56], [0.205, 0.0075, 0.16], PLASTIC));
-        parts.push(east.cuboid("bottom drawer", [a, 0.4575, 0.20], [0.205, 0.0075, 0.17], PLASTIC));
+        let front = lacquer(PLASTIC);
+        parts.push(east.cuboid("top drawer", [a, 0.4575, 0.56], [0.205, 0.0075, 0.16], front));
+        parts.push(east.cuboid("bottom drawer", [a, 0.4575, 0.20], [0.205, 0.0075, 0.17], front));
         parts.push(east.cuboid("drawer handle", [a, 0.477, 0.64], [0.06, 0.012, 0.01], METAL));
         parts.push(east.cuboid("drawer towel", [a, 0.495, 0.52], [0.08, 0.004, 0.12], red(TOWEL)));
         tag(DeviceKind::Drawer, &east, [a, 0.495, 0.52]);
 
         // Trash can against the west wall, a red Dycem patch near the top of its front.
         let a = options.trash_can_along;
-        parts.push(west.cuboid("trash can", [a, 0.145, 0.225], [0.15, 0.125, 0.225], DARK_PLASTIC));
+        let can = lacquer(DARK_PLASTIC);
+        parts.push(west.cuboid("trash can", [a, 0.145, 0.225], [0.15, 0.125, 0.225], can));
         parts.push(west.cuboid(
             "trash can dycem",
             [a, 0.2715, 0.36],
@@ -268,6 +310,41 @@ impl Room {
         ));
         tag(DeviceKind::TrashCan, &west, [a, 0.2715, 0.36]);
 
+        if options.clutter {
+            let (switch, lamp, can, cabinet) =
+                (2.0, options.lamp_along, options.trash_can_along, 3.775);
+            // A red picture on the wall 30 cm to the flip switch's left, at its height.
+            let h = 1.25 + options.switch_raise;
+            parts.push(north.cuboid(
+                "red picture",
+                [switch - 0.3, 0.01, h],
+                [0.08, 0.01, 0.1],
+                RED_BOOK,
+            ));
+            // A red scarf wound round the lamp's pole 25 cm below its tag.
+            parts.push(south.cylinder(
+                "red scarf",
+                [lamp, 0.25, 0.86],
+                [0.0, 0.0, 1.0],
+                0.06,
+                0.03,
+                RED_CLOTH,
+            ));
+            // A red cloth hung over the trash can's right side, 22 cm from its tag.
+            parts.push(west.cuboid(
+                "red cloth",
+                [can + 0.153, 0.17, 0.36],
+                [0.003, 0.08, 0.07],
+                RED_CLOTH,
+            ));
+            // A red book lying on the cabinet, toward its front, 30 cm from the towel.
+            parts.push(east.cuboid(
+                "red book",
+                [cabinet + 0.12, 0.37, 0.77],
+                [0.11, 0.07, 0.02],
+                RED_BOOK,
+            ));
+        }
         if options.wood_furniture {
             parts.push(north.cuboid("sideboard", [3.5, 0.2, 0.4], [0.4, 0.2, 0.4], Surface::Wood));
             parts.push(east.cuboid(
@@ -284,7 +361,8 @@ impl Room {
             ));
             parts.push(west.cuboid("chest", [1.6, 0.25, 0.3], [0.35, 0.25, 0.3], Surface::Wood));
         }
-        Self { scene: Scene::new(parts), devices, ceiling_light, lamp_light }
+        let daylight = if options.evening { 0.012 } else { 0.05 };
+        Self { scene: Scene::new(parts), devices, ceiling_light, lamp_light, daylight }
     }
 
     pub fn device(&self, kind: DeviceKind) -> &Device {

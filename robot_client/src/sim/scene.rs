@@ -22,6 +22,9 @@ pub enum Surface {
     Wood,
     /// A lamp shade or light fixture: matte, and glowing while its light is on.
     Glowing { reflectance: [f32; 3], source: LightSource, radiance: f32 },
+    /// Lacquer or glazed tile: a matte colour under a clear coat that mirrors the flash back
+    /// where it faces the camera; `shine` is the highlight's peak relative to a white surface.
+    Glossy { reflectance: [f32; 3], shine: f32 },
 }
 
 /// One solid of the scene.
@@ -128,7 +131,9 @@ impl Scene {
     /// Linear-light reflectance of the surface at a hit point.
     pub fn reflectance(&self, hit: &Hit) -> [f32; 3] {
         match self.parts[hit.part].surface {
-            Surface::Matte(rgb) | Surface::Glowing { reflectance: rgb, .. } => rgb,
+            Surface::Matte(rgb)
+            | Surface::Glowing { reflectance: rgb, .. }
+            | Surface::Glossy { reflectance: rgb, .. } => rgb,
             Surface::Wood => {
                 let g = wood_grain(hit.point.x, hit.point.y, hit.point.z);
                 // Defined in the camera's sRGB HSV, where the tag thresholds live: hue 28° down
