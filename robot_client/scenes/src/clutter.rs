@@ -10,10 +10,13 @@ use crate::geometry::Shape;
 use crate::materials::{self, Material};
 use crate::scene::Primitive;
 
-/// The room: the wall behind the device at x = `wall_x_m`, the floor, the ceiling.
+/// The room, a closed box: the wall behind the device at x = `wall_x_m`, the opposite wall
+/// `depth_m` further into the room, end walls at y = `y_m`, floor and ceiling.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Room {
     pub wall_x_m: f64,
+    pub depth_m: f64,
+    pub y_m: [f64; 2],
     pub ceiling_m: f64,
     pub wall: Material,
     pub floor: Material,
@@ -22,29 +25,34 @@ pub struct Room {
 impl Room {
     pub fn primitives(&self) -> Vec<Primitive> {
         let quarter = std::f64::consts::FRAC_PI_2;
-        let wall_pose = Isometry3::from_parts(
-            Translation3::new(self.wall_x_m, 0.0, self.ceiling_m / 2.0),
-            UnitQuaternion::from_axis_angle(&Vector3::y_axis(), quarter),
-        );
-        let reach = 6.0;
-        let flat = |z: f64| Isometry3::translation(self.wall_x_m + reach / 2.0, 0.0, z);
+        let (x0, x1) = (self.wall_x_m, self.wall_x_m + self.depth_m);
+        let [y0, y1] = self.y_m;
+        let (xc, yc, zc) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0, self.ceiling_m / 2.0);
+        let (hx, hy, hz) = (self.depth_m / 2.0, (y1 - y0) / 2.0, self.ceiling_m / 2.0);
+        // Rectangles lie in their x–y plane: turned about y they face along x, about x along y.
+        let facing_x = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), quarter);
+        let facing_y = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), quarter);
+        let at = |x: f64, y: f64, z: f64, turn: UnitQuaternion<f64>| {
+            Isometry3::from_parts(Translation3::new(x, y, z), turn)
+        };
+        let wall = |name: &str, half: [f64; 2], pose: Isometry3<f64>| {
+            Primitive::new(name, Shape::Rectangle { half_size: half }, pose, self.wall)
+        };
         vec![
-            Primitive::new(
-                "wall",
-                Shape::Rectangle { half_size: [self.ceiling_m / 2.0, 4.0] },
-                wall_pose,
-                self.wall,
-            ),
+            wall("wall", [hz, hy], at(x0, yc, zc, facing_x)),
+            wall("opposite wall", [hz, hy], at(x1, yc, zc, facing_x)),
+            wall("end wall", [hx, hz], at(xc, y0, zc, facing_y)),
+            wall("end wall", [hx, hz], at(xc, y1, zc, facing_y)),
             Primitive::new(
                 "floor",
-                Shape::Rectangle { half_size: [reach / 2.0, 4.0] },
-                flat(0.0),
+                Shape::Rectangle { half_size: [hx, hy] },
+                Isometry3::translation(xc, yc, 0.0),
                 self.floor,
             ),
             Primitive::new(
                 "ceiling",
-                Shape::Rectangle { half_size: [reach / 2.0, 4.0] },
-                flat(self.ceiling_m),
+                Shape::Rectangle { half_size: [hx, hy] },
+                Isometry3::translation(xc, yc, self.ceiling_m),
                 materials::WALLS[0],
             ),
         ]

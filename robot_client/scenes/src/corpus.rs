@@ -331,8 +331,11 @@ fn place(
     let tag_base = base_from_device * tag_d;
     let laser = draw_laser(d, &camera_pose, camera_yaw, &tag_base, w);
     let lighting = if d.chance(0.6) { Lighting::Bright } else { Lighting::Dim };
+    // A room of 3.5–6 m by 2.4–8 m, with the robot well inside it.
     let room = Room {
         wall_x_m: device.wall_x,
+        depth_m: d.u(3.5, 6.0).max(camera_d.x - device.wall_x + 1.0),
+        y_m: [(-d.u(1.2, 4.0)).min(camera_d.y - 0.8), d.u(1.2, 4.0).max(camera_d.y + 0.8)],
         ceiling_m: d.u(2.35, 2.7),
         wall: materials::WALLS[d.rng.random_range(0..materials::WALLS.len())],
         floor: materials::FLOORS[d.rng.random_range(0..materials::FLOORS.len())],
