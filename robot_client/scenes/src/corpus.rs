@@ -6,20 +6,20 @@
 //!
 //! Sampling happens in the device frame of [`crate::devices`]; one rigid motion then puts the
 //! device, its room and the clutter in front of the robot, whose base frame is the scene's.
+//! [`crate::rig`] draws the sensors and lights, [`crate::furnishing`] the clutter.
 
-use nalgebra::{
-    Isometry3, Matrix3, Point3, Rotation3, Translation3, UnitQuaternion, Vector2, Vector3,
-};
+use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector2, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use crate::camera::CameraModel;
-use crate::clutter::{Clutter, Distractor, DistractorKind, Room};
-use crate::devices::{self, Device, DeviceKind, DeviceParameters, Extent};
+use crate::clutter::{Clutter, Distractor, Room};
+use crate::devices::{self, Device, DeviceKind, DeviceParameters};
+use crate::furnishing::draw_clutter;
 use crate::laser::LaserModel;
-use crate::lighting::{Lights, PointLight};
 use crate::materials;
+use crate::rig::{draw_laser, draw_lights, optical_pose};
 use crate::scene::{Pose, Scene};
 use crate::truth::Truth;
 
@@ -116,20 +116,21 @@ pub struct DrawnScene {
 }
 
 /// The random draws of one scene.
-struct Draw {
-    rng: ChaCha8Rng,
+pub(crate) struct Draw {
+    pub(crate) rng: ChaCha8Rng,
 }
 
 impl Draw {
-    fn u(&mut self, lo: f64, hi: f64) -> f64 {
+    /// Uniform in [lo, hi).
+    pub(crate) fn u(&mut self, lo: f64, hi: f64) -> f64 {
         if hi <= lo { lo } else { self.rng.random_range(lo..hi) }
     }
 
-    fn chance(&mut self, p: f64) -> bool {
+    pub(crate) fn chance(&mut self, p: f64) -> bool {
         self.rng.random_bool(p.clamp(0.0, 1.0))
     }
 
-    fn sign(&mut self) -> f64 {
+    pub(crate) fn sign(&mut self) -> f64 {
         if self.chance(0.5) { 1.0 } else { -1.0 }
     }
 }
@@ -264,21 +265,6 @@ fn draw_view(device: &Device, d: &mut Draw) -> View {
     }
 }
 
-/// The base frame from the optical frame of a camera at `eye` with the given yaw, pitch down and
-/// roll, radians.
-fn optical_pose(eye: Point3<f64>, yaw: f64, pitch: f64, roll: f64) -> Isometry3<f64> {
-    let z = Vector3::new(pitch.cos() * yaw.cos(), pitch.cos() * yaw.sin(), -pitch.sin());
-    let x0 = Vector3::new(yaw.sin(), -yaw.cos(), 0.0);
-    let y0 = z.cross(&x0);
-    let x = x0 * roll.cos() + y0 * roll.sin();
-    let y = z.cross(&x);
-    let rotation = Rotation3::from_matrix_unchecked(Matrix3::from_columns(&[x, y, z]));
-    Isometry3::from_parts(
-        Translation3::from(eye.coords),
-        UnitQuaternion::from_rotation_matrix(&rotation),
-    )
-}
-
 fn place(
     seed: u64,
     redraws: u32,
@@ -392,297 +378,4 @@ fn place(
         truth,
         target: (tag_base + error).coords.into(),
     }
-}
-
-/// The laser: mounted 5–30 cm from the camera, its sweep covering the volume around the tag,
-/// its density growing with the image size (60k points at 640 wide to 250k at 1280).
-fn draw_laser(
-    d: &mut Draw,
-    camera: &Isometry3<f64>,
-    camera_yaw: f64,
-    tag: &Point3<f64>,
-    width: u32,
-) -> LaserModel {
-    let direction = Vector3::new(d.u(-0.3, 0.5), d.u(-0.6, 0.6), d.u(-1.0, 0.3)).normalize();
-    let head_at = camera.translation.vector + direction * d.u(0.05, 0.30);
-    let head_yaw = camera_yaw + d.u(-3f64, 3.0).to_radians();
-    let mount = UnitQuaternion::from_euler_angles(
-        d.u(-1f64, 1.0).to_radians(),
-        d.u(-1f64, 1.0).to_radians(),
-        head_yaw,
-    );
-    let head = Isometry3::from_parts(Translation3::from(head_at), mount);
-    let to_tag = tag - Point3::from(head_at);
-    let reach = to_tag.xy().norm();
-    let (near, far) = ((reach - 0.55).max(0.25), reach + 0.55);
-    let (top, bottom) = (tag.z + 0.55 - head_at.z, (tag.z - 0.55).max(0.0) - head_at.z);
-    let up = top.atan2(if top > 0.0 { near } else { far });
-    let down = bottom.atan2(if bottom < 0.0 { near } else { far });
-    let tilt_from_deg = (-up.to_degrees() - d.u(3.0, 12.0)).max(-60.0);
-    let tilt_to_deg = (-down.to_degrees() + d.u(3.0, 12.0)).min(80.0);
-    let off_axis = (to_tag.y.atan2(to_tag.x) - head_yaw).to_degrees().abs();
-    let needed = (0.55 / reach).min(1.0).asin().to_degrees() + off_axis + 3.0;
-    let bearing_half_span_deg = d.u(45.0, 90.0).max(needed);
-    let beam_step_deg = d.u(0.25, 0.5);
-    let beams = (2.0 * bearing_half_span_deg / beam_step_deg).floor() + 1.0;
-    let size = (f64::from(width) - 640.0) / 640.0;
-    let points = ((60_000.0 + 190_000.0 * size) * d.u(0.85, 1.15)).clamp(60_000.0, 250_000.0);
-    let lines = points / 0.95 / beams;
-    let tilt_step_deg = ((tilt_to_deg - tilt_from_deg) / lines).clamp(0.05, 1.0);
-    LaserModel {
-        head: Pose::from_isometry(&head),
-        axis_offset_m: d.u(0.0, 0.04),
-        bearing_half_span_deg,
-        beam_step_deg,
-        tilt_from_deg,
-        tilt_to_deg,
-        tilt_step_deg,
-        tilt_jitter_deg: d.u(0.02, 0.12),
-        divergence_deg: d.u(0.15, 0.45),
-        noise_scale: d.u(0.8, 1.6),
-        dropout_rate: d.u(0.0, 0.05),
-        min_range_m: 0.1,
-        max_range_m: 8.0,
-    }
-}
-
-fn draw_lights(
-    lighting: Lighting,
-    room: &Room,
-    base_from_device: &Isometry3<f64>,
-    camera: &Isometry3<f64>,
-    d: &mut Draw,
-) -> Lights {
-    let warm = [1.0, 0.78, 0.5];
-    let daylight = [1.0, 0.97, 0.92];
-    let (ambient, count, power, colour) = match lighting {
-        Lighting::Bright => (
-            d.u(0.06, 0.15),
-            d.rng.random_range(1..=2),
-            d.u(1.0, 3.0),
-            if d.chance(0.5) { daylight } else { warm },
-        ),
-        Lighting::Dim => (d.u(0.005, 0.03), 1, d.u(0.0, 0.4), warm),
-    };
-    let room_lights = (0..count)
-        .map(|_| {
-            let at =
-                Point3::new(room.wall_x_m + d.u(0.8, 2.5), d.u(-1.5, 1.5), room.ceiling_m - 0.05);
-            PointLight {
-                position: (base_from_device * at).coords.into(),
-                intensity: colour.map(|c| c * power),
-            }
-        })
-        .collect();
-    let ambient_colour = if lighting == Lighting::Dim { warm } else { colour };
-    let flash_at = camera * Point3::new(d.u(-0.02, 0.02), -d.u(0.02, 0.06), 0.0);
-    let flash_power = d.u(0.8, 1.2);
-    Lights {
-        ambient: ambient_colour.map(|c| c * ambient),
-        room: room_lights,
-        flash: Some(PointLight {
-            position: flash_at.coords.into(),
-            intensity: [1.0, 0.98, 0.95].map(|c| c * flash_power),
-        }),
-    }
-}
-
-/// Distance in the floor plane from `p` to the segment `a`–`b`.
-fn to_segment(p: Vector2<f64>, a: Vector2<f64>, b: Vector2<f64>) -> f64 {
-    let ab = b - a;
-    let t = ((p - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0);
-    (a + ab * t - p).norm()
-}
-
-fn overlaps(a: &Extent, b: &Extent, margin: f64) -> bool {
-    a.min.x < b.max.x + margin
-        && b.min.x < a.max.x + margin
-        && a.min.y < b.max.y + margin
-        && b.min.y < a.max.y + margin
-}
-
-/// Clutter and a red distractor around the device, kept off it and out of the sensors' view of
-/// the tag.
-fn draw_clutter(
-    parameters: &DeviceParameters,
-    device: &Device,
-    camera: &Point3<f64>,
-    camera_side: f64,
-    d: &mut Draw,
-) -> (Vec<Clutter>, Option<Distractor>) {
-    let wall = device.wall_x;
-    let kind = parameters.kind();
-    let mut clutter = Vec::new();
-    let mut taken = vec![device.extent];
-    let away = -camera_side;
-    let furniture =
-        |d: &mut Draw| materials::FURNITURE[d.rng.random_range(0..materials::FURNITURE.len())];
-    if d.chance(0.35) {
-        let edge = if away > 0.0 { device.extent.max.y } else { device.extent.min.y };
-        let y_m = edge + away * d.u(0.3, 1.0);
-        let material = materials::WALLS[d.rng.random_range(0..materials::WALLS.len())];
-        clutter.push(Clutter::SideWall { y_m, depth_m: d.u(1.0, 2.5), material });
-    }
-    let boxed = matches!(kind, DeviceKind::Drawer | DeviceKind::TrashCan);
-    if boxed && d.chance(0.4) {
-        let edge = if away > 0.0 { device.extent.max.y } else { device.extent.min.y };
-        let near = edge + away * d.u(0.0, 0.1);
-        let far = near + away * d.u(0.4, 0.9);
-        let c = Clutter::NeighbourCabinet {
-            y_m: [near.min(far), near.max(far)],
-            front_x_m: d.u(-0.15, 0.1),
-            height_m: d.u(0.5, 1.1),
-            material: furniture(d),
-        };
-        taken.push(c.extent(wall));
-        clutter.push(c);
-    }
-    let switch = matches!(kind, DeviceKind::FlipSwitch | DeviceKind::Rocker);
-    if switch && d.chance(0.4) {
-        let side = if camera_side.abs() > 0.0 && d.chance(0.7) { away } else { d.sign() };
-        let material = materials::WALLS[d.rng.random_range(0..materials::WALLS.len())];
-        clutter.push(Clutter::DoorTrim {
-            y_m: side * d.u(0.12, 0.3),
-            width_m: d.u(0.05, 0.09),
-            proud_m: d.u(0.01, 0.02),
-            material,
-        });
-    }
-    // Where a distractor could stand: the device's own tops, or a shelf or table put beside it.
-    let mut tops = device.tops.clone();
-    let wants_distractor = d.chance(0.45);
-    if wants_distractor && switch {
-        let inner = away * d.u(0.08, 0.18);
-        let outer = inner + away * d.u(0.25, 0.45);
-        let depth_m = d.u(0.15, 0.25);
-        let top_m = device.tag_center.z - d.u(0.12, 0.3);
-        clutter.push(Clutter::Shelf {
-            y_m: [inner.min(outer), inner.max(outer)],
-            depth_m,
-            top_m,
-            material: furniture(d),
-        });
-        tops.push(devices::Top {
-            x: [wall + 0.01, wall + depth_m - 0.01],
-            y: [inner.min(outer), inner.max(outer)],
-            z: top_m,
-        });
-    }
-    if wants_distractor && kind == DeviceKind::Lamp {
-        let (hx, hy) = (d.u(0.18, 0.25), d.u(0.18, 0.25));
-        let edge = if away > 0.0 { device.extent.max.y } else { device.extent.min.y };
-        let center = [wall + hx + 0.02, edge + away * (hy + d.u(0.02, 0.12))];
-        let top_m = d.u(0.6, 0.95);
-        let table = Clutter::SideTable {
-            center_m: center,
-            half_size_m: [hx, hy],
-            top_m,
-            material: furniture(d),
-        };
-        taken.push(table.extent(wall));
-        clutter.push(table);
-        tops.push(devices::Top {
-            x: [center[0] - hx + 0.02, center[0] + hx - 0.02],
-            y: [center[1] - hy + 0.02, center[1] + hy - 0.02],
-            z: top_m,
-        });
-    }
-    // Things on the floor keep away from the device and from the line the sensors see the tag along.
-    let eye = camera.xy().coords;
-    let tag = device.tag_center.xy().coords;
-    let distractor = if wants_distractor {
-        place_distractor(device, &tops, &taken, (eye, tag), d)
-    } else {
-        None
-    };
-    if let Some(x) = &distractor
-        && x.kind == DistractorKind::Cushion
-    {
-        taken.push(Distractor::extent(x.kind, x.base_m));
-    }
-    for _ in 0..d.rng.random_range(0..=2) {
-        for _ in 0..30 {
-            let center_m = [d.u(wall + 0.1, wall + 1.4), d.u(-1.3, 1.3)];
-            let c = if d.chance(0.5) {
-                Clutter::FloorBox {
-                    center_m,
-                    half_size_m: [d.u(0.12, 0.25), d.u(0.12, 0.25), d.u(0.1, 0.25)],
-                    yaw_rad: d.u(0.0, std::f64::consts::PI),
-                    material: materials::CLUTTER[d.rng.random_range(0..materials::CLUTTER.len())],
-                }
-            } else {
-                Clutter::FloorBin {
-                    center_m,
-                    radius_m: d.u(0.1, 0.18),
-                    height_m: d.u(0.2, 0.5),
-                    material: materials::CLUTTER[d.rng.random_range(0..materials::CLUTTER.len())],
-                }
-            };
-            let e = c.extent(wall);
-            let radius = (e.max.x - e.min.x).max(e.max.y - e.min.y) / 2.0;
-            let clear = to_segment(Vector2::from(center_m), eye, tag) > radius + 0.15
-                && Vector2::from(center_m).metric_distance(&eye) > radius + 0.4;
-            if clear && !taken.iter().any(|t| overlaps(t, &e, 0.05)) {
-                taken.push(e);
-                clutter.push(c);
-                break;
-            }
-        }
-    }
-    (clutter, distractor)
-}
-
-/// A red book or mug on one of `tops`, or a cushion on the floor, 12 cm or more from the tag and
-/// preferably within 30 cm of it.
-fn place_distractor(
-    device: &Device,
-    tops: &[devices::Top],
-    taken: &[Extent],
-    (eye, tag): (Vector2<f64>, Vector2<f64>),
-    d: &mut Draw,
-) -> Option<Distractor> {
-    let mut best: Option<Distractor> = None;
-    for _ in 0..60 {
-        let on_floor = tops.is_empty() || d.chance(0.2);
-        let kind = if on_floor {
-            DistractorKind::Cushion
-        } else if d.chance(0.5) {
-            DistractorKind::Book
-        } else {
-            DistractorKind::Mug
-        };
-        let [sx, sy, _] = Distractor::size(kind);
-        let r = sx.hypot(sy) / 2.0;
-        let base_m = if on_floor {
-            [d.u(device.wall_x + r + 0.02, device.wall_x + 0.8), d.u(-0.9, 0.9), 0.0]
-        } else {
-            let top = tops[d.rng.random_range(0..tops.len())];
-            if top.x[1] - top.x[0] < 2.0 * r * 0.8 || top.y[1] - top.y[0] < 2.0 * r {
-                continue;
-            }
-            // Set back from a front edge by a little more than its own radius, so it hides nothing.
-            [
-                d.u(top.x[0] + r, (top.x[1] - r).max(top.x[0] + r)),
-                d.u(top.y[0] + r, top.y[1] - r),
-                top.z,
-            ]
-        };
-        let extent = Distractor::extent(kind, base_m);
-        let in_view = to_segment(Vector2::new(base_m[0], base_m[1]), eye, tag) < r + 0.15;
-        if on_floor && (in_view || taken.iter().any(|t| overlaps(t, &extent, 0.03))) {
-            continue;
-        }
-        let gap_m = extent.gap(&device.tag_extent);
-        if gap_m < 0.12 {
-            continue;
-        }
-        let candidate = Distractor { kind, base_m, yaw_rad: d.u(0.0, std::f64::consts::PI), gap_m };
-        if gap_m <= 0.30 {
-            return Some(candidate);
-        }
-        if best.is_none_or(|b| gap_m < b.gap_m) {
-            best = Some(candidate);
-        }
-    }
-    best
 }

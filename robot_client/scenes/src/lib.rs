@@ -19,11 +19,13 @@ pub mod caster;
 pub mod clutter;
 pub mod corpus;
 pub mod devices;
+pub mod furnishing;
 pub mod geometry;
 pub mod laser;
 pub mod lighting;
 pub mod materials;
 pub mod noise;
+pub mod rig;
 pub mod scene;
 pub mod truth;
 
