@@ -1,0 +1,136 @@
+//! `pps-scenes`: write one scene of the independent corpus to files `pps-robot perceive` reads,
+//! or benchmark the approach over the corpus.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+use clap::{Parser, Subcommand};
+use pps_robot::navigation::{ApproachParams, plan_approach};
+use pps_robot::recording::{PlyFormat, write_camera_file, write_ply, write_png};
+use pps_scenes::{DeviceKind, GeneratedScene, generate, judge};
+
+#[derive(Debug, Parser)]
+#[command(name = "pps-scenes", about = "An independent scene source for the robot's perception")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Render one scene and write image.png, cloud.ply, camera.json, truth.json and scene.json.
+    Write {
+        #[arg(long)]
+        seed: u64,
+        /// flip_switch, rocker, lamp, drawer or trash_can; the seed's own kind when left out.
+        #[arg(long, value_parser = parse_kind)]
+        kind: Option<DeviceKind>,
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Run the approach over the corpus and print the median and p95 of every step.
+    Bench {
+        /// Scenes to run, the device kinds in turn (seed i / 5 of kind i % 5, as the corpus test).
+        #[arg(long, default_value_t = 100)]
+        scenes: u64,
+    },
+}
+
+fn parse_kind(text: &str) -> Result<DeviceKind, String> {
+    DeviceKind::parse(text).ok_or_else(|| {
+        let names: Vec<&str> = DeviceKind::ALL.iter().map(|k| k.name()).collect();
+        format!("`{text}` is not a device kind; one of {}", names.join(", "))
+    })
+}
+
+fn main() -> anyhow::Result<()> {
+    match Cli::parse().command {
+        Command::Write { seed, kind, out } => write(seed, kind, &out),
+        Command::Bench { scenes } => {
+            bench(scenes);
+            Ok(())
+        }
+    }
+}
+
+fn write(seed: u64, kind: Option<DeviceKind>, out: &Path) -> anyhow::Result<()> {
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    let scene = generate(seed, kind);
+    let image = out.join("image.png");
+    let cloud = out.join("cloud.ply");
+    let camera = out.join("camera.json");
+    write_png(&image, &scene.image)?;
+    write_ply(&cloud, &scene.cloud, PlyFormat::BinaryLittleEndian)?;
+    write_camera_file(&camera, &scene.calibration)?;
+    let truth = serde_json::json!({
+        "target": scene.drawn.target,
+        "truth": scene.drawn.truth,
+        "parameters": scene.drawn.parameters,
+        "visibility": scene.visibility,
+    });
+    std::fs::write(out.join("truth.json"), serde_json::to_string_pretty(&truth)? + "\n")?;
+    let described = serde_json::json!({
+        "scene": scene.drawn.scene,
+        "camera": scene.drawn.camera,
+        "laser": scene.drawn.laser,
+    });
+    std::fs::write(out.join("scene.json"), serde_json::to_string_pretty(&described)? + "\n")?;
+    let [x, y, z] = scene.drawn.target;
+    eprintln!(
+        "{} seed {seed}: {} (rendered in {:.0} ms)",
+        scene.truth().kind,
+        scene.parameters().summary(),
+        scene.render_ms
+    );
+    println!(
+        "pps-robot perceive --image {} --cloud {} --camera {} --target {x:.4},{y:.4},{z:.4}",
+        image.display(),
+        cloud.display(),
+        camera.display()
+    );
+    Ok(())
+}
+
+/// The value below which `q` of the sorted `values` lie.
+fn quantile(sorted: &[f64], q: f64) -> f64 {
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
+}
+
+fn bench(scenes: u64) {
+    let params = ApproachParams::default();
+    let mut steps: Vec<(&'static str, Vec<f64>)> = Vec::new();
+    let (mut totals, mut renders) = (Vec::new(), Vec::new());
+    let mut right = 0;
+    for i in 0..scenes {
+        let kind = DeviceKind::ALL[(i % 5) as usize];
+        let scene: GeneratedScene = generate(i / 5, Some(kind));
+        renders.push(scene.render_ms);
+        let Ok(plan) =
+            plan_approach(&scene.image, &scene.cloud, &scene.calibration, &scene.target, &params)
+        else {
+            continue;
+        };
+        right += usize::from(judge(scene.truth(), &plan).is_right());
+        totals.push(plan.timings.total_ms());
+        for &(name, ms) in plan.timings.steps() {
+            match steps.iter_mut().find(|(n, _)| *n == name) {
+                Some((_, v)) => v.push(ms),
+                None => steps.push((name, vec![ms])),
+            }
+        }
+    }
+    println!("{:<20} {:>9} {:>9}", "step (ms)", "median", "p95");
+    for (name, mut v) in steps.into_iter().chain([("whole chain", totals)]) {
+        v.sort_by(f64::total_cmp);
+        println!("{name:<20} {:>9.2} {:>9.2}", quantile(&v, 0.5), quantile(&v, 0.95));
+    }
+    renders.sort_by(f64::total_cmp);
+    println!(
+        "{scenes} scenes, {right} right; rendering a scene took {:.0} ms median, {:.0} ms p95",
+        quantile(&renders, 0.5),
+        quantile(&renders, 0.95)
+    );
+}

@@ -1,0 +1,159 @@
+//! An independent scene source for the robot's perception: scenes we did not tune it to.
+//!
+//! The robot's perception was measured only against the simulator's own renderer, and it
+//! failed on the first scenes rendered by anything else (issue 11). This crate is that anything
+//! else, kept deliberately unlike `pps_robot::sim`: scenes are data (boxes, rectangles,
+//! cylinders and a cone frustum with materials, see [`scene`]), cast by its own analytic ray
+//! caster ([`geometry`], [`caster`]), seen by its own camera model ([`camera`]: flash with
+//! inverse-square fall-off, highlights, vignetting, white balance, metered exposure, shot noise,
+//! sRGB) and its own laser ([`laser`]: a tilting scanner mounted apart from the camera, range
+//! noise growing with range and incidence, dropouts, mixed pixels at depth edges, servo
+//! jitter). [`corpus`] draws scenes from seeds across the space the issue names, each with its
+//! [`truth`].
+//!
+//! It must never borrow the simulator's rendering, noise or room, nor be tuned until perception
+//! passes: it only uses the robot's data types, its file writers and the approach under test.
+
+pub mod camera;
+pub mod caster;
+pub mod clutter;
+pub mod corpus;
+pub mod devices;
+pub mod furnishing;
+pub mod geometry;
+pub mod laser;
+pub mod lighting;
+pub mod materials;
+pub mod noise;
+pub mod rig;
+pub mod scene;
+pub mod truth;
+
+use std::time::Instant;
+
+use nalgebra::{Point3, Vector3};
+use pps_robot::hal::{CameraCalibration, ColorImage, PointCloud};
+use serde::Serialize;
+
+pub use corpus::{DrawnScene, SceneParameters, draw};
+pub use devices::DeviceKind;
+pub use truth::{Truth, Verdict, judge};
+
+use caster::RayCaster;
+use noise::NoiseSource;
+
+/// Fewest laser returns on the tag, and pixels of it, for the tag to count as in plain sight; a
+/// draw with fewer is redrawn, since no method could place a tag the sensors barely saw.
+pub const MIN_TAG_POINTS: usize = 30;
+pub const MIN_TAG_PIXELS: usize = 120;
+/// Redraws before a seed gives up on plain sight and keeps its last draw.
+const MAX_REDRAWS: u32 = 20;
+
+/// How well the sensors saw what matters.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Visibility {
+    pub tag_pixels: usize,
+    pub tag_points: usize,
+    /// Laser points within 1.5 cm of the true backing surface's plane and 0.5 m of the tag.
+    pub backing_points: usize,
+    pub cloud_points: usize,
+    /// Centroid of the laser returns on the tag (mixed pixels at its edges included), base
+    /// frame: what a perfect segmentation would report.
+    pub tag_points_centroid: Option<[f64; 3]>,
+}
+
+/// A scene drawn and rendered: what perception gets, and what is true.
+#[derive(Debug, Clone)]
+pub struct GeneratedScene {
+    pub drawn: DrawnScene,
+    pub image: ColorImage,
+    pub cloud: PointCloud,
+    /// Exactly the calibration the image was rendered with.
+    pub calibration: CameraCalibration,
+    pub target: Point3<f64>,
+    pub visibility: Visibility,
+    /// Wall-clock time spent rendering the image and sweeping the laser, milliseconds.
+    pub render_ms: f64,
+}
+
+impl GeneratedScene {
+    pub fn truth(&self) -> &Truth {
+        &self.drawn.truth
+    }
+
+    pub fn parameters(&self) -> &SceneParameters {
+        &self.drawn.parameters
+    }
+}
+
+/// Scene `seed` of the corpus, of the device kind the seed gives.
+pub fn corpus(seed: u64) -> GeneratedScene {
+    generate(seed, None)
+}
+
+/// Scene `seed` of `kind` (the seed's own kind when `None`), rendered.
+pub fn generate(seed: u64, kind: Option<DeviceKind>) -> GeneratedScene {
+    let mut redraw = 0;
+    loop {
+        let drawn = draw(seed, kind, redraw);
+        let scene = render(drawn);
+        let v = scene.visibility;
+        let in_sight = v.tag_points >= MIN_TAG_POINTS && v.tag_pixels >= MIN_TAG_PIXELS;
+        if in_sight || redraw >= MAX_REDRAWS {
+            return scene;
+        }
+        redraw += 1;
+    }
+}
+
+/// Renders a drawn scene: the camera's picture with the flash and the laser's sweep.
+pub fn render(drawn: DrawnScene) -> GeneratedScene {
+    let start = Instant::now();
+    let caster = RayCaster::new(&drawn.scene);
+    let seed = drawn.parameters.seed ^ (u64::from(drawn.parameters.redraws) << 40);
+    let picture = drawn.camera.render(&drawn.scene, &caster, &mut NoiseSource::new(seed, 11));
+    let sweep = drawn.laser.scan(&caster, &mut NoiseSource::new(seed, 12));
+    let render_ms = start.elapsed().as_secs_f64() * 1e3;
+    let on_tag: Vec<Point3<f64>> = sweep
+        .cloud
+        .points
+        .iter()
+        .zip(&sweep.sources)
+        .filter(|(_, i)| caster.material(**i).is_tag)
+        .map(|(p, _)| p.cast())
+        .collect();
+    let tag_points = on_tag.len();
+    let tag_points_centroid = (!on_tag.is_empty()).then(|| {
+        (on_tag.iter().map(|p| p.coords).sum::<Vector3<f64>>() / tag_points as f64).into()
+    });
+    let tag = Point3::from(drawn.truth.tag_center);
+    let normal = Vector3::from(drawn.truth.backing_normal);
+    let foot = Point3::from(drawn.truth.backing_foot);
+    let backing_points = sweep
+        .cloud
+        .points
+        .iter()
+        .zip(&sweep.sources)
+        .filter(|(p, i)| {
+            let p: Point3<f64> = p.cast();
+            !caster.material(**i).is_tag
+                && (p - foot).dot(&normal).abs() < 0.015
+                && (p - tag).xy().norm() < 0.5
+        })
+        .count();
+    GeneratedScene {
+        image: picture.image,
+        calibration: drawn.camera.calibration(),
+        target: Point3::from(drawn.target),
+        visibility: Visibility {
+            tag_pixels: picture.tag_pixels,
+            tag_points,
+            backing_points,
+            cloud_points: sweep.cloud.len(),
+            tag_points_centroid,
+        },
+        cloud: sweep.cloud,
+        drawn,
+        render_ms,
+    }
+}
