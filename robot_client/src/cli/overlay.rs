@@ -34,7 +34,7 @@ pub fn draw_overlay(
     }
     let backing = plan.backing_index.and_then(|i| plan.planes.get(i));
     for &i in backing.map(|p| &p.inliers[..]).unwrap_or_default() {
-        canvas.dot(&plan.surface_points[i as usize].cast(), 0, DARK_GREEN);
+        canvas.dot(&plan.surface_points[i as usize].cast(), 1, DARK_GREEN);
     }
     if let Some(sighting) = &plan.tag {
         for p in &sighting.nearest().members {

@@ -13,6 +13,7 @@ use rand_chacha::ChaCha8Rng;
 use super::backing_plane::{BackingPlane, BackingPlaneRule, choose_backing_plane};
 use super::ransac::{DetectedPlane, PlaneSearch, PlaneSearchParams, find_planes};
 use super::rejection::RejectedPlane;
+use super::tag_centre::tag_centre_on;
 use super::voi::VolumeOfInterest;
 use super::waypoint::{
     ApproachWaypoint, Clearance, RobotFootprint, approach_waypoint, check_clearance,
@@ -93,7 +94,7 @@ pub fn plan_approach(
     params: &ApproachParams,
 ) -> Result<ApproachPlan, PerceptionError> {
     let mut timings = StepTimings::default();
-    let tag = locate_tag(image, cloud, calibration, target, &params.tag, &mut timings)?;
+    let mut tag = locate_tag(image, cloud, calibration, target, &params.tag, &mut timings)?;
     // The robot's sensors sit near the camera: planes face there, and so must the backing plane.
     let robot = Point3::from(calibration.base_from_camera.translation.vector);
     let voi = VolumeOfInterest::around(*target, params.voi_radius, params.voi_half_height);
@@ -130,6 +131,13 @@ pub fn plan_approach(
         }
         None => (None, None),
     };
+    // With the surface known, the tag's centre is the middle of its outline on it.
+    if let (Some(sighting), Some(plane)) = (tag.as_mut(), &backing_plane) {
+        let nearest = sighting.nearest_mut();
+        if let Some(centre) = tag_centre_on(&nearest.members, plane) {
+            nearest.centroid = centre;
+        }
+    }
     let waypoint = timings.time("waypoint", || {
         approach_waypoint(
             &tag.as_ref()?.nearest().centroid,

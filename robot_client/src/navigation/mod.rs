@@ -19,6 +19,7 @@ mod plane_evidence;
 mod ransac;
 mod rejection;
 mod rfid_choice;
+mod tag_centre;
 mod voi;
 mod waypoint;
 
@@ -31,6 +32,7 @@ pub use plane_evidence::{PlanarPatch, PlaneEvidenceRule, assess_plane};
 pub use ransac::{DetectedPlane, PlaneSearch, PlaneSearchParams, find_planes};
 pub use rejection::{PlaneRejection, RejectedPlane};
 pub use rfid_choice::{RfidIdentity, TagSignal, identify_tag};
+pub use tag_centre::tag_centre_on;
 pub use voi::VolumeOfInterest;
 pub use waypoint::{
     ApproachWaypoint, Clearance, RobotFootprint, approach_waypoint, check_clearance,

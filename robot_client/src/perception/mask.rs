@@ -48,6 +48,11 @@ impl Mask {
         }
     }
 
+    /// The first x ≥ `from` in row `y` whose pixel is `value`, or the width.
+    pub(crate) fn next_with(&self, y: usize, from: usize, value: bool) -> usize {
+        next_with(self.row(y), from, self.width, value)
+    }
+
     /// Row `y` as words, for writers that fill a row 64 pixels at a time.
     pub(crate) fn row_mut(&mut self, y: usize) -> &mut [u64] {
         &mut self.words[y * self.words_per_row..(y + 1) * self.words_per_row]

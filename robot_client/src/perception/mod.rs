@@ -9,6 +9,7 @@
 //! Perception works on data, never on devices: it takes images and clouds, not traits, and it
 //! never touches the simulator, so recorded data from a real robot runs through the same code.
 
+mod blobs;
 mod brightness;
 mod hsv;
 mod mask;
@@ -17,6 +18,7 @@ mod projection;
 mod tag;
 mod tag_colours;
 
+pub use blobs::Blobs;
 pub use brightness::{BrightnessChange, LightChange, brightness_change};
 pub use hsv::{HsvThresholds, ThresholdError, segment_color};
 pub use mask::Mask;

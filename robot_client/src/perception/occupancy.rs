@@ -20,6 +20,28 @@ pub struct Component {
     pub members: Vec<Point3<f32>>,
 }
 
+impl Component {
+    /// One component of this and `other`'s points.
+    pub fn joined_with(mut self, other: Component) -> Component {
+        let n = (self.points + other.points) as f64;
+        self.centroid = Point3::from(
+            (self.centroid.coords * self.points as f64
+                + other.centroid.coords * other.points as f64)
+                / n,
+        );
+        self.points += other.points;
+        self.voxels += other.voxels;
+        self.distance_to_target = self.distance_to_target.min(other.distance_to_target);
+        self.members.extend(other.members);
+        let (lo, hi) = self.members.iter().fold(
+            (Point3::from([f32::INFINITY; 3]), Point3::from([f32::NEG_INFINITY; 3])),
+            |(lo, hi), p| (lo.inf(p), hi.sup(p)),
+        );
+        self.radius = f64::from((hi - lo).norm()) / 2.0;
+        self
+    }
+}
+
 /// Occupied voxels of a cloud at a fixed resolution.
 #[derive(Debug, Clone)]
 pub struct OccupancyGrid {

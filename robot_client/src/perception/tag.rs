@@ -1,7 +1,10 @@
 //! Finding the PPS-tag near a target point: the paper's §III-B, step by step.
 
+use std::collections::{BTreeMap, HashMap, HashSet};
+
 use nalgebra::Point3;
 
+use super::blobs::Blobs;
 use super::hsv::{HsvThresholds, segment_color};
 use super::occupancy::{Component, OccupancyGrid};
 use super::projection::{OcclusionTest, points_on_mask};
@@ -31,6 +34,9 @@ pub struct TagSearchParams {
     /// Centroids closer than this (metres) are one tag cut in two by a depth step (its edge seen
     /// against the surface behind), never two tags.
     pub min_tag_separation: f64,
+    /// Components in one red region of the image that come this near each other (metres) are
+    /// fragments of one tag the laser sampled too sparsely to join in the grid.
+    pub fragment_gap: f64,
 }
 
 impl Default for TagSearchParams {
@@ -45,6 +51,7 @@ impl Default for TagSearchParams {
             max_distance: 0.5,
             ambiguity_margin: 0.08,
             min_tag_separation: 0.12,
+            fragment_gap: 0.03,
         }
     }
 }
@@ -52,7 +59,8 @@ impl Default for TagSearchParams {
 /// A red lump of laser points taken for a tag.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TagDetection {
-    /// Centroid of the tag's points, base frame, metres.
+    /// Centroid of the tag's points, base frame, metres; once the approach has found the
+    /// backing plane, the middle of the tag's outline on it ([`crate::navigation::tag_centre_on`]).
     pub centroid: Point3<f64>,
     /// Laser points and occupied voxels in the tag's component.
     pub points: usize,
@@ -98,6 +106,12 @@ impl TagSighting {
     pub fn is_ambiguous(&self) -> bool {
         matches!(self, Self::Ambiguous { .. })
     }
+
+    pub fn nearest_mut(&mut self) -> &mut TagDetection {
+        match self {
+            Self::Found(tag) | Self::Ambiguous { nearest: tag, .. } => tag,
+        }
+    }
 }
 
 /// Why the search could not run at all (as opposed to finding nothing).
@@ -136,8 +150,88 @@ pub fn locate_tag(
     // 4. A 1 cm³ occupancy grid of the red points.
     let grid =
         timings.time("occupancy_grid", || OccupancyGrid::new(&red_points, params.voxel_size));
-    // 5. 3D connected components; keep the one closest to the target.
-    Ok(timings.time("components", || choose_tag(grid.connected_components(target), params)))
+    // 5. 3D connected components, the fragments of one red region joined; keep the one
+    //    closest to the target.
+    Ok(timings.time("components", || {
+        let components = grid.connected_components(target);
+        let blobs = Blobs::of(&red);
+        choose_tag(join_fragments(components, &blobs, calibration, params), params)
+    }))
+}
+
+/// Joins components whose points fall in one blob of the image and come within
+/// `params.fragment_gap` of each other: one tag that the laser sampled too sparsely (a towel at
+/// a steep angle, a line of dropouts) for its voxels to touch. Components far from the target are
+/// left as they are.
+fn join_fragments(
+    components: Vec<Component>,
+    blobs: &Blobs,
+    calibration: &CameraCalibration,
+    params: &TagSearchParams,
+) -> Vec<Component> {
+    let (near, far): (Vec<Component>, Vec<Component>) = components
+        .into_iter()
+        .partition(|c| c.distance_to_target <= params.max_distance + params.fragment_gap);
+    if near.len() < 2 {
+        return near.into_iter().chain(far).collect();
+    }
+    let camera_from_base = calibration.base_from_camera.inverse();
+    let k = &calibration.intrinsics;
+    let gap = params.fragment_gap;
+    let cell = |p: &Point3<f32>| [p.x, p.y, p.z].map(|v| (f64::from(v) / gap).floor() as i64);
+    // Each component's blobs and coarse cells.
+    let mut by_blob: HashMap<u32, Vec<usize>> = HashMap::new();
+    let mut cells: Vec<HashSet<[i64; 3]>> = Vec::with_capacity(near.len());
+    for (i, c) in near.iter().enumerate() {
+        let mut own = HashSet::new();
+        for p in &c.members {
+            let pixel = k.project(&(camera_from_base * p.cast::<f64>()));
+            if let Some(blob) = pixel.and_then(|uv| {
+                (uv.x >= 0.0 && uv.y >= 0.0).then(|| blobs.at(uv.x as usize, uv.y as usize))?
+            }) {
+                own.insert(blob);
+            }
+        }
+        for blob in own {
+            by_blob.entry(blob).or_default().push(i);
+        }
+        cells.push(c.members.iter().map(cell).collect());
+    }
+    let touches = |a: &HashSet<[i64; 3]>, b: &HashSet<[i64; 3]>| {
+        let (small, large) = if a.len() <= b.len() { (a, b) } else { (b, a) };
+        small.iter().any(|[x, y, z]| {
+            (-1..=1).any(|dx| {
+                (-1..=1).any(|dy| (-1..=1).any(|dz| large.contains(&[x + dx, y + dy, z + dz])))
+            })
+        })
+    };
+    let mut parent: Vec<usize> = (0..near.len()).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    for members in by_blob.values() {
+        for (n, &a) in members.iter().enumerate() {
+            for &b in &members[n + 1..] {
+                if root(&mut parent, a) != root(&mut parent, b) && touches(&cells[a], &cells[b]) {
+                    let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+                    parent[ra] = rb;
+                }
+            }
+        }
+    }
+    let mut joined: BTreeMap<usize, Component> = BTreeMap::new();
+    for (i, c) in near.into_iter().enumerate() {
+        let r = root(&mut parent, i);
+        match joined.remove(&r) {
+            Some(whole) => joined.insert(r, whole.joined_with(c)),
+            None => joined.insert(r, c),
+        };
+    }
+    joined.into_values().chain(far).collect()
 }
 
 /// The component closest to the target among those big enough to be a tag and near enough to be
