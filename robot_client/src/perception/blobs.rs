@@ -60,8 +60,8 @@ impl Blobs {
                 }
             }
         }
-        for r in 0..runs.len() {
-            runs[r].2 = root(&mut parent, r as u32);
+        for (r, run) in runs.iter_mut().enumerate() {
+            run.2 = root(&mut parent, r as u32);
         }
         Self { runs, row_first }
     }
