@@ -95,6 +95,7 @@ fn drawer_front_is_chosen_where_the_nearest_plane_picks_the_side_face() {
                 points,
                 &tag.centroid,
                 tag.radius,
+                &tag.members,
                 &robot,
                 &params.backing,
             )

@@ -57,6 +57,7 @@ pub fn drop_object(
         &points,
         &geometry.tag,
         0.05,
+        &[],
         &sensor,
         &BackingPlaneRule::default(),
     )

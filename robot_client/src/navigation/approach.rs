@@ -120,6 +120,7 @@ pub fn plan_approach(
             &surface_points,
             &tag.centroid,
             tag.radius,
+            &tag.members,
             &robot,
             &params.backing,
         ))

@@ -73,13 +73,17 @@ pub struct BackingChoice {
 }
 
 /// The plane behind the tag, nearest to it, among those that could carry it. `points` is the
-/// cloud the planes' inlier indices refer to; `tag_radius` is how far the tag's own points
+/// cloud the planes' inlier indices refer to; `tag_points` are the tag's own points (a flat
+/// tag lies flat on its surface: of two surfaces behind it, the one it sits nearer and flatter
+/// against carries it, not a side face that happens to pass through it); `tag_radius` is how
+/// far the tag's own points
 /// reach from its centroid (metres): a big towel covers the front right around its foot.
 pub fn choose_backing_plane(
     planes: &[DetectedPlane],
     points: &[Point3<f32>],
     tag: &Point3<f64>,
     tag_radius: f64,
+    tag_points: &[Point3<f32>],
     robot: &Point3<f64>,
     rule: &BackingPlaneRule,
 ) -> BackingChoice {
@@ -87,24 +91,27 @@ pub fn choose_backing_plane(
     let toward_robot = Vector3::new(d.x, d.y, 0.0).try_normalize(1e-9).unwrap_or(Vector3::x());
     let verdicts: Vec<Result<f64, PlaneRejection>> =
         planes.iter().map(|p| judge(p, points, tag, tag_radius, &toward_robot, rule)).collect();
+    // How far the tag sits from each plane: its height plus how thick it is across the plane.
+    let fit =
+        |p: &DetectedPlane, height: f64| height.max(0.0) + spread_across(tag_points, &p.plane);
     let chosen = verdicts
         .iter()
         .enumerate()
-        .filter_map(|(i, v)| v.as_ref().ok().map(|&height| (i, height)))
+        .filter_map(|(i, v)| v.as_ref().ok().map(|&height| (i, fit(&planes[i], height))))
         .min_by(|a, b| a.1.total_cmp(&b.1));
     let rejected = planes
         .iter()
         .zip(&verdicts)
         .enumerate()
         .filter(|&(i, _)| chosen.is_none_or(|(c, _)| c != i))
-        .map(|(_, (p, verdict))| RejectedPlane {
+        .map(|(i, (p, verdict))| RejectedPlane {
             normal: p.plane.normal,
             offset: p.plane.offset,
             points: p.inliers.len(),
             why: match *verdict {
                 Err(why) => why,
                 Ok(height) => PlaneRejection::FartherThanChosen {
-                    height,
+                    fit: fit(&planes[i], height),
                     chosen: chosen.map_or(0.0, |(_, h)| h),
                 },
             },
@@ -115,6 +122,18 @@ pub fn choose_backing_plane(
         index: chosen.map(|(i, _)| i),
         rejected,
     }
+}
+
+/// Mean absolute deviation of the points' distances from `plane` about their median, metres:
+/// about the laser's noise for a tag lying flat on it, its width for a plane it stands across.
+fn spread_across(points: &[Point3<f32>], plane: &super::plane::Plane) -> f64 {
+    if points.is_empty() {
+        return 0.0;
+    }
+    let mut d: Vec<f64> = points.iter().map(|p| plane.signed_distance(&p.cast())).collect();
+    let half = d.len() / 2;
+    let median = *d.select_nth_unstable_by(half, f64::total_cmp).1;
+    d.iter().map(|x| (x - median).abs()).sum::<f64>() / d.len() as f64
 }
 
 /// How far in front of `p` the tag is when `p` could carry it; otherwise the rule it fails.
@@ -243,8 +262,15 @@ mod tests {
         let target = Point3::new(2.03, 0.23, 0.6);
         let paper = nearest_plane_to_target(&planes, &points, &target).unwrap();
         assert!(paper.normal.y > 0.99, "the paper's rule takes the side face");
-        let choice =
-            choose_backing_plane(&planes, &points, &tag, 0.1, &robot, &BackingPlaneRule::default());
+        let choice = choose_backing_plane(
+            &planes,
+            &points,
+            &tag,
+            0.1,
+            &[],
+            &robot,
+            &BackingPlaneRule::default(),
+        );
         let ours = choice.plane.unwrap();
         assert!(
             matches!(

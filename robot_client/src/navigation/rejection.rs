@@ -34,8 +34,9 @@ pub enum PlaneRejection {
     TagTooFarOut { height: f64, max: f64 },
     /// None of its points lie near the tag's foot on it.
     AwayFromTag { gap: f64, max: f64 },
-    /// It would do, but another surface lies nearer behind the tag.
-    FartherThanChosen { height: f64, chosen: f64 },
+    /// It would do, but the tag sits nearer and flatter on another: its height above the plane
+    /// plus its thickness across it, against the chosen plane's.
+    FartherThanChosen { fit: f64, chosen: f64 },
 }
 
 impl PlaneRejection {
@@ -124,10 +125,11 @@ impl fmt::Display for PlaneRejection {
                 cm(gap),
                 cm(max)
             ),
-            Self::FartherThanChosen { height, chosen } => write!(
+            Self::FartherThanChosen { fit, chosen } => write!(
                 f,
-                "could carry the tag, but lies {:.1} cm behind it, the chosen plane {:.1} cm",
-                cm(height),
+                "could carry the tag, but the tag sits {:.1} cm off it (height plus thickness \
+                 across it), {:.1} cm off the chosen plane",
+                cm(fit),
                 cm(chosen)
             ),
         }

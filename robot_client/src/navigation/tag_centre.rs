@@ -11,7 +11,7 @@ use nalgebra::{Point3, Vector3};
 use super::backing_plane::BackingPlane;
 
 /// Share of points trimmed off each end of the tag's extent, for edge noise and mixed pixels.
-const TRIM: f64 = 0.05;
+const TRIM: f64 = 0.01;
 
 /// The centre of `members` (a tag's points, base frame) as its outline on `plane` gives it;
 /// `None` for fewer than three points.
