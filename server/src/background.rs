@@ -12,6 +12,8 @@ use crate::store::{inbox, robots};
 /// Unknown EPCs reach the inbox within this (DESIGN §4: "within a second").
 const SIGHTINGS_EVERY: Duration = Duration::from_millis(400);
 const PRESENCE_EVERY: Duration = Duration::from_secs(5);
+/// Old events are dropped this often (they are cheap to keep for a minute).
+const PRUNE_EVERY: Duration = Duration::from_secs(60);
 
 /// Starts the background tasks; they run until the runtime stops.
 pub async fn start(state: &AppState) -> anyhow::Result<()> {
@@ -28,10 +30,12 @@ pub async fn start(state: &AppState) -> anyhow::Result<()> {
     tokio::spawn(async move {
         let mut sightings = tokio::time::interval(SIGHTINGS_EVERY);
         let mut presence = tokio::time::interval(PRESENCE_EVERY);
+        let mut prune = tokio::time::interval(PRUNE_EVERY);
         loop {
             tokio::select! {
                 _ = sightings.tick() => flush_sightings(&flusher).await,
                 _ = presence.tick() => flush_presence(&flusher).await,
+                _ = prune.tick() => prune_events(&flusher).await,
             }
         }
     });
@@ -77,6 +81,21 @@ async fn flush_sightings(state: &AppState) {
         Err(error) => {
             tracing::warn!(%error, n = sightings.len(), "could not record unknown EPCs in the inbox")
         }
+    }
+}
+
+async fn prune_events(state: &AppState) {
+    let result: sqlx::Result<u64> = async {
+        let mut tx = state.db.begin_write().await?;
+        let pruned = events::prune(&mut tx).await?;
+        tx.commit().await?;
+        Ok(pruned)
+    }
+    .await;
+    match result {
+        Ok(0) => {}
+        Ok(pruned) => tracing::debug!(pruned, "dropped old change-feed events"),
+        Err(error) => tracing::warn!(%error, "could not drop old change-feed events"),
     }
 }
 

@@ -48,6 +48,11 @@ pub async fn backup(
     }
     let partial = partial_path(to)?;
     let _ = std::fs::remove_file(&partial);
+    // SQLite writes into an empty file it is given, keeping its owner-only mode.
+    crate::private_file::options()
+        .create_new(true)
+        .open(&partial)
+        .with_context(|| format!("cannot create the backup {}", partial.display()))?;
     let copied = async {
         let mut conn = db.reader().acquire().await?;
         sqlx::query("vacuum into ?")

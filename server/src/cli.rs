@@ -59,8 +59,8 @@ enum Command {
     ExportTrials(ExportTrialsArgs),
     /// Replace the force samples of old trials by their summary (the trials stay).
     ThinForces {
-        /// Thin trials received more than this many days ago.
-        #[arg(long, value_name = "DAYS")]
+        /// Thin trials received more than this many days ago (at most a century).
+        #[arg(long, value_name = "DAYS", value_parser = clap::value_parser!(u32).range(..=retention::MAX_AGE_DAYS as i64))]
         older_than: u32,
     },
     /// Manage API tokens.
@@ -92,8 +92,19 @@ struct ServeArgs {
           default_value_t = transport::DEFAULT_HEADER_READ_TIMEOUT.as_secs(),
           value_parser = clap::value_parser!(u64).range(1..))]
     header_timeout: u64,
+    /// Connections one client address may hold at once (at most --max-connections).
+    #[arg(long, env = "PPS_MAX_CONNECTIONS_PER_ADDRESS", value_name = "N",
+          default_value_t = transport::DEFAULT_MAX_CONNECTIONS_PER_ADDRESS,
+          value_parser = clap::value_parser!(u32).range(1..))]
+    max_connections_per_address: u32,
+    /// Seconds a client has to send a request's body once its headers are in; then 408.
+    #[arg(long, env = "PPS_BODY_TIMEOUT", value_name = "SECONDS",
+          default_value_t = transport::DEFAULT_BODY_READ_TIMEOUT.as_secs(),
+          value_parser = clap::value_parser!(u64).range(1..))]
+    body_timeout: u64,
     /// Once a day, thin the force samples of trials received more than DAYS ago.
-    #[arg(long, env = "PPS_THIN_FORCES_AFTER_DAYS", value_name = "DAYS")]
+    #[arg(long, env = "PPS_THIN_FORCES_AFTER_DAYS", value_name = "DAYS",
+          value_parser = clap::value_parser!(u32).range(..=retention::MAX_AGE_DAYS as i64))]
     thin_forces_after: Option<u32>,
 }
 
@@ -242,7 +253,11 @@ impl Cli {
             Command::Export { out } => {
                 let text = serde_json::to_string_pretty(&seed::export(&db).await?)?;
                 match out {
-                    Some(path) => std::fs::write(&path, text + "\n")
+                    Some(path) => crate::private_file::options()
+                        .create(true)
+                        .truncate(true)
+                        .open(&path)
+                        .and_then(|mut file| file.write_all((text + "\n").as_bytes()))
                         .with_context(|| format!("cannot write {}", path.display())),
                     None => {
                         println!("{text}");
@@ -321,7 +336,10 @@ async fn export_trials(db: &Db, args: ExportTrialsArgs) -> anyhow::Result<()> {
     };
     let written = match &args.out {
         Some(path) => {
-            let file = std::fs::File::create(path)
+            let file = crate::private_file::options()
+                .create(true)
+                .truncate(true)
+                .open(path)
                 .with_context(|| format!("cannot write {}", path.display()))?;
             export::export_trials(db.reader(), &filter, format, std::io::BufWriter::new(file))
                 .await?
@@ -338,14 +356,21 @@ async fn token(db: &Db, command: TokenCommand) -> anyhow::Result<()> {
     match command {
         TokenCommand::Create { role, name, expires_in } => {
             let role = Role::from(role);
-            if role == Role::Robot {
-                pps_schema::RobotId::parse(&name)
-                    .map_err(|e| anyhow::anyhow!("--name must be the robot's id: {e}"))?;
-            } else if name.trim().is_empty() || name.len() > 100 {
-                bail!("--name must be 1 to 100 characters");
+            if let Some(problem) = tokens::name_problem(role, &name) {
+                bail!("--name: {problem}");
             }
             let expires_at = expires_in
-                .map(|lifetime| clock::format(time::OffsetDateTime::now_utc() + lifetime));
+                .map(|lifetime| {
+                    time::OffsetDateTime::now_utc()
+                        .checked_add(lifetime)
+                        .map(clock::format)
+                        .ok_or_else(|| {
+                            anyhow::anyhow!(
+                                "--expires-in reaches beyond the year 9999; give a shorter lifetime"
+                            )
+                        })
+                })
+                .transpose()?;
             let minted = tokens::create(db, role, &name, expires_at).await?;
             eprintln!("token {} for {} ({}) created", minted.record.id, name, role);
             println!("{}", minted.token);
@@ -367,7 +392,8 @@ async fn token(db: &Db, command: TokenCommand) -> anyhow::Result<()> {
                         "{:<13} {:<10} {:<24} {:<25} {:<25} {}",
                         t.id,
                         t.role,
-                        t.name,
+                        // Names from before control characters were refused print escaped.
+                        t.name.escape_debug().to_string(),
                         t.created_at,
                         t.expires_at.as_deref().unwrap_or("never"),
                         t.revoked_at.as_deref().unwrap_or("-")
@@ -440,6 +466,9 @@ fn transport(args: &ServeArgs) -> anyhow::Result<Transport> {
     Ok(Transport {
         header_read_timeout: std::time::Duration::from_secs(args.header_timeout),
         max_connections: args.max_connections as usize,
+        max_connections_per_address: args.max_connections_per_address.min(args.max_connections)
+            as usize,
+        body_read_timeout: std::time::Duration::from_secs(args.body_timeout),
         tls,
     })
 }

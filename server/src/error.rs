@@ -25,6 +25,9 @@ pub enum ApiError {
     Conflict(String),
     #[error("{0}")]
     PreconditionFailed(String),
+    /// The body did not arrive in time; the connection is closed after the answer.
+    #[error("{0}")]
+    RequestTimeout(String),
     #[error("{0}")]
     PayloadTooLarge(String),
     #[error("{0}")]
@@ -35,10 +38,11 @@ pub enum ApiError {
     PreconditionRequired(String),
     #[error("{0}")]
     TooManyRequests(String),
+    /// Try again later: the answer carries `Retry-After`.
     #[error("{0}")]
     Unavailable(String),
     #[error(transparent)]
-    Internal(#[from] anyhow::Error),
+    Internal(anyhow::Error),
 }
 
 impl ApiError {
@@ -51,6 +55,7 @@ impl ApiError {
             Self::MethodNotAllowed(_) => StatusCode::METHOD_NOT_ALLOWED,
             Self::Conflict(_) => StatusCode::CONFLICT,
             Self::PreconditionFailed(_) => StatusCode::PRECONDITION_FAILED,
+            Self::RequestTimeout(_) => StatusCode::REQUEST_TIMEOUT,
             Self::PayloadTooLarge(_) => StatusCode::PAYLOAD_TOO_LARGE,
             Self::UnsupportedMediaType(_) => StatusCode::UNSUPPORTED_MEDIA_TYPE,
             Self::Invalid(_) => StatusCode::UNPROCESSABLE_ENTITY,
@@ -77,6 +82,7 @@ impl ApiError {
             Self::Conflict(_) => "conflict",
             Self::PreconditionFailed(_) => "precondition-failed",
             Self::PreconditionRequired(_) => "precondition-required",
+            Self::RequestTimeout(_) => "request-timeout",
             Self::PayloadTooLarge(_) => "payload-too-large",
             Self::UnsupportedMediaType(_) => "unsupported-media-type",
             Self::TooManyRequests(_) => "too-many-requests",
@@ -128,6 +134,12 @@ impl IntoResponse for ApiError {
         if status == StatusCode::UNAUTHORIZED {
             headers.insert(header::WWW_AUTHENTICATE, HeaderValue::from_static("Bearer"));
         }
+        if status == StatusCode::REQUEST_TIMEOUT {
+            headers.insert(header::CONNECTION, HeaderValue::from_static("close"));
+        }
+        if status == StatusCode::SERVICE_UNAVAILABLE {
+            headers.insert(header::RETRY_AFTER, HeaderValue::from(RETRY_AFTER_SECONDS));
+        }
         response
     }
 }
@@ -147,9 +159,37 @@ fn invalid_summary(errors: &[FieldError]) -> String {
     }
 }
 
+/// How long a client is told to wait after a 503: long enough for a lock holder to finish or
+/// an operator to free some disk, short enough that a robot's outbox does not idle for long.
+pub const RETRY_AFTER_SECONDS: u32 = 5;
+
 impl From<sqlx::Error> for ApiError {
     fn from(error: sqlx::Error) -> Self {
-        Self::Internal(error.into())
+        Self::unwritable(&error).unwrap_or_else(|| Self::Internal(error.into()))
+    }
+}
+
+impl From<anyhow::Error> for ApiError {
+    /// Internal, unless the cause is one to retry after: a busy password hasher, or a database
+    /// that cannot take writes just now.
+    fn from(error: anyhow::Error) -> Self {
+        if let Some(busy) = error.downcast_ref::<crate::auth::password::HashingBusy>() {
+            return Self::Unavailable(busy.to_string());
+        }
+        if let Some(unwritable) = error.downcast_ref::<sqlx::Error>().and_then(Self::unwritable) {
+            return unwritable;
+        }
+        Self::Internal(error)
+    }
+}
+
+impl ApiError {
+    /// The 503 for a database error that means "retry later" (full disk, lock held elsewhere,
+    /// no free connection), logged for the operator; `None` for any other error.
+    pub fn unwritable(error: &sqlx::Error) -> Option<Self> {
+        let reason = crate::db::Unwritable::of(error)?;
+        reason.log(error);
+        Some(Self::Unavailable(reason.advice().into()))
     }
 }
 

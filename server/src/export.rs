@@ -14,6 +14,8 @@ use crate::store::trials::{self, TrialFilter, TrialRow};
 
 /// Trials read per query.
 const PAGE: u32 = 500;
+/// Stored trial bytes held at once while exporting.
+const EXPORT_BYTES: usize = 16 << 20;
 
 /// How trials are written.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -62,13 +64,14 @@ pub async fn export_trials(
     let mut written = 0;
     let mut after = 0;
     loop {
-        let rows = trials::list(pool, filter, after, PAGE).await?;
+        let window = trials::Window { after, limit: PAGE, max_bytes: EXPORT_BYTES, forces: true };
+        let (rows, cut_short) = trials::list(pool, filter, window).await?;
         for row in &rows {
             sink.write(row)?;
             written += 1;
         }
         match rows.last() {
-            Some(last) if rows.len() == PAGE as usize => after = last.seq,
+            Some(last) if cut_short || rows.len() == PAGE as usize => after = last.seq,
             _ => break,
         }
     }

@@ -4,7 +4,8 @@
 //! after they commit; it also polls, so changes made by another process (the CLI importing
 //! tags) reach clients and invalidate caches too.
 
-use std::sync::Arc;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use tokio::sync::{Notify, OwnedSemaphorePermit, Semaphore, broadcast, watch};
@@ -18,12 +19,46 @@ const POLL_EVERY: Duration = Duration::from_millis(500);
 const LIVE_BUFFER: usize = 4096;
 /// SSE clients served at once; each holds a connection and a task.
 pub const MAX_CLIENTS: usize = 256;
+/// Streams one credential may hold at once: a robot needs one, a caretaker one per open tab;
+/// a quarter of the feed leaves room for everyone else when one credential runs away.
+pub const MAX_CLIENTS_PER_CREDENTIAL: usize = MAX_CLIENTS / 4;
+
+/// Why a client found no place on the feed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Full {
+    /// Every place is taken.
+    Feed,
+    /// Its credential holds its share already.
+    Credential,
+}
+
+/// A client's place on the feed, given back when dropped.
+#[derive(Debug)]
+pub struct FeedPlace {
+    _place: OwnedSemaphorePermit,
+    holders: Arc<Mutex<HashMap<String, usize>>>,
+    credential: String,
+}
+
+impl Drop for FeedPlace {
+    fn drop(&mut self) {
+        let mut holders = self.holders.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(count) = holders.get_mut(&self.credential) {
+            *count -= 1;
+            if *count == 0 {
+                holders.remove(&self.credential);
+            }
+        }
+    }
+}
 
 #[derive(Debug)]
 pub struct ChangeFeed {
     live: broadcast::Sender<Arc<Event>>,
     wake: Notify,
     clients: Arc<Semaphore>,
+    /// Places held per credential (keyed by a hash of it).
+    holders: Arc<Mutex<HashMap<String, usize>>>,
     closing: watch::Sender<bool>,
 }
 
@@ -33,15 +68,27 @@ impl Default for ChangeFeed {
             live: broadcast::channel(LIVE_BUFFER).0,
             wake: Notify::new(),
             clients: Arc::new(Semaphore::new(MAX_CLIENTS)),
+            holders: Arc::default(),
             closing: watch::Sender::new(false),
         }
     }
 }
 
 impl ChangeFeed {
-    /// A place for one more SSE client, held until it leaves; `None` when all are taken.
-    pub fn join(&self) -> Option<OwnedSemaphorePermit> {
-        self.clients.clone().try_acquire_owned().ok()
+    /// A place for one more SSE client of `credential`, held until it leaves.
+    pub fn join(&self, credential: &str) -> Result<FeedPlace, Full> {
+        let mut holders = self.holders.lock().unwrap_or_else(|e| e.into_inner());
+        let held = holders.get(credential).copied().unwrap_or(0);
+        if held >= MAX_CLIENTS_PER_CREDENTIAL {
+            return Err(Full::Credential);
+        }
+        let place = self.clients.clone().try_acquire_owned().map_err(|_| Full::Feed)?;
+        holders.insert(credential.to_owned(), held + 1);
+        Ok(FeedPlace {
+            _place: place,
+            holders: self.holders.clone(),
+            credential: credential.to_owned(),
+        })
     }
 
     /// Ends every client's stream, so a graceful shutdown does not wait on them forever.

@@ -107,8 +107,11 @@ async fn update_learned(conn: &mut SqliteConnection, group: &TrialGroup) -> sqlx
     for rule in RULES.iter().filter(|rule| Some(rule.behavior) == kind) {
         let path = format!("$.measurements.{}", rule.measurement);
         // A trial the person said failed teaches nothing, whatever the detector thought.
+        // Only numbers count; JSON has one number type, so 1 and 1.0 both are one.
         let values: Vec<Option<f64>> = sqlx::query_scalar(
-            "select json_extract(body, ?1) from trials
+            "select case when json_type(body, ?1) in ('integer', 'real')
+                         then cast(json_extract(body, ?1) as real) end
+             from trials
              where epc = ?2 and coalesce(robot_class, '') = ?3 and behavior = ?4
                and outcome = 'success' and coalesce(confirmed, 1) = 1
              order by seq desc limit ?5",
@@ -122,9 +125,9 @@ async fn update_learned(conn: &mut SqliteConnection, group: &TrialGroup) -> sqlx
         .await?;
         let values: Vec<f64> = values.into_iter().flatten().collect();
         let pointer = format!("/behaviors/{}/{}", escape(&group.behavior), rule.parameter);
-        changed |= match median(values.clone()) {
-            Some(value) => {
-                let rounded = (value * 1000.0).round() / 1000.0;
+        let learned = median(values.clone()).map(|value| (value * 1000.0).round() / 1000.0);
+        changed |= match learned.filter(|&value| within_bounds(&entry, &pointer, value)) {
+            Some(rounded) => {
                 learning::store_learned(
                     conn,
                     &group.epc,
@@ -141,6 +144,28 @@ async fn update_learned(conn: &mut SqliteConnection, group: &TrialGroup) -> sqlx
         };
     }
     Ok(changed)
+}
+
+/// Whether the entry with `value` at `pointer` still meets its behaviour's schema: a learned
+/// value outside the safe bounds (a robot reporting 50 m for a drawer) is not learned.
+fn within_bounds(entry: &Value, pointer: &str, value: f64) -> bool {
+    let mut candidate = entry.clone();
+    let Some((parent, key)) = pointer.rsplit_once('/') else { return false };
+    let Some(Value::Object(parent)) = candidate.pointer_mut(parent) else { return false };
+    parent.insert(pps_schema::pointer::unescape(key), value.into());
+    // Only the learned value is judged; the entry's other fields passed when it was stored.
+    let fits = match pps_schema::validate_tag(&candidate) {
+        Ok(()) => true,
+        Err(errors) => errors.at(pointer).next().is_none(),
+    };
+    if !fits {
+        tracing::warn!(
+            pointer,
+            value,
+            "a learned value is outside its behaviour's bounds; not learned"
+        );
+    }
+    fits
 }
 
 async fn update_reliability(conn: &mut SqliteConnection, group: &TrialGroup) -> sqlx::Result<()> {

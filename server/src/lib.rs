@@ -19,6 +19,7 @@ pub mod http;
 pub mod learning;
 pub mod metrics;
 pub mod presence;
+pub mod private_file;
 pub mod retention;
 pub mod seed;
 pub mod sightings;

@@ -40,7 +40,9 @@ impl Default for RouteMetrics {
 
 #[derive(Debug, Default)]
 pub struct Metrics {
-    routes: RwLock<HashMap<String, HashMap<Method, Arc<RouteMetrics>>>>,
+    /// By route, then method: a standard method's name or `other`, so made-up methods sent by
+    /// anyone cannot add series (and memory) without bound.
+    routes: RwLock<HashMap<String, HashMap<&'static str, Arc<RouteMetrics>>>>,
     trials_recorded: AtomicU64,
 }
 
@@ -49,7 +51,7 @@ impl Metrics {
         self.trials_recorded.fetch_add(1, Ordering::Relaxed);
     }
 
-    fn route(&self, route: &str, method: &Method) -> Arc<RouteMetrics> {
+    fn route(&self, route: &str, method: &'static str) -> Arc<RouteMetrics> {
         if let Some(found) = self
             .routes
             .read()
@@ -60,11 +62,11 @@ impl Metrics {
             return found.clone();
         }
         let mut routes = self.routes.write().unwrap_or_else(|e| e.into_inner());
-        routes.entry(route.to_owned()).or_default().entry(method.clone()).or_default().clone()
+        routes.entry(route.to_owned()).or_default().entry(method).or_default().clone()
     }
 
     fn observe(&self, route: &str, method: &Method, status: u16, seconds: f64) {
-        let metrics = self.route(route, method);
+        let metrics = self.route(route, method_label(method));
         if let Some(counter) = metrics.statuses.get(usize::from(status).saturating_sub(100)) {
             counter.fetch_add(1, Ordering::Relaxed);
         }
@@ -79,11 +81,11 @@ impl Metrics {
     pub fn render(&self, sse_clients: usize) -> String {
         let mut out = String::new();
         let routes = self.routes.read().unwrap_or_else(|e| e.into_inner());
-        let mut sorted: Vec<(&String, &Method, &Arc<RouteMetrics>)> = routes
+        let mut sorted: Vec<(&String, &&str, &Arc<RouteMetrics>)> = routes
             .iter()
             .flat_map(|(route, methods)| methods.iter().map(move |(m, r)| (route, m, r)))
             .collect();
-        sorted.sort_by(|a, b| (a.0, a.1.as_str()).cmp(&(b.0, b.1.as_str())));
+        sorted.sort_by(|a, b| (a.0, a.1).cmp(&(b.0, b.1)));
         out.push_str(
             "# HELP pps_http_requests_total HTTP responses by matched route, method and status.\n",
         );
@@ -135,6 +137,22 @@ impl Metrics {
     }
 }
 
+/// The label of a request method: the standard ones by name, anything else as `other`.
+fn method_label(method: &Method) -> &'static str {
+    static STANDARD: [Method; 9] = [
+        Method::GET,
+        Method::HEAD,
+        Method::POST,
+        Method::PUT,
+        Method::DELETE,
+        Method::PATCH,
+        Method::OPTIONS,
+        Method::TRACE,
+        Method::CONNECT,
+    ];
+    STANDARD.iter().find(|standard| *standard == method).map_or("other", Method::as_str)
+}
+
 /// Middleware counting every response by its matched route.
 pub async fn track(State(metrics): State<Arc<Metrics>>, request: Request, next: Next) -> Response {
     let started = Instant::now();
@@ -166,5 +184,17 @@ mod tests {
         assert!(text.contains("le=\"+Inf\"} 3"));
         assert!(text.contains("pps_trials_recorded_total 1"));
         assert!(text.contains("pps_sse_clients 2"));
+    }
+
+    #[test]
+    fn made_up_methods_share_one_series() {
+        let metrics = Metrics::default();
+        for n in 0..100 {
+            let method = Method::from_bytes(format!("X{n}").as_bytes()).unwrap();
+            metrics.observe("unmatched", &method, 405, 0.0001);
+        }
+        let text = metrics.render(0);
+        assert!(text.contains("method=\"other\",status=\"405\"} 100"), "{text}");
+        assert!(!text.contains("X1"));
     }
 }

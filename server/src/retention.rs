@@ -24,6 +24,9 @@ pub const THINNED_KEY: &str = "forces_thinned";
 const BATCH: u32 = 50;
 const EVERY: Duration = Duration::from_secs(24 * 3600);
 
+/// The longest age accepted: a century, well inside the calendar's range.
+pub const MAX_AGE_DAYS: u32 = 36_500;
+
 /// How long ago a trial must have been received before its force samples are thinned.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Age {
@@ -33,7 +36,10 @@ pub struct Age {
 impl Age {
     /// Trials received before this moment are old enough.
     fn cutoff(self) -> String {
-        clock::format(time::OffsetDateTime::now_utc() - time::Duration::days(self.days.into()))
+        let ago = time::Duration::days(self.days.into());
+        // Beyond the calendar nothing is that old: the epoch is as good a cutoff as any.
+        let cutoff = time::OffsetDateTime::now_utc().checked_sub(ago);
+        clock::format(cutoff.unwrap_or(time::OffsetDateTime::UNIX_EPOCH))
     }
 }
 

@@ -11,7 +11,7 @@ use std::sync::Arc;
 use serde_json::{Value, json};
 use tokio::sync::{mpsc, oneshot};
 
-use crate::db::Db;
+use crate::db::{Db, Unwritable};
 use crate::effective_cache::EffectiveCache;
 use crate::feed::ChangeFeed;
 use crate::learning::{self, TrialGroup};
@@ -98,23 +98,47 @@ async fn run(
     while incoming.recv_many(&mut batch, MAX_BATCH).await > 0 {
         let trials: Vec<&CheckedTrial> = batch.iter().map(|(trial, _)| trial).collect();
         match commit(&db, &trials).await {
-            Ok((results, relearned)) => {
-                for epc in relearned {
-                    cache.forget_tag(&epc);
-                }
-                feed.committed();
-                for ((_, reply), result) in batch.drain(..).zip(results) {
-                    let _ = reply.send(result);
-                }
-            }
-            Err(error) => {
-                tracing::error!(%error, trials = batch.len(), "a batch of trials could not be committed");
-                let error = Arc::new(error);
-                for (_, reply) in batch.drain(..) {
-                    let _ = reply.send(Err(TrialRejection::Database(error.clone())));
+            Ok(stored) => answer(batch.drain(..), stored, &feed, &cache),
+            // One trial's problem must stay its own: commit each alone, so only it fails.
+            Err(error) if batch.len() > 1 && Unwritable::of(&error).is_none() => {
+                tracing::warn!(%error, trials = batch.len(), "a batch of trials failed; committing them one by one");
+                for (trial, reply) in batch.drain(..) {
+                    match commit(&db, &[&trial]).await {
+                        Ok(stored) => answer([(trial, reply)].into_iter(), stored, &feed, &cache),
+                        Err(error) => refuse([(trial, reply)].into_iter(), error),
+                    }
                 }
             }
+            Err(error) => refuse(batch.drain(..), error),
         }
+    }
+}
+
+type Stored = (Vec<Result<Recorded, TrialRejection>>, BTreeSet<String>);
+
+/// Answers the robots of a committed batch, after the caches and the feed have heard of it.
+fn answer(
+    batch: impl Iterator<Item = (CheckedTrial, Reply)>,
+    (results, relearned): Stored,
+    feed: &ChangeFeed,
+    cache: &EffectiveCache,
+) {
+    for epc in relearned {
+        cache.forget_tag(&epc);
+    }
+    feed.committed();
+    for ((_, reply), result) in batch.zip(results) {
+        let _ = reply.send(result);
+    }
+}
+
+fn refuse(batch: impl ExactSizeIterator<Item = (CheckedTrial, Reply)>, error: sqlx::Error) {
+    if Unwritable::of(&error).is_none() {
+        tracing::error!(%error, trials = batch.len(), "trials could not be committed");
+    }
+    let error = Arc::new(error);
+    for (_, reply) in batch {
+        let _ = reply.send(Err(TrialRejection::Database(error.clone())));
     }
 }
 
@@ -123,10 +147,7 @@ async fn run(
 /// The batch's time is what every waiting robot pays, so it is kept to a few statements
 /// whatever its size: each tag and robot is looked up once, and all new trials and their
 /// events are inserted with one statement each.
-async fn commit(
-    db: &Db,
-    batch: &[&CheckedTrial],
-) -> sqlx::Result<(Vec<Result<Recorded, TrialRejection>>, BTreeSet<String>)> {
+async fn commit(db: &Db, batch: &[&CheckedTrial]) -> sqlx::Result<Stored> {
     // Serialised before the write lock is taken.
     let bodies: Vec<String> = batch.iter().map(|trial| trial.body.to_string()).collect();
     let mut tx = db.begin_write().await?;

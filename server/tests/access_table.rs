@@ -89,7 +89,10 @@ fn verdict(rule: Rule, caller: Caller) -> Verdict {
 fn rule(route: &RouteSpec) -> Rule {
     use Rule::*;
     match (route.method.as_str(), route.path) {
-        ("GET", "/healthz" | "/metrics" | "/api/v1/openapi.json" | "/api/v1/schema/{name}") => Open,
+        (
+            "GET",
+            "/healthz" | "/readyz" | "/metrics" | "/api/v1/openapi.json" | "/api/v1/schema/{name}",
+        ) => Open,
         ("POST", "/api/v1/session") => Open,
         ("GET", "/api/v1/tags" | "/api/v1/tags/{epc}" | "/api/v1/tags/{epc}/stats") => All,
         ("GET", "/api/v1/robots" | "/api/v1/robots/{robot}" | "/api/v1/events") => All,

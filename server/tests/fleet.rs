@@ -265,6 +265,29 @@ async fn verdicts_are_set_later_and_lists_filter() {
 }
 
 #[tokio::test]
+async fn a_trial_recorded_as_refuted_can_be_confirmed_later() {
+    let server = TestServer::start().await;
+    let robot = server.token(Role::Robot, "el-e-1").await;
+    let id = uuid();
+    let mut body = trial(&id, ADA_SWITCH, "el-e-1", "on", "push_top", "success");
+    body["confirmed"] = json!(false);
+    let path = format!("/api/v1/trials/{id}");
+    assert_eq!(server.put(&path, &robot, &body, None).await.status(), StatusCode::CREATED);
+    for verdict in [true, false, true] {
+        let patched = server
+            .request(Method::PATCH, &path, Some(&server.admin))
+            .json(&json!({ "confirmed": verdict }))
+            .send()
+            .await
+            .unwrap();
+        assert_eq!(patched.status(), StatusCode::OK, "confirmed {verdict}");
+        assert_eq!(patched.json::<Value>().await.unwrap()["confirmed"], verdict);
+    }
+    // The robot's retry of its first submission is still the same trial.
+    assert_eq!(server.put(&path, &robot, &body, None).await.status(), StatusCode::OK);
+}
+
+#[tokio::test]
 async fn sixteen_robots_writing_a_thousand_trials_each_store_exactly_sixteen_thousand() {
     let server = TestServer::start().await;
     let mut robots = tokio::task::JoinSet::new();

@@ -145,13 +145,15 @@ async fn robot_ids_are_at_most_sixty_three_characters() {
 }
 
 /// Holds one place of the change feed: a raw connection that read the answer's head and
-/// nothing more, far cheaper than an HTTP client per place.
-async fn hold_feed_place(server: &TestServer) -> TcpStream {
+/// nothing more, far cheaper than an HTTP client per place. It comes from 127.0.0.2, so the
+/// places do not count against the test client's own address.
+async fn hold_feed_place(server: &TestServer, token: &str) -> TcpStream {
     let address = server.url.strip_prefix("http://").unwrap();
-    let mut stream = TcpStream::connect(address).await.unwrap();
+    let socket = tokio::net::TcpSocket::new_v4().unwrap();
+    socket.bind("127.0.0.2:0".parse().unwrap()).unwrap();
+    let mut stream = socket.connect(address.parse().unwrap()).await.unwrap();
     let request = format!(
-        "GET /api/v1/events HTTP/1.1\r\nhost: {address}\r\nauthorization: Bearer {}\r\n\r\n",
-        server.admin
+        "GET /api/v1/events HTTP/1.1\r\nhost: {address}\r\nauthorization: Bearer {token}\r\n\r\n"
     );
     stream.write_all(request.as_bytes()).await.unwrap();
     let mut head = Vec::new();
@@ -177,17 +179,27 @@ async fn feed_clients(server: &TestServer) -> usize {
 async fn the_change_feed_serves_two_hundred_fifty_six_clients_at_once() {
     let server = TestServer::start().await;
     let cap = pps_server::feed::MAX_CLIENTS;
-    assert_eq!(cap, 256);
-    let mut held = Vec::with_capacity(cap);
-    for _ in 0..cap - 1 {
-        held.push(hold_feed_place(&server).await);
+    let share = pps_server::feed::MAX_CLIENTS_PER_CREDENTIAL;
+    assert_eq!((cap, share), (256, 64));
+    let mut tokens = Vec::new();
+    for n in 0..cap / share {
+        tokens.push(server.token(Role::Caretaker, &format!("screen {n}")).await);
     }
+    let mut held = Vec::with_capacity(cap);
+    for n in 0..cap - 1 {
+        held.push(hold_feed_place(&server, &tokens[n / share]).await);
+    }
+    // One credential's share: its next stream is refused although the feed has room.
+    let over_share = server.request(Method::GET, "/api/v1/events", Some(&tokens[0])).send().await;
+    let body = problem(over_share.unwrap(), StatusCode::SERVICE_UNAVAILABLE).await;
+    assert!(body["detail"].as_str().unwrap().contains("64 change-feed streams"), "{body}");
     // N: the last place is free.
-    let last = SseClient::connect(&server, &server.admin, None).await;
+    let last = SseClient::connect(&server, tokens.last().unwrap(), None).await;
     assert_eq!(feed_clients(&server).await, cap);
-    // N+1: refused while all are taken.
+    // N+1: refused while all are taken, whoever asks.
     let refused =
         server.request(Method::GET, "/api/v1/events", Some(&server.admin)).send().await.unwrap();
+    assert!(refused.headers().contains_key("retry-after"));
     let body = problem(refused, StatusCode::SERVICE_UNAVAILABLE).await;
     assert!(body["detail"].as_str().unwrap().contains("256 clients"), "{body}");
 
@@ -198,6 +210,6 @@ async fn the_change_feed_serves_two_hundred_fifty_six_clients_at_once() {
         assert!(tokio::time::Instant::now() < deadline, "the place was never freed");
         tokio::time::sleep(Duration::from_millis(50)).await;
     }
-    held.push(hold_feed_place(&server).await);
+    held.push(hold_feed_place(&server, &server.admin).await);
     assert_eq!(feed_clients(&server).await, cap);
 }

@@ -244,6 +244,7 @@ async fn what_the_registry_answers_is_what_the_document_says() {
 
     let reads = [
         ("/healthz", "/healthz"),
+        ("/readyz", "/readyz"),
         ("/api/v1/schema/{name}", "/api/v1/schema/light_switch"),
         ("/api/v1/tags", "/api/v1/tags?limit=2"),
         ("/api/v1/tags/{epc}", &format!("/api/v1/tags/{ADA_SWITCH}")),

@@ -53,7 +53,12 @@ impl Served {
 }
 
 fn transport(max_connections: usize) -> Transport {
-    Transport { header_read_timeout: HEADER_TIMEOUT, max_connections, tls: None }
+    Transport {
+        header_read_timeout: HEADER_TIMEOUT,
+        max_connections,
+        max_connections_per_address: max_connections,
+        ..Transport::default()
+    }
 }
 
 /// Connects and sends half a request line, as a slow (or hostile) client does.

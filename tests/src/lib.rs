@@ -5,6 +5,7 @@
 //! panics and the test fails, saying what to install.
 
 pub mod browser;
+pub mod fixtures;
 pub mod registry;
 pub mod wait;
 

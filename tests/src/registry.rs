@@ -2,8 +2,9 @@
 //! it, plus the API calls tests make to set the scene.
 
 use std::io::{BufRead, BufReader, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
+use std::sync::{Arc, Mutex};
 
 use reqwest::{Method, StatusCode};
 use serde_json::Value;
@@ -21,17 +22,36 @@ pub struct Registry {
     pub admin_token: String,
     db: PathBuf,
     http: reqwest::Client,
+    /// What the server wrote to stderr after its banner (warnings and errors).
+    log: Arc<Mutex<Vec<String>>>,
     _dir: TempDir,
 }
 
 impl Registry {
     /// Starts `pps-server serve` on a fresh database and reads its first-start banner.
     pub fn start() -> Self {
+        Self::with_flags(&[])
+    }
+
+    /// [`Registry::start`] with extra `serve` flags.
+    pub fn with_flags(flags: &[&str]) -> Self {
         let dir = tempfile::tempdir().expect("a temporary directory");
         let db = dir.path().join("pps.db");
+        Self::serve(dir, db, flags)
+    }
+
+    /// Starts `pps-server serve` on a fresh database at `db`, in a directory the caller
+    /// prepared (a small file system, say).
+    pub fn on_database(db: &Path) -> Self {
+        let dir = tempfile::tempdir().expect("a temporary directory");
+        Self::serve(dir, db.to_owned(), &[])
+    }
+
+    fn serve(dir: TempDir, db: PathBuf, flags: &[&str]) -> Self {
         let mut child = Command::new(workspace_bin("pps-server"))
             .args(["serve", "--listen", "127.0.0.1:0", "--db"])
             .arg(&db)
+            .args(flags)
             .env("RUST_LOG", "warn")
             .stdin(Stdio::null())
             .stderr(Stdio::piped())
@@ -51,16 +71,60 @@ impl Registry {
                 admin_token = Some(line.to_owned());
             }
         }
-        // Keep draining stderr so the server never blocks on a full pipe.
-        std::thread::spawn(move || for _ in lines {});
+        // Keep draining stderr so the server never blocks on a full pipe, keeping what it says.
+        let log = Arc::new(Mutex::new(Vec::new()));
+        let kept = log.clone();
+        std::thread::spawn(move || {
+            for line in lines.map_while(Result::ok) {
+                kept.lock().unwrap_or_else(|e| e.into_inner()).push(line);
+            }
+        });
         Self {
             child,
             url: url.expect("a URL"),
             admin_token: admin_token.expect("an admin token"),
             db,
             http: reqwest::Client::new(),
+            log,
             _dir: dir,
         }
+    }
+
+    /// The server's process id.
+    pub fn pid(&self) -> u32 {
+        self.child.id()
+    }
+
+    /// The database file.
+    pub fn db_path(&self) -> &Path {
+        &self.db
+    }
+
+    /// A memory figure of the server process from `/proc/PID/status`, in KiB: `VmRSS` (now)
+    /// or `VmHWM` (the peak so far).
+    pub fn memory_kib(&self, field: &str) -> u64 {
+        let status = std::fs::read_to_string(format!("/proc/{}/status", self.pid()))
+            .expect("the server's /proc status is readable");
+        status
+            .lines()
+            .find_map(|line| line.strip_prefix(field)?.strip_prefix(':'))
+            .and_then(|value| value.trim().trim_end_matches("kB").trim().parse().ok())
+            .unwrap_or_else(|| panic!("/proc status has no {field}"))
+    }
+
+    /// Whether the server logged a line containing `text` since it started.
+    pub fn logged(&self, text: &str) -> bool {
+        self.log.lock().unwrap_or_else(|e| e.into_inner()).iter().any(|line| line.contains(text))
+    }
+
+    /// Runs `pps-server ARGS --db DB` and returns its output.
+    pub fn cli(&self, args: &[&str]) -> std::process::Output {
+        Command::new(workspace_bin("pps-server"))
+            .args(args)
+            .arg("--db")
+            .arg(&self.db)
+            .output()
+            .expect("pps-server runs")
     }
 
     /// Makes a login with `pps-server user add NAME --role ROLE --password-stdin`.
@@ -113,6 +177,12 @@ impl Registry {
         let response = request.send().await.expect("the registry answers");
         let status = response.status();
         (status, response.json().await.unwrap_or(Value::Null))
+    }
+
+    /// A request with a token (none when empty), for tests that look at headers too.
+    pub fn request(&self, method: Method, path: &str, token: &str) -> reqwest::RequestBuilder {
+        let request = self.http.request(method, format!("{}{path}", self.url));
+        if token.is_empty() { request } else { request.bearer_auth(token) }
     }
 
     /// GET as the admin, expecting 200.

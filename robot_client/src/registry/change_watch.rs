@@ -1,10 +1,14 @@
 //! Follows the registry's change feed (SSE) and invalidates cached entries of tags that
 //! change, so a robot can use its cache without asking while the feed is live.
+//!
+//! A feed that drops is followed again; one that refuses the credential (401, 403) is not,
+//! since asking again cannot help: the watch stops and says why.
 
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
+use reqwest::StatusCode;
 use serde_json::Value;
 use tokio::task::JoinHandle;
 
@@ -14,6 +18,15 @@ use super::entry_cache::EntryCache;
 #[derive(Debug)]
 pub struct ChangeWatch {
     task: JoinHandle<()>,
+    refusal: Arc<Mutex<Option<String>>>,
+}
+
+/// How one connection to the feed ended.
+enum Ended {
+    /// Dropped, unreachable or answered with passing trouble: follow it again.
+    Dropped,
+    /// The registry refused the credential: following again cannot help.
+    Refused(String),
 }
 
 impl Drop for ChangeWatch {
@@ -30,17 +43,29 @@ impl ChangeWatch {
         cache: Arc<EntryCache>,
         live: Arc<AtomicBool>,
     ) -> Self {
+        let refusal = Arc::new(Mutex::new(None));
+        let refused = refusal.clone();
         let task = tokio::spawn(async move {
             let mut last_event_id: Option<String> = None;
             loop {
-                follow(&http, &base, &token, &cache, &live, &mut last_event_id).await;
+                let ended = follow(&http, &base, &token, &cache, &live, &mut last_event_id).await;
                 // The feed dropped: until it is back, every entry must be revalidated.
                 live.store(false, Ordering::Release);
                 cache.invalidate_all();
+                if let Ended::Refused(why) = ended {
+                    *refused.lock().unwrap_or_else(|e| e.into_inner()) = Some(why);
+                    return;
+                }
                 tokio::time::sleep(Duration::from_secs(2)).await;
             }
         });
-        Self { task }
+        Self { task, refusal }
+    }
+
+    /// Why the watch stopped for good (the registry refused the robot's credential), if it did;
+    /// the cache then revalidates every entry it serves.
+    pub fn refused(&self) -> Option<String> {
+        self.refusal.lock().unwrap_or_else(|e| e.into_inner()).clone()
     }
 }
 
@@ -52,7 +77,7 @@ async fn follow(
     cache: &EntryCache,
     live: &AtomicBool,
     last_event_id: &mut Option<String>,
-) {
+) -> Ended {
     let mut request = http
         .get(format!("{base}/api/v1/events"))
         .bearer_auth(token)
@@ -60,18 +85,28 @@ async fn follow(
     if let Some(id) = last_event_id.as_deref() {
         request = request.header("last-event-id", id);
     }
-    let Ok(mut response) = request.send().await else { return };
-    if !response.status().is_success() {
-        return;
+    let Ok(mut response) = request.send().await else { return Ended::Dropped };
+    let status = response.status();
+    if status == StatusCode::UNAUTHORIZED || status == StatusCode::FORBIDDEN {
+        let detail = super::RegistryError::from_response(response).await;
+        return Ended::Refused(format!(
+            "the change feed refused this robot's credential ({detail}); entries are revalidated \
+             on every read until the robot restarts with a valid token"
+        ));
+    }
+    if !status.is_success() {
+        return Ended::Dropped;
     }
     // Anything cached before the feed was live may have changed unannounced.
     cache.invalidate_all();
     live.store(true, Ordering::Release);
-    let mut buffer = String::new();
+    // Bytes until a whole event is in: a character split across chunks is decoded whole.
+    let mut buffer: Vec<u8> = Vec::new();
     while let Ok(Some(chunk)) = response.chunk().await {
-        buffer.push_str(&String::from_utf8_lossy(&chunk));
-        while let Some(end) = buffer.find("\n\n") {
-            let block: String = buffer.drain(..end + 2).collect();
+        buffer.extend_from_slice(&chunk);
+        while let Some(end) = buffer.windows(2).position(|pair| pair == b"\n\n") {
+            let block: Vec<u8> = buffer.drain(..end + 2).collect();
+            let Ok(block) = std::str::from_utf8(&block) else { continue };
             let mut data = String::new();
             for line in block.lines() {
                 if let Some(id) = line.strip_prefix("id:") {
@@ -89,4 +124,5 @@ async fn follow(
             }
         }
     }
+    Ended::Dropped
 }

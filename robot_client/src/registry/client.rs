@@ -36,6 +36,10 @@ pub struct Fetched {
     pub source: Source,
 }
 
+/// Internal errors on one trial, in a row, before it is set aside: enough to ride out a
+/// registry bug being fixed and restarted, few enough that the trials behind it still go.
+pub const MAX_FAILED_UPLOADS: u32 = 5;
+
 /// What one attempt to empty the outbox did.
 #[derive(Debug, Default, Clone, Copy, PartialEq, Eq)]
 pub struct FlushReport {
@@ -45,7 +49,7 @@ pub struct FlushReport {
     pub already_stored: usize,
     /// Refused for good and set aside in the outbox's `rejected/`.
     pub rejected: usize,
-    /// Still waiting, because the registry could not be reached.
+    /// Still waiting: the registry could not be reached, or failed on them (500).
     pub remaining: usize,
 }
 
@@ -219,20 +223,36 @@ impl RegistryClient {
             let response = match sent {
                 Ok(response) => response,
                 Err(_) => {
-                    report.remaining = pending.len() - index;
+                    report.remaining += pending.len() - index;
                     return Ok(report);
                 }
             };
             match response.status() {
                 StatusCode::CREATED => report.uploaded += 1,
                 StatusCode::OK => report.already_stored += 1,
+                // This trial's own trouble: keep it, and let the trials behind it go ahead; one
+                // the registry keeps failing on is set aside rather than retried forever.
+                StatusCode::INTERNAL_SERVER_ERROR => {
+                    let refusal = RegistryError::from_response(response).await;
+                    if self.outbox.failed_upload(waiting) >= MAX_FAILED_UPLOADS {
+                        let reason = format!(
+                            "the registry failed on this trial {MAX_FAILED_UPLOADS} times in a row; \
+                             last: {refusal}"
+                        );
+                        self.outbox.reject(waiting, &reason)?;
+                        report.rejected += 1;
+                    } else {
+                        report.remaining += 1;
+                    }
+                    continue;
+                }
                 status
                     if status.is_server_error()
                         || status == StatusCode::UNAUTHORIZED
                         || status == StatusCode::TOO_MANY_REQUESTS =>
                 {
-                    // Passing trouble (or a credential to fix): keep it and try later.
-                    report.remaining = pending.len() - index;
+                    // Passing trouble for every trial (or a credential to fix): try later.
+                    report.remaining += pending.len() - index;
                     return Ok(report);
                 }
                 _ => {

@@ -5,8 +5,12 @@
 
 mod change_watch;
 mod client;
+#[cfg(test)]
+mod client_tests;
 mod entry_cache;
 mod error;
+#[cfg(test)]
+mod flaky_registry;
 mod outbox;
 mod state_file;
 

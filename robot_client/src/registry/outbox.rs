@@ -6,8 +6,10 @@
 //! or nothing. Trials the registry refuses for good are moved to `rejected/` with the reason,
 //! never deleted.
 
+use std::collections::HashMap;
 use std::fs;
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
 use std::time::{SystemTime, UNIX_EPOCH};
 
 use pps_schema::Trial;
@@ -17,6 +19,8 @@ use super::state_file;
 #[derive(Debug, Clone)]
 pub struct TrialOutbox {
     dir: PathBuf,
+    /// Failed uploads in a row per waiting file, since this process opened the outbox.
+    failures: Arc<Mutex<HashMap<PathBuf, u32>>>,
 }
 
 /// A trial waiting in the outbox.
@@ -37,7 +41,7 @@ impl TrialOutbox {
                 fs::remove_file(path)?;
             }
         }
-        Ok(Self { dir })
+        Ok(Self { dir, failures: Arc::default() })
     }
 
     /// Stores a trial durably. Pushing a trial whose id is already waiting changes nothing.
@@ -73,11 +77,21 @@ impl TrialOutbox {
 
     /// The registry has the trial: forget it.
     pub fn uploaded(&self, trial: &PendingTrial) -> std::io::Result<()> {
+        self.failures.lock().unwrap_or_else(|e| e.into_inner()).remove(&trial.path);
         fs::remove_file(&trial.path)
+    }
+
+    /// The registry failed on the trial once more; returns how often in a row it has.
+    pub fn failed_upload(&self, trial: &PendingTrial) -> u32 {
+        let mut failures = self.failures.lock().unwrap_or_else(|e| e.into_inner());
+        let count = failures.entry(trial.path.clone()).or_insert(0);
+        *count += 1;
+        *count
     }
 
     /// The registry refused the trial for good: keep it aside with the reason, for a person.
     pub fn reject(&self, trial: &PendingTrial, reason: &str) -> std::io::Result<()> {
+        self.failures.lock().unwrap_or_else(|e| e.into_inner()).remove(&trial.path);
         self.set_aside(&trial.path, reason)
     }
 

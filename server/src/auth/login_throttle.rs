@@ -3,10 +3,12 @@
 //!
 //! Only password checks pass through here; bearer tokens never do, so robots are never slowed.
 //! An attempt made while it must wait is refused without looking at the password, so waiting
-//! cannot be skipped by guessing faster. State is in memory: a restart forgets it.
+//! cannot be skipped by guessing faster; and an attempt is claimed before its password is
+//! hashed, one at a time per name and per address, so it cannot be skipped by guessing in
+//! parallel either. State is in memory: a restart forgets it.
 
-use std::collections::HashMap;
-use std::sync::Mutex;
+use std::collections::{HashMap, HashSet};
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 /// Failures allowed before any waiting: enough for a typo or two on a phone keyboard.
@@ -20,6 +22,11 @@ pub const MAX_WAIT: Duration = Duration::from_secs(60);
 const FORGET_AFTER: Duration = Duration::from_secs(15 * 60);
 /// Upper bound on remembered keys, so a flood of made-up names cannot grow memory.
 const CAPACITY: usize = 10_000;
+/// Longest name kept in a key: longer than any valid login name, short enough that 10,000
+/// made-up megabyte names cost nothing.
+const MAX_KEY_NAME_CHARS: usize = 2 * crate::auth::user_name::MAX_CHARS;
+/// What an attempt is told while another one on its name or address is being checked.
+pub const BUSY_WAIT: Duration = Duration::from_secs(1);
 
 #[derive(Debug, Clone, Copy)]
 struct Failures {
@@ -37,7 +44,8 @@ impl Failures {
 
 /// The key that counts failures for one login name (as typed, when it is not a valid name).
 pub fn user_key(name: &str) -> String {
-    format!("user:{}", name.trim().to_lowercase())
+    let name: String = name.trim().chars().take(MAX_KEY_NAME_CHARS).collect();
+    format!("user:{}", name.to_lowercase())
 }
 
 /// The key that counts failures from one client address, whatever names it tries.
@@ -58,11 +66,55 @@ pub fn wait_after(count: u32, free: u32) -> Duration {
 #[derive(Debug, Default)]
 pub struct LoginThrottle {
     failures: Mutex<HashMap<String, Failures>>,
+    /// Keys with an attempt being checked right now.
+    in_flight: Mutex<HashSet<String>>,
+}
+
+/// A password attempt that may go ahead; its keys take no other attempt until it is dropped.
+#[derive(Debug)]
+pub struct Attempt {
+    throttle: Arc<LoginThrottle>,
+    keys: Vec<String>,
+}
+
+impl Attempt {
+    /// The password was wrong.
+    pub fn failed(self) {
+        self.throttle.failed(&self.keys);
+    }
+
+    /// The password was right.
+    pub fn succeeded(self) {
+        self.throttle.succeeded(&self.keys);
+    }
+}
+
+impl Drop for Attempt {
+    fn drop(&mut self) {
+        let mut in_flight = self.throttle.in_flight.lock().unwrap_or_else(|e| e.into_inner());
+        for key in &self.keys {
+            in_flight.remove(key);
+        }
+    }
 }
 
 impl LoginThrottle {
+    /// Claims an attempt on `keys`, or says how long to wait: while they must wait after
+    /// failures, or while another attempt on any of them is being checked.
+    pub fn begin(self: &Arc<Self>, keys: Vec<String>) -> Result<Attempt, Duration> {
+        if let Some(wait) = self.must_wait(&keys) {
+            return Err(wait);
+        }
+        let mut in_flight = self.in_flight.lock().unwrap_or_else(|e| e.into_inner());
+        if keys.iter().any(|key| in_flight.contains(key)) {
+            return Err(BUSY_WAIT);
+        }
+        in_flight.extend(keys.iter().cloned());
+        Ok(Attempt { throttle: self.clone(), keys })
+    }
+
     /// How much longer an attempt on these keys must wait; `None` when it may go ahead.
-    pub fn must_wait(&self, keys: &[String]) -> Option<Duration> {
+    fn must_wait(&self, keys: &[String]) -> Option<Duration> {
         let failures = self.failures.lock().unwrap_or_else(|e| e.into_inner());
         let now = Instant::now();
         keys.iter()
@@ -73,7 +125,7 @@ impl LoginThrottle {
     }
 
     /// Records a failed attempt on every key.
-    pub fn failed(&self, keys: &[String]) {
+    fn failed(&self, keys: &[String]) {
         let mut failures = self.failures.lock().unwrap_or_else(|e| e.into_inner());
         let now = Instant::now();
         if failures.len() + keys.len() > CAPACITY {
@@ -94,7 +146,7 @@ impl LoginThrottle {
     }
 
     /// A correct password clears the keys' failures.
-    pub fn succeeded(&self, keys: &[String]) {
+    fn succeeded(&self, keys: &[String]) {
         let mut failures = self.failures.lock().unwrap_or_else(|e| e.into_inner());
         for key in keys {
             failures.remove(key);
@@ -141,5 +193,22 @@ mod tests {
             throttle.failed(&keys);
         }
         assert!(throttle.must_wait(&[user_key("someone else"), address]).is_some());
+    }
+
+    #[test]
+    fn one_attempt_at_a_time_per_key() {
+        let throttle = Arc::new(LoginThrottle::default());
+        let address = address_key([10, 0, 0, 4].into());
+        let first = throttle.begin(vec![user_key("anna"), address.clone()]).unwrap();
+        assert_eq!(throttle.begin(vec![user_key("Anna")]).unwrap_err(), BUSY_WAIT);
+        assert!(throttle.begin(vec![user_key("bert"), address.clone()]).is_err());
+        assert!(throttle.begin(vec![user_key("bert")]).is_ok());
+        first.failed();
+        assert!(throttle.begin(vec![user_key("anna"), address]).is_ok(), "claim released");
+    }
+
+    #[test]
+    fn keys_of_long_names_are_short() {
+        assert!(user_key(&"x".repeat(1 << 20)).len() < 200);
     }
 }

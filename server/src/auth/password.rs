@@ -1,8 +1,10 @@
 //! Login passwords: argon2id hashes in PHC form, the rules a new password must meet, and a
 //! verification that costs the same whether or not the user exists.
 //!
-//! Hashing is deliberately slow (tens of milliseconds), so callers on the async runtime go
-//! through [`hash_off_runtime`] and [`verify_off_runtime`]. A password is never logged or stored.
+//! Hashing is deliberately slow (tens of milliseconds) and takes 19 MiB, so callers on the async
+//! runtime go through [`hash_off_runtime`] and [`verify_off_runtime`], which run at most
+//! [`MAX_CONCURRENT_HASHES`] at once and queue [`MAX_WAITING_HASHES`] more: many logins at the
+//! same moment wait their turn or are told to retry instead of taking memory without bound. A password is never logged or stored.
 
 use std::sync::LazyLock;
 
@@ -59,14 +61,63 @@ pub fn verify_or_decoy(password: &str, stored: Option<&str>) -> bool {
     }
 }
 
-/// [`hash`] on the blocking pool, off the async runtime's threads.
-pub async fn hash_off_runtime(password: String) -> anyhow::Result<String> {
-    tokio::task::spawn_blocking(move || hash(&password)).await?
+/// Password hashes computed at once, at most (each holds 19 MiB while it runs).
+pub const MAX_CONCURRENT_HASHES: usize = 4;
+/// Hashes queued beyond the running ones, at most; a login beyond is told to retry (503).
+pub const MAX_WAITING_HASHES: usize = 16;
+
+/// Every hash computer is busy and the queue is full.
+#[derive(Debug, thiserror::Error)]
+#[error("the registry is checking as many passwords as it can; retry in a moment")]
+pub struct HashingBusy;
+
+type HashJob = Box<dyn FnOnce() + Send>;
+
+/// The queue of the hashing threads. A few long-lived threads, rather than the runtime's
+/// blocking pool, so that the memory each hash leaves in its thread's allocator is kept by
+/// [`MAX_CONCURRENT_HASHES`] threads, not by however many the pool grew to.
+static HASHERS: LazyLock<std::sync::mpsc::SyncSender<HashJob>> = LazyLock::new(|| {
+    let (queue, jobs) = std::sync::mpsc::sync_channel::<HashJob>(MAX_WAITING_HASHES);
+    let jobs = std::sync::Arc::new(std::sync::Mutex::new(jobs));
+    for n in 0..MAX_CONCURRENT_HASHES {
+        let jobs = jobs.clone();
+        let spawned =
+            std::thread::Builder::new().name(format!("password-hash-{n}")).spawn(move || {
+                loop {
+                    let job = jobs.lock().unwrap_or_else(|e| e.into_inner()).recv();
+                    match job {
+                        Ok(job) => job(),
+                        Err(_) => return,
+                    }
+                }
+            });
+        if let Err(error) = spawned {
+            tracing::error!(%error, "cannot start a password hashing thread");
+        }
+    }
+    queue
+});
+
+/// Runs `work` on a hashing thread, or refuses at once when the queue is full.
+async fn hashing<T: Send + 'static>(
+    work: impl FnOnce() -> T + Send + 'static,
+) -> anyhow::Result<T> {
+    let (done, result) = tokio::sync::oneshot::channel();
+    let job: HashJob = Box::new(move || {
+        let _ = done.send(work());
+    });
+    HASHERS.try_send(job).map_err(|_| HashingBusy)?;
+    Ok(result.await?)
 }
 
-/// [`verify_or_decoy`] on the blocking pool, off the async runtime's threads.
+/// [`hash`] on a hashing thread, off the async runtime's threads.
+pub async fn hash_off_runtime(password: String) -> anyhow::Result<String> {
+    hashing(move || hash(&password)).await?
+}
+
+/// [`verify_or_decoy`] on a hashing thread, off the async runtime's threads.
 pub async fn verify_off_runtime(password: String, stored: Option<String>) -> anyhow::Result<bool> {
-    Ok(tokio::task::spawn_blocking(move || verify_or_decoy(&password, stored.as_deref())).await?)
+    hashing(move || verify_or_decoy(&password, stored.as_deref())).await
 }
 
 #[cfg(test)]

@@ -9,12 +9,14 @@ use std::time::Duration;
 
 use axum::extract::State;
 use axum::http::HeaderMap;
+use axum::http::header::AUTHORIZATION;
 use axum::response::sse::{Event as SseEvent, KeepAlive, Sse};
 use futures_util::Stream;
-use tokio::sync::{OwnedSemaphorePermit, broadcast, mpsc};
+use tokio::sync::{broadcast, mpsc};
 
-use crate::auth::Principal;
+use crate::auth::{self, Principal, secret, session};
 use crate::error::ApiError;
+use crate::feed::FeedPlace;
 use crate::http::extract::Caller;
 use crate::http::openapi::{Doc, Param, Reply};
 use crate::state::AppState;
@@ -22,6 +24,9 @@ use crate::store::events::{self, Event, EventKind};
 
 /// A comment line this often keeps idle connections (and proxies) from timing out.
 const HEARTBEAT: Duration = Duration::from_secs(15);
+/// How often an open stream checks that its credential still holds: a revoked token, a
+/// logout or a deleted user ends the stream within this (plus the token cache's recheck).
+const CREDENTIAL_RECHECK: Duration = Duration::from_secs(2);
 
 pub const STREAM: Doc = Doc::new("streamEvents", "The change feed, as Server-Sent Events")
     .describe(
@@ -43,11 +48,18 @@ pub async fn stream(
     Caller(caller): Caller,
     headers: HeaderMap,
 ) -> Result<Sse<impl Stream<Item = Result<SseEvent, Infallible>>>, ApiError> {
-    let permit = state.feed.join().ok_or_else(|| {
-        ApiError::Unavailable(format!(
-            "the change feed already serves {} clients; retry in a minute",
-            crate::feed::MAX_CLIENTS
-        ))
+    let permit = state.feed.join(&credential_key(&headers)).map_err(|full| {
+        ApiError::Unavailable(match full {
+            crate::feed::Full::Feed => format!(
+                "the change feed already serves {} clients; retry in a minute",
+                crate::feed::MAX_CLIENTS
+            ),
+            crate::feed::Full::Credential => format!(
+                "this credential already holds {} change-feed streams, its share; close one \
+                 (or use another credential) and retry",
+                crate::feed::MAX_CLIENTS_PER_CREDENTIAL
+            ),
+        })
     })?;
     let resume = match headers.get("last-event-id").map(|v| v.to_str().map(str::trim)) {
         Some(Ok(text)) => Some(text.parse::<i64>().map_err(|_| {
@@ -67,29 +79,50 @@ pub async fn stream(
         None => events::last_id(state.db.reader()).await?,
     };
     let (sender, receiver) = mpsc::channel(64);
-    tokio::spawn(forward(state, caller, start, live, sender, permit));
+    let credential = Credential(headers);
+    tokio::spawn(forward(state, caller, credential, start, live, sender, permit));
     let stream = futures_util::stream::unfold(receiver, |mut receiver| async move {
         receiver.recv().await.map(|event| (Ok(event), receiver))
     });
     Ok(Sse::new(stream).keep_alive(KeepAlive::new().interval(HEARTBEAT)))
 }
 
-/// Sends the backlog after `cursor`, then live events, until the client goes away.
+/// The request headers holding the stream's credential (bearer token or session cookie).
+struct Credential(HeaderMap);
+
+/// What the stream's credential is counted as for the per-credential share: a hash of the
+/// bearer token or session cookie, never the secret itself.
+fn credential_key(headers: &HeaderMap) -> String {
+    let token = headers.get(AUTHORIZATION).and_then(|v| v.to_str().ok());
+    let secret = token.map(str::to_owned).or_else(|| session::cookie_secret(headers));
+    secret::hash(&secret.unwrap_or_default())
+}
+
+/// Sends the backlog after `cursor`, then live events, until the client goes away or its
+/// credential stops being valid.
 async fn forward(
     state: AppState,
     caller: Principal,
+    credential: Credential,
     mut cursor: i64,
     mut live: broadcast::Receiver<std::sync::Arc<Event>>,
     sender: mpsc::Sender<SseEvent>,
-    _permit: OwnedSemaphorePermit,
+    _permit: FeedPlace,
 ) {
     if catch_up(&state, &caller, &mut cursor, &sender).await.is_err() {
         return;
     }
+    let mut recheck = tokio::time::interval(CREDENTIAL_RECHECK);
+    recheck.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
     loop {
         let received = tokio::select! {
             () = sender.closed() => return,
             () = state.feed.closed() => return,
+            _ = recheck.tick() => match auth::authenticate(&state, &credential.0).await {
+                Err(ApiError::Unauthorized(_)) => return,
+                // Keep serving while the check itself cannot be made (a busy database).
+                Ok(_) | Err(_) => continue,
+            },
             received = live.recv() => received,
         };
         let sent = match received {

@@ -12,6 +12,7 @@ use serde_json::Value;
 
 use crate::auth::Principal;
 use crate::error::ApiError;
+use crate::transport::body_deadline::BodyTimedOut;
 
 /// The largest request body the API accepts.
 pub const MAX_BODY_BYTES: usize = 1 << 20;
@@ -47,6 +48,17 @@ fn is_json(headers: &HeaderMap) -> bool {
 }
 
 fn body_error(rejection: BytesRejection) -> ApiError {
+    let mut cause: Option<&(dyn std::error::Error + 'static)> = Some(&rejection);
+    while let Some(error) = cause {
+        if let Some(timed_out) = error.downcast_ref::<BodyTimedOut>() {
+            return ApiError::RequestTimeout(format!(
+                "the request body did not arrive within {} s; send it at once, on a new \
+                 connection",
+                timed_out.0.as_secs()
+            ));
+        }
+        cause = error.source();
+    }
     if rejection.status() == StatusCode::PAYLOAD_TOO_LARGE {
         ApiError::PayloadTooLarge(format!(
             "the body is larger than the limit of {MAX_BODY_BYTES} bytes (1 MiB)"

@@ -14,6 +14,24 @@ pub async fn healthz() -> Json<Value> {
     Json(json!({ "status": "ok" }))
 }
 
+pub const READYZ: Doc = Doc::new("readyz", "Readiness: the registry can store writes now")
+    .describe(
+        "200 while there is room on the database's disk and its write lock can be taken; 503 \
+         (with Retry-After and the reason) while writes would be refused, e.g. on a full disk. \
+         Writes resume by themselves once the cause is gone.",
+    )
+    .replies(&[
+        Reply::json(200, "Ready to take writes", "health"),
+        Reply::problem(503, "Writes would be refused now; the detail says why"),
+    ]);
+
+pub async fn readyz(
+    axum::extract::State(state): axum::extract::State<crate::state::AppState>,
+) -> Result<Json<Value>, ApiError> {
+    state.db.readiness().await.map_err(|why| ApiError::Unavailable(why.to_string()))?;
+    Ok(Json(json!({ "status": "ok" })))
+}
+
 pub const SCHEMA: Doc = Doc::new("getSchema", "One JSON Schema of the contract, as published")
     .params(&[Param::path(
         "name",

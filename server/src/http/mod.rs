@@ -85,6 +85,7 @@ pub fn router_with_routes(state: AppState) -> (Router, Vec<RouteSpec>) {
     let openapi = openapi::Published::default();
     let routes = Routes { state: state.clone(), router: Router::new(), specs: Vec::new() }
         .add(get(), "/healthz", Open, meta::healthz, meta::HEALTHZ)
+        .add(get(), "/readyz", Open, meta::readyz, meta::READYZ)
         .add(get(), "/api/v1/openapi.json", Open, openapi.handler(), openapi::DOC)
         .add(get(), "/api/v1/schema/{name}", Open, meta::schema, meta::SCHEMA)
         .add(get(), "/api/v1/tags", Anyone, tags::list, tags::LIST)

@@ -43,9 +43,11 @@ pub async fn login(
     if let Some(Extension(ConnectInfo(address))) = client {
         throttle_keys.push(login_throttle::address_key(address.ip()));
     }
-    if let Some(wait) = state.login_throttle.must_wait(&throttle_keys) {
-        return Ok(too_many_attempts(wait));
-    }
+    // Claimed before anything is looked up or hashed, so parallel guesses wait like serial ones.
+    let attempt = match state.login_throttle.begin(throttle_keys) {
+        Ok(attempt) => attempt,
+        Err(wait) => return Ok(too_many_attempts(wait)),
+    };
     let found = match &name {
         Some(name) => store::users::find_with_hash(state.db.reader(), name).await?,
         None => None,
@@ -56,10 +58,10 @@ pub async fn login(
     let candidate = if too_long { String::new() } else { login.password };
     let right = password::verify_off_runtime(candidate, stored_hash).await? && !too_long;
     let (Some(name), Some((user, _)), true) = (name, found, right) else {
-        state.login_throttle.failed(&throttle_keys);
+        attempt.failed();
         return Err(ApiError::Unauthorized("wrong user name or password".into()));
     };
-    state.login_throttle.succeeded(&throttle_keys);
+    attempt.succeeded();
 
     let session_secret = session::mint_secret();
     let expires_at = clock::format(time::OffsetDateTime::now_utc() + session::LIFETIME);
@@ -133,7 +135,8 @@ pub async fn logout(
 pub(super) fn too_many_attempts(wait: Duration) -> Response {
     let seconds = wait.as_secs() + u64::from(wait.subsec_nanos() > 0);
     let mut response = ApiError::TooManyRequests(format!(
-        "too many wrong passwords; wait {seconds} s before trying again"
+        "too many wrong passwords, or another attempt for this name or address is being \
+         checked; wait {seconds} s before trying again"
     ))
     .into_response();
     response.headers_mut().insert(RETRY_AFTER, HeaderValue::from(seconds));

@@ -44,12 +44,8 @@ pub async fn create(
         ApiError::invalid_at("", format!("a token needs role (admin, caretaker or robot), name and optionally expires_in_days: {error}"))
     })?;
     let name = request.name.trim();
-    if request.role == Role::Robot {
-        pps_schema::RobotId::parse(name).map_err(|e| {
-            ApiError::invalid_at("/name", format!("a robot token's name is the robot's id: {e}"))
-        })?;
-    } else if name.is_empty() || name.chars().count() > 100 {
-        return Err(ApiError::invalid_at("/name", "name is 1 to 100 characters"));
+    if let Some(problem) = tokens::name_problem(request.role, name) {
+        return Err(ApiError::invalid_at("/name", problem));
     }
     let expires_at = match request.expires_in_days {
         Some(days) if !(days > 0.0 && days <= 3650.0) => {
@@ -64,7 +60,9 @@ pub async fn create(
         None => None,
     };
     let minted = tokens::create(&state.db, request.role, name, expires_at).await?;
-    Ok((StatusCode::CREATED, Json(minted)).into_response())
+    // The secret is in this answer only: no cache along the way may keep it.
+    let no_store = [(axum::http::header::CACHE_CONTROL, "no-store")];
+    Ok((StatusCode::CREATED, no_store, Json(minted)).into_response())
 }
 
 pub const REVOKE: Doc = Doc::new("revokeToken", "Revoke a token, at once")

@@ -135,9 +135,8 @@ fn rejection_error(epc: &pps_schema::Epc, rejection: TrialRejection) -> ApiError
                 "the EPC {epc} was retired when its tag was replaced; record the trial on {successor}"
             ),
         ),
-        TrialRejection::Database(error) => {
-            ApiError::Internal(anyhow::anyhow!("storing a trial: {error}"))
-        }
+        TrialRejection::Database(error) => ApiError::unwritable(&error)
+            .unwrap_or_else(|| ApiError::Internal(anyhow::anyhow!("storing a trial: {error}"))),
         TrialRejection::ShuttingDown => {
             ApiError::Unavailable("the registry is shutting down; retry in a moment".into())
         }
@@ -257,12 +256,21 @@ pub struct ListParams {
     action: Option<String>,
     outcome: Option<String>,
     since: Option<String>,
+    include: Option<String>,
     limit: Option<u32>,
     cursor: Option<String>,
 }
 
+/// Stored trial bytes one page of the list holds at most: a page ends early (with a cursor)
+/// rather than make the registry hold hundreds of megabytes of force samples for one answer.
+pub const MAX_PAGE_BYTES: usize = 4 << 20;
+
 pub const LIST: Doc = Doc::new("listTrials", "Trial history, oldest first")
-    .describe("A robot lists only its own trials.")
+    .describe(
+        "A robot lists only its own trials. Force samples are left out unless \
+         `include=forces`; a page also ends early (with next_cursor) once it holds 4 MiB of \
+         trials, so it may have fewer than `limit` items although more follow.",
+    )
     .params(&[
         Param::query("epc", ParamType::Schema("tag/$defs/epc"), "Only trials on this tag"),
         Param::query("robot", ParamType::Schema("robot/$defs/robot_id"), "Only this robot's"),
@@ -273,6 +281,11 @@ pub const LIST: Doc = Doc::new("listTrials", "Trial history, oldest first")
             "Only this outcome",
         ),
         Param::query("since", ParamType::DateTime, "Only trials started at or after this time"),
+        Param::query(
+            "include",
+            ParamType::OneOf(&["forces"]),
+            "`forces`: each trial with its force samples",
+        ),
         Param::LIMIT,
         Param::CURSOR,
     ])
@@ -282,7 +295,7 @@ pub async fn list(
     State(state): State<AppState>,
     Caller(caller): Caller,
     ApiQuery(params): ApiQuery<ListParams>,
-) -> Result<Json<Page<Value>>, ApiError> {
+) -> Result<Response, ApiError> {
     let limit = page::limit(params.limit)?;
     let after = page::decode_position(params.cursor.as_deref())?;
     let robot = match (caller.role, params.robot) {
@@ -300,12 +313,37 @@ pub async fn list(
         params.since.as_deref(),
     )
     .map_err(ApiError::BadRequest)?;
-    let rows = trials::list(state.db.reader(), &filter, after, limit + 1).await?;
-    let page = page::page(rows, limit, |row| row.seq.to_string());
-    Ok(Json(Page {
-        items: page.items.iter().map(TrialRow::to_json).collect(),
-        next_cursor: page.next_cursor,
-    }))
+    let forces = match params.include.as_deref() {
+        None => false,
+        Some("forces") => true,
+        Some(other) => {
+            return Err(ApiError::BadRequest(format!(
+                "include takes only \"forces\" (each trial with its force samples), not {other:?}"
+            )));
+        }
+    };
+    let window = trials::Window { after, limit: limit + 1, max_bytes: MAX_PAGE_BYTES, forces };
+    let (rows, cut_short) = trials::list(state.db.reader(), &filter, window).await?;
+    let mut page = page::page(rows, limit, |row| row.seq.to_string());
+    if cut_short {
+        page.next_cursor = page.items.last().map(|last| page::encode_cursor(&last.seq.to_string()));
+    }
+    Ok(page_response(&page))
+}
+
+/// The page's JSON written item by item, so the answer is never held twice over as values.
+fn page_response(page: &Page<TrialRow>) -> Response {
+    let mut body = String::from("{\"items\":[");
+    for (n, row) in page.items.iter().enumerate() {
+        if n > 0 {
+            body.push(',');
+        }
+        body.push_str(&row.to_json().to_string());
+    }
+    body.push_str("],\"next_cursor\":");
+    body.push_str(&Value::from(page.next_cursor.clone()).to_string());
+    body.push('}');
+    ([(axum::http::header::CONTENT_TYPE, "application/json")], body).into_response()
 }
 
 /// Trial ids are UUIDs, stored in their lower-case hyphenated form.

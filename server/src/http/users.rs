@@ -160,18 +160,18 @@ async fn check_current_password(
         )
         .into_response());
     };
-    let keys = [login_throttle::user_key(name.as_str())];
-    if let Some(wait) = state.login_throttle.must_wait(&keys) {
-        return Err(too_many_attempts(wait));
-    }
+    let attempt = state
+        .login_throttle
+        .begin(vec![login_throttle::user_key(name.as_str())])
+        .map_err(too_many_attempts)?;
     let right = password::verify_off_runtime(current, Some(stored))
         .await
         .map_err(|error| ApiError::from(error).into_response())?;
     if right {
-        state.login_throttle.succeeded(&keys);
+        attempt.succeeded();
         Ok(())
     } else {
-        state.login_throttle.failed(&keys);
+        attempt.failed();
         Err(ApiError::invalid_at("/current_password", "this is not your current password")
             .into_response())
     }

@@ -123,6 +123,20 @@ pub async fn after(pool: &SqlitePool, after: i64, limit: u32) -> sqlx::Result<Ve
         .collect())
 }
 
+/// Events the feed keeps, at most: enough for any client to resume after a long outage (a
+/// client that falls further behind reloads anyway), bounded so the table cannot grow forever.
+pub const KEEP: i64 = 100_000;
+
+/// Drops events older than the newest [`KEEP`]; returns how many went.
+#[tracing::instrument(skip_all)]
+pub async fn prune(tx: &mut SqliteConnection) -> sqlx::Result<u64> {
+    let done = sqlx::query("delete from events where id <= (select max(id) from events) - ?")
+        .bind(KEEP)
+        .execute(&mut *tx)
+        .await?;
+    Ok(done.rows_affected())
+}
+
 /// The newest event's id, 0 when there are none.
 pub async fn last_id(pool: &SqlitePool) -> sqlx::Result<i64> {
     sqlx::query_scalar("select coalesce(max(id), 0) from events").fetch_one(pool).await

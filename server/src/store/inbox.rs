@@ -28,10 +28,18 @@ pub struct InboxItem {
     pub count: i64,
 }
 
-/// Adds sightings to the inbox (skipping EPCs registered meanwhile), with one event each.
+/// EPCs the inbox keeps, at most: the most recently seen. A flood of made-up EPCs pushes out
+/// the oldest sightings instead of growing the database.
+pub const MAX_ENTRIES: i64 = 10_000;
+/// EPCs one inbox event names, at most; a flush of more says how many more there were.
+const EPCS_PER_EVENT: usize = 100;
+
+/// Adds sightings to the inbox (skipping EPCs registered meanwhile), merged with earlier
+/// sightings of the same EPC, then drops the oldest beyond [`MAX_ENTRIES`]. One event tells of
+/// the whole flush, however many EPCs it held.
 #[tracing::instrument(skip_all, fields(n = sightings.len()))]
 pub async fn record(tx: &mut SqliteConnection, sightings: &[Sighting]) -> sqlx::Result<usize> {
-    let mut recorded = 0;
+    let mut recorded = Vec::new();
     for sighting in sightings {
         let registered: bool =
             sqlx::query_scalar("select exists (select 1 from tags where epc = ?)")
@@ -70,11 +78,25 @@ pub async fn record(tx: &mut SqliteConnection, sightings: &[Sighting]) -> sqlx::
         .bind(count)
         .execute(&mut *tx)
         .await?;
-        events::append(tx, EventKind::InboxChanged, json!({ "epc": sighting.epc, "count": count }))
-            .await?;
-        recorded += 1;
+        recorded.push((sighting.epc.as_str(), count));
     }
-    Ok(recorded)
+    let data = match recorded.as_slice() {
+        [] => return Ok(0),
+        [(epc, count)] => json!({ "epc": epc, "count": count }),
+        many => json!({
+            "epcs": many.iter().take(EPCS_PER_EVENT).map(|(epc, _)| *epc).collect::<Vec<_>>(),
+            "more": many.len().saturating_sub(EPCS_PER_EVENT),
+        }),
+    };
+    events::append(tx, EventKind::InboxChanged, data).await?;
+    sqlx::query(
+        "delete from inbox where epc in (
+             select epc from inbox order by last_seen desc, epc limit -1 offset ?)",
+    )
+    .bind(MAX_ENTRIES)
+    .execute(&mut *tx)
+    .await?;
+    Ok(recorded.len())
 }
 
 /// Drops an EPC from the inbox once it is registered.

@@ -27,6 +27,24 @@ pub struct MintedToken {
     pub token: String,
 }
 
+/// Why `name` cannot name a token of `role`, in words for whoever chose it: a robot token's
+/// name is its robot's id; any other is 1 to 100 characters, none of them control characters
+/// (which would garble `token list` in a terminal).
+pub fn name_problem(role: Role, name: &str) -> Option<String> {
+    if role == Role::Robot {
+        return pps_schema::RobotId::parse(name)
+            .err()
+            .map(|e| format!("a robot token's name is the robot's id: {e}"));
+    }
+    if name.trim().is_empty() || name.chars().count() > 100 {
+        Some("a token's name is 1 to 100 characters".into())
+    } else if name.chars().any(char::is_control) {
+        Some("a token's name cannot hold control characters (newlines, tabs, escapes)".into())
+    } else {
+        None
+    }
+}
+
 /// Mints a token. For a robot token, `name` is the robot id it is bound to.
 #[tracing::instrument(skip_all, fields(role = %role))]
 pub async fn create(

@@ -64,16 +64,31 @@ pub async fn get(pool: &SqlitePool, id: &str) -> sqlx::Result<Option<TrialRow>> 
     find(&mut conn, id).await
 }
 
-/// Trials after sequence number `after`, oldest first.
+/// How much of the trial history one query reads.
+#[derive(Debug, Clone, Copy)]
+pub struct Window {
+    /// Trials after this sequence number.
+    pub after: i64,
+    /// Trials at most.
+    pub limit: u32,
+    /// Stored bytes at most (the first trial is always read, whatever its size).
+    pub max_bytes: usize,
+    /// With the force samples, the bulk of a trial; without, `forces` is left out.
+    pub forces: bool,
+}
+
+/// Trials in `window`, oldest first, read one by one so that no more than `max_bytes` of them
+/// are held; the flag says the byte bound (not the limit or the end) stopped the read.
 #[tracing::instrument(skip_all)]
 pub async fn list(
     pool: &SqlitePool,
     filter: &TrialFilter,
-    after: i64,
-    limit: u32,
-) -> sqlx::Result<Vec<TrialRow>> {
-    sqlx::query_as(
-        "select seq, id, epc, robot, robot_class, action, outcome, confirmed, received_at, body
+    window: Window,
+) -> sqlx::Result<(Vec<TrialRow>, bool)> {
+    use futures_util::TryStreamExt;
+    let mut rows = sqlx::query_as::<_, TrialRow>(
+        "select seq, id, epc, robot, robot_class, action, outcome, confirmed, received_at,
+                case when ?8 then body else json_remove(body, '$.forces') end as body
          from trials
          where seq > ?1
            and (?2 is null or epc = ?2)
@@ -84,15 +99,24 @@ pub async fn list(
          order by seq
          limit ?7",
     )
-    .bind(after)
+    .bind(window.after)
     .bind(&filter.epc)
     .bind(&filter.robot)
     .bind(&filter.action)
     .bind(&filter.outcome)
     .bind(&filter.since)
-    .bind(i64::from(limit))
-    .fetch_all(pool)
-    .await
+    .bind(i64::from(window.limit))
+    .bind(window.forces)
+    .fetch(pool);
+    let (mut listed, mut bytes) = (Vec::new(), 0);
+    while let Some(row) = rows.try_next().await? {
+        bytes += row.body.len();
+        if bytes > window.max_bytes && !listed.is_empty() {
+            return Ok((listed, true));
+        }
+        listed.push(row);
+    }
+    Ok((listed, false))
 }
 
 /// Sets the person's verdict; false when no trial has this id.

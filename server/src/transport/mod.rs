@@ -1,12 +1,16 @@
 //! How the registry accepts connections: plain TCP or TLS, HTTP/1.1, at most so many
-//! connections at once, and a deadline for every request head.
+//! connections at once (and a share of them per client address), and deadlines for every
+//! request head and body.
 //!
-//! The deadline is what keeps a client that trickles its headers (or never finishes a TLS
-//! handshake) from holding a connection forever; the cap is what keeps many such clients
-//! from exhausting file descriptors. This module serves whatever router it is given and knows
+//! The deadlines are what keep a client that trickles its headers or body (or never finishes
+//! a TLS handshake) from holding a connection forever; the cap is what keeps many such
+//! clients from exhausting file descriptors, and the per-address share what keeps one host
+//! from taking every connection. This module serves whatever router it is given and knows
 //! nothing of the API. It must never drop a request in flight at shutdown: it stops accepting,
 //! lets open requests finish and closes idle connections.
 
+mod address_share;
+pub mod body_deadline;
 pub mod tls;
 
 use std::future::Future;
@@ -16,6 +20,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use axum::Router;
+use http_body::Body as _;
 use hyper::server::conn::http1;
 use hyper_util::rt::{TokioIo, TokioTimer};
 use tokio::io::{AsyncRead, AsyncWrite};
@@ -23,12 +28,19 @@ use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::{OwnedSemaphorePermit, Semaphore, watch};
 use tower::ServiceExt;
 
+use address_share::{AddressShares, AddressSlot};
+use body_deadline::DeadlineBody;
 pub use tls::TlsIdentity;
 
 /// Generous for a LAN; a robot on flaky Wi-Fi still gets its request head through.
 pub const DEFAULT_HEADER_READ_TIMEOUT: Duration = Duration::from_secs(30);
 /// Room for every change-feed client (`feed::MAX_CLIENTS`) plus as many again for requests.
 pub const DEFAULT_MAX_CONNECTIONS: u32 = 512;
+/// Half the connections: a robot or browser needs a handful, and whoever stalls connections
+/// from one address still leaves the other half to everyone else.
+pub const DEFAULT_MAX_CONNECTIONS_PER_ADDRESS: u32 = DEFAULT_MAX_CONNECTIONS / 2;
+/// A 1 MiB trial crosses even a poor Wi-Fi link in a few seconds.
+pub const DEFAULT_BODY_READ_TIMEOUT: Duration = Duration::from_secs(30);
 
 /// Marks a request that arrived over TLS (so cookies may carry `Secure`).
 #[derive(Debug, Clone, Copy)]
@@ -44,6 +56,12 @@ pub struct Transport {
     /// Connections served at once; further clients wait in the listen backlog until one
     /// closes.
     pub max_connections: usize,
+    /// Connections one client address may hold at once; beyond, its new connections are
+    /// closed at once.
+    pub max_connections_per_address: usize,
+    /// How long a client has to deliver a request body, from the end of its head; then it is
+    /// answered 408 and the connection closes.
+    pub body_read_timeout: Duration,
     /// Serve HTTPS with this certificate; plain HTTP when `None`.
     pub tls: Option<TlsIdentity>,
 }
@@ -53,6 +71,8 @@ impl Default for Transport {
         Self {
             header_read_timeout: DEFAULT_HEADER_READ_TIMEOUT,
             max_connections: DEFAULT_MAX_CONNECTIONS as usize,
+            max_connections_per_address: DEFAULT_MAX_CONNECTIONS_PER_ADDRESS as usize,
+            body_read_timeout: DEFAULT_BODY_READ_TIMEOUT,
             tls: None,
         }
     }
@@ -75,6 +95,7 @@ pub async fn serve(
     let mut http = http1::Builder::new();
     http.timer(TokioTimer::new()).header_read_timeout(transport.header_read_timeout);
     let slots = Arc::new(Semaphore::new(transport.max_connections.max(1)));
+    let shares = AddressShares::new(transport.max_connections_per_address);
     // Every connection holds a receiver; the sender learns when the last one is gone.
     let (closing, watch_closing) = watch::channel(false);
     tokio::pin!(shutdown);
@@ -85,14 +106,19 @@ pub async fn serve(
             accepted = accept(&listener, &slots) => accepted,
         };
         let Some((stream, peer, slot)) = accepted else { continue };
+        let Some(share) = shares.claim(peer.ip()) else {
+            tracing::debug!(%peer, "closed a connection beyond its address's share");
+            continue;
+        };
         let connection = Connection {
             peer,
+            body_read_timeout: transport.body_read_timeout,
             http: http.clone(),
             app: app.clone(),
             tls: transport.tls.clone(),
             handshake_timeout: transport.header_read_timeout,
             closing: watch_closing.clone(),
-            _slot: slot,
+            _slots: (slot, share),
         };
         tokio::spawn(connection.serve(stream));
     }
@@ -134,12 +160,13 @@ async fn pause_after(error: &io::Error) {
 struct Connection {
     /// The client's address, for the login slow-down.
     peer: SocketAddr,
+    body_read_timeout: Duration,
     http: http1::Builder,
     app: Router,
     tls: Option<TlsIdentity>,
     handshake_timeout: Duration,
     closing: watch::Receiver<bool>,
-    _slot: OwnedSemaphorePermit,
+    _slots: (OwnedSemaphorePermit, AddressSlot),
 }
 
 impl Connection {
@@ -172,9 +199,16 @@ impl Connection {
         io: impl AsyncRead + AsyncWrite + Unpin + Send + 'static,
         secure: bool,
     ) {
-        let (app, peer) = (self.app, self.peer);
+        let (app, peer, body_limit) = (self.app, self.peer, self.body_read_timeout);
         let service = hyper::service::service_fn(move |request: hyper::Request<_>| {
-            let mut request = request.map(axum::body::Body::new);
+            // Bodiless requests (the robots' hot path) need no timer.
+            let mut request = request.map(|body: hyper::body::Incoming| {
+                if body.is_end_stream() {
+                    axum::body::Body::new(body)
+                } else {
+                    axum::body::Body::new(DeadlineBody::new(body, body_limit))
+                }
+            });
             request.extensions_mut().insert(axum::extract::ConnectInfo(peer));
             if secure {
                 request.extensions_mut().insert(SecureTransport);

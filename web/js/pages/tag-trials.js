@@ -7,7 +7,7 @@ import { verdict, when } from '../format.js';
 
 /** Fills `container` with the trials of `epc`; returns how many there are. */
 export async function renderTrials(container, epc) {
-  const trials = await getAll(`/api/v1/trials${query({ epc, limit: 500 })}`);
+  const trials = await getAll(`/api/v1/trials${query({ epc, include: 'forces', limit: 500 })}`);
   if (trials.length === 0) {
     replace(container, h('p', { class: 'muted' }, 'No robot has tried this tag yet.'));
     return 0;

@@ -1,0 +1,159 @@
+//! Floods from one host on the LAN, bounded in count and time: made-up HTTP methods, clients
+//! that send headers and stall their bodies, many wrong passwords at once. Each keeps the
+//! server's memory bounded (read from `/proc/PID/status`) and other clients served.
+
+use std::net::SocketAddr;
+use std::time::{Duration, Instant};
+
+use pps_tests::Registry;
+use reqwest::{Method, StatusCode};
+use serde_json::json;
+use tokio::io::{AsyncReadExt, AsyncWriteExt};
+use tokio::net::{TcpSocket, TcpStream};
+
+fn address(registry: &Registry) -> SocketAddr {
+    registry.url.strip_prefix("http://").unwrap().parse().unwrap()
+}
+
+/// A connection to the registry from `source` (any 127.x.y.z address is this machine).
+async fn connect_from(registry: &Registry, source: [u8; 4]) -> TcpStream {
+    let socket = TcpSocket::new_v4().unwrap();
+    socket.bind(SocketAddr::from((source, 0))).unwrap();
+    socket.connect(address(registry)).await.unwrap()
+}
+
+#[tokio::test]
+async fn made_up_methods_do_not_grow_the_metrics() {
+    let registry = Registry::start();
+    let client = reqwest::Client::new();
+    let warm = client
+        .request(Method::from_bytes(b"WARM").unwrap(), format!("{}/api/v1/tags", registry.url));
+    assert_eq!(warm.send().await.unwrap().status(), StatusCode::METHOD_NOT_ALLOWED);
+    let before = registry.memory_kib("VmRSS");
+    let flood = (0..16).map(|worker| {
+        let (client, url) = (client.clone(), registry.url.clone());
+        tokio::spawn(async move {
+            for n in 0..1250 {
+                let method = Method::from_bytes(format!("M{worker}X{n}").as_bytes()).unwrap();
+                let response = client.request(method, format!("{url}/api/v1/tags")).send().await;
+                assert_eq!(response.unwrap().status(), StatusCode::METHOD_NOT_ALLOWED);
+            }
+        })
+    });
+    for worker in flood.collect::<Vec<_>>() {
+        worker.await.unwrap();
+    }
+    let after = registry.memory_kib("VmRSS");
+    let metrics = reqwest::get(format!("{}/metrics", registry.url)).await.unwrap();
+    let text = metrics.text().await.unwrap();
+    eprintln!("20,000 made-up methods: RSS {before} -> {after} KiB, /metrics {} bytes", text.len());
+    assert!(after.saturating_sub(before) < 20 * 1024, "RSS grew {before} -> {after} KiB");
+    assert!(text.len() < 64 * 1024, "/metrics is {} bytes", text.len());
+    assert!(text.contains("method=\"other\",status=\"405\"} 20001"), "{text}");
+}
+
+#[tokio::test]
+async fn clients_stalling_their_bodies_leave_the_others_served() {
+    let registry = Registry::with_flags(&["--body-timeout", "3"]);
+    // 512 logins from one host that send their headers and one byte of body, then stall.
+    let head = "POST /api/v1/session HTTP/1.1\r\nhost: registry\r\n\
+                content-type: application/json\r\ncontent-length: 100\r\n\r\n{";
+    let mut stalled = Vec::new();
+    for _ in 0..512 {
+        let mut stream = connect_from(&registry, [127, 0, 0, 2]).await;
+        // The server closes connections beyond the host's share; writing to one may fail.
+        let _ = stream.write_all(head.as_bytes()).await;
+        stalled.push(stream);
+    }
+    let asked = Instant::now();
+    let client = reqwest::Client::builder().timeout(Duration::from_secs(5)).build().unwrap();
+    let health = client.get(format!("{}/healthz", registry.url)).send().await;
+    let waited = asked.elapsed();
+    eprintln!("with 512 stalled bodies, /healthz answered in {waited:?}: {health:?}");
+    assert_eq!(health.expect("/healthz answers").status(), StatusCode::OK);
+
+    // The stalled bodies are cut off after the body deadline with a 408, and closed.
+    let (mut timed_out, mut closed) = (0, 0);
+    for stream in &mut stalled {
+        let mut answer = Vec::new();
+        let read = tokio::time::timeout(Duration::from_secs(10), stream.read_to_end(&mut answer));
+        match read.await {
+            Ok(_) if answer.starts_with(b"HTTP/1.1 408") => timed_out += 1,
+            Ok(_) => closed += 1,
+            Err(_) => panic!("a stalled connection was still open 10 s after its deadline"),
+        }
+    }
+    eprintln!("stalled: {timed_out} answered 408 after the body deadline, {closed} closed at once");
+    assert_eq!(timed_out, 256, "the host's share of the connections, then 408");
+    assert_eq!(closed, 256, "connections beyond the host's share are closed");
+}
+
+/// Logs in `n` times at once with wrong passwords, each from `source(i)`; the statuses.
+async fn wrong_passwords_at_once(
+    registry: &Registry,
+    n: usize,
+    name: impl Fn(usize) -> String,
+    source: impl Fn(usize) -> [u8; 4],
+) -> Vec<StatusCode> {
+    let attempts = (0..n).map(|i| {
+        let client = reqwest::Client::builder()
+            .local_address(std::net::IpAddr::from(source(i)))
+            .build()
+            .unwrap();
+        let url = format!("{}/api/v1/session", registry.url);
+        let body = json!({ "username": name(i), "password": format!("wrong password {i}") });
+        tokio::spawn(async move { client.post(url).json(&body).send().await.unwrap().status() })
+    });
+    let mut statuses = Vec::new();
+    for attempt in attempts.collect::<Vec<_>>() {
+        statuses.push(attempt.await.unwrap());
+    }
+    statuses
+}
+
+fn count(statuses: &[StatusCode], status: StatusCode) -> usize {
+    statuses.iter().filter(|s| **s == status).count()
+}
+
+#[tokio::test]
+async fn many_wrong_passwords_at_once_are_slowed_and_bounded() {
+    let registry = Registry::start();
+    registry.add_user("anna", "caretaker", "the right password");
+    let baseline = registry.memory_kib("VmHWM");
+
+    // One name, one host, 100 guesses at once: the throttle counts them as if one by one.
+    let statuses =
+        wrong_passwords_at_once(&registry, 100, |_| "anna".into(), |_| [127, 0, 0, 3]).await;
+    let (checked, slowed) = (
+        count(&statuses, StatusCode::UNAUTHORIZED),
+        count(&statuses, StatusCode::TOO_MANY_REQUESTS),
+    );
+    eprintln!(
+        "100 guesses for one name at once: {checked} checked (401), {slowed} slowed (429); \
+         peak RSS {baseline} -> {} KiB",
+        registry.memory_kib("VmHWM")
+    );
+    assert_eq!(checked + slowed, 100, "{statuses:?}");
+    assert!(checked <= 4, "at most the free failures and one more are checked: {checked}");
+
+    // 100 names from 100 hosts at once: each may be checked, but only a few hashes run at
+    // once and the rest are told to retry.
+    let statuses = wrong_passwords_at_once(
+        &registry,
+        100,
+        |i| format!("name{i}"),
+        |i| [127, 0, 1, i as u8 + 1],
+    )
+    .await;
+    let (checked, busy) = (
+        count(&statuses, StatusCode::UNAUTHORIZED),
+        count(&statuses, StatusCode::SERVICE_UNAVAILABLE),
+    );
+    let peak = registry.memory_kib("VmHWM");
+    eprintln!(
+        "100 names at once: {checked} checked (401), {busy} told to retry (503); \
+         peak RSS {baseline} -> {peak} KiB"
+    );
+    assert_eq!(checked + busy, 100, "{statuses:?}");
+    assert!(peak.saturating_sub(baseline) < 600 * 1024, "peak RSS {baseline} -> {peak} KiB");
+}
