@@ -26,7 +26,7 @@ pub use backing_plane::{
 pub use plane::Plane;
 pub use plane_evidence::{PlanarPatch, PlaneEvidenceRule, assess_plane};
 pub use ransac::{DetectedPlane, PlaneSearchParams, find_planes};
-pub use rfid_choice::{RfidIdentity, TagSignal, identify_tag};
+pub use rfid_choice::{RfidIdentity, TagSignal, identify_among, identify_tag, tag_signals};
 pub use voi::VolumeOfInterest;
 pub use waypoint::{
     ApproachWaypoint, Clearance, RobotFootprint, approach_waypoint, check_clearance,
