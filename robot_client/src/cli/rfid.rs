@@ -113,6 +113,10 @@ pub struct RfidArgs {
     /// A CA certificate (PEM) to trust for an HTTPS registry.
     #[arg(long, env = "PPS_CA_CERT")]
     pub ca_cert: Option<PathBuf>,
+    /// Where the robot keeps its entry cache; default `pps-robot/<ROBOT>` in the system's
+    /// temporary directory, as for `run`.
+    #[arg(long)]
+    pub state: Option<PathBuf>,
 }
 
 impl RfidArgs {
@@ -168,7 +172,7 @@ fn look_up(args: &RfidArgs, server: &str, chosen: &TagSignal) -> anyhow::Result<
         token: args.token.clone().unwrap_or_default(),
         ca_cert: args.ca_cert.clone(),
         robot: args.robot.clone().unwrap_or_default(),
-        state: None,
+        state: args.state.clone(),
     }
     .connect()?;
     let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build()?;
