@@ -7,6 +7,7 @@
 //!   waypoint, collision check, and which RFID tag was read.
 //! - [`recording`]: the files recorded sensor data travels in (PNG, PLY, camera JSON).
 //! - [`registry`]: the registry client, its entry cache and the durable trial outbox.
+//! - [`rfid`]: real RFID readers (LLRP over TCP, the ThingMagic M5e over serial).
 //! - [`behaviors`]: the paper's §IV-B.2 manipulation behaviours, each with its detector.
 //! - [`task`]: the paper's four phases end to end, ending in a trial in the registry.
 //! - [`sim`]: a seeded room with the paper's five tagged devices, rendered for the sensors.
@@ -19,6 +20,7 @@ pub mod navigation;
 pub mod perception;
 pub mod recording;
 pub mod registry;
+pub mod rfid;
 pub mod sim;
 pub mod task;
 pub mod timings;

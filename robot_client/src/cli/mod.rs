@@ -5,6 +5,7 @@ mod bench;
 mod overlay;
 mod perceive;
 mod registry_args;
+mod rfid;
 mod run;
 mod scene;
 mod trials;
@@ -15,6 +16,7 @@ pub use bench::BenchArgs;
 pub use overlay::draw_overlay;
 pub use perceive::{PerceiveArgs, PerceiveReport};
 pub use registry_args::RegistryArgs;
+pub use rfid::{ReadSettings, ReaderChoice, RfidArgs, open_reader};
 pub use run::{
     Fault, RunArgs, SimulatedResult, SimulatedTrial, achieved, run_simulated, start_pose_at,
     start_up,
@@ -42,6 +44,8 @@ pub enum Command {
     Scene(SceneArgs),
     /// One task in the simulator against a registry, printed phase by phase.
     Run(RunArgs),
+    /// Inventory rounds on a real RFID reader (LLRP or ThingMagic M5e) and the tag choice.
+    Rfid(RfidArgs),
     /// Time each perception step and the whole chain on the fixed benchmark scene.
     BenchPerception(BenchArgs),
 }
@@ -53,5 +57,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Scene(args) => scene::run(&args),
         Command::BenchPerception(args) => bench::run(&args),
         Command::Run(args) => run::run(&args),
+        Command::Rfid(args) => rfid::run(&args),
     }
 }

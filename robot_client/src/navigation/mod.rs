@@ -31,7 +31,7 @@ pub use plane::Plane;
 pub use plane_evidence::{PlanarPatch, PlaneEvidenceRule, assess_plane};
 pub use ransac::{DetectedPlane, PlaneSearch, PlaneSearchParams, find_planes};
 pub use rejection::{PlaneRejection, RejectedPlane};
-pub use rfid_choice::{RfidIdentity, TagSignal, identify_tag};
+pub use rfid_choice::{RfidIdentity, TagSignal, identify_among, identify_tag, tag_signals};
 pub use tag_centre::tag_centre_on;
 pub use voi::VolumeOfInterest;
 pub use waypoint::{

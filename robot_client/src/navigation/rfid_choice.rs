@@ -34,9 +34,9 @@ impl RfidIdentity {
     }
 }
 
-/// Averages each tag's reads per antenna (one read is noisy by a few dB), takes its best
-/// antenna, and picks the strongest tag; `None` when nothing answered.
-pub fn identify_tag(reads: &[TagRead], margin_db: f64) -> Option<RfidIdentity> {
+/// Every tag that answered, strongest first: each tag's reads averaged per antenna (one read
+/// is noisy by a few dB), and its best antenna's mean taken.
+pub fn tag_signals(reads: &[TagRead]) -> Vec<TagSignal> {
     let mut per_antenna: BTreeMap<(&Epc, u8), (f64, usize)> = BTreeMap::new();
     for read in reads {
         let entry = per_antenna.entry((&read.epc, read.antenna.0)).or_default();
@@ -56,6 +56,16 @@ pub fn identify_tag(reads: &[TagRead], margin_db: f64) -> Option<RfidIdentity> {
     }
     let mut signals: Vec<TagSignal> = per_tag.into_values().collect();
     signals.sort_by(|a, b| b.rssi_dbm.total_cmp(&a.rssi_dbm));
+    signals
+}
+
+/// Picks the strongest of [`tag_signals`]; `None` when nothing answered.
+pub fn identify_tag(reads: &[TagRead], margin_db: f64) -> Option<RfidIdentity> {
+    identify_among(tag_signals(reads), margin_db)
+}
+
+/// [`identify_tag`] on signals already summarised, strongest first.
+pub fn identify_among(signals: Vec<TagSignal>, margin_db: f64) -> Option<RfidIdentity> {
     let mut signals = signals.into_iter();
     let strongest = signals.next()?;
     Some(match signals.next() {
