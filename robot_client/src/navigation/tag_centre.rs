@@ -10,8 +10,11 @@ use nalgebra::{Point3, Vector3};
 
 use super::backing_plane::BackingPlane;
 
-/// Share of points trimmed off each end of the tag's extent, for edge noise and mixed pixels.
+/// Share of points trimmed off each end of the tag's extent, for edge noise.
 const TRIM: f64 = 0.01;
+/// Points further than this above or below the tag's median height (metres) are not its face:
+/// mixed returns between a thin tag and the wall behind it trail off toward the wall.
+const FACE_DEPTH: f64 = 0.03;
 
 /// The centre of `members` (a tag's points, base frame) as its outline on `plane` gives it;
 /// `None` for fewer than three points.
@@ -23,21 +26,24 @@ pub fn tag_centre_on(members: &[Point3<f32>], plane: &BackingPlane) -> Option<Po
     let across = n.cross(&Vector3::z());
     let u = across.try_normalize(1e-6).unwrap_or(Vector3::x());
     let v = n.cross(&u);
-    let coordinates = |axis: &Vector3<f64>| -> Vec<f64> {
-        members.iter().map(|p| axis.dot(&p.cast::<f64>().coords)).collect()
+    let median = |mut values: Vec<f64>| {
+        let half = values.len() / 2;
+        *values.select_nth_unstable_by(half, f64::total_cmp).1
     };
+    let along = |axis: &Vector3<f64>, p: &Point3<f32>| axis.dot(&p.cast::<f64>().coords);
+    let cn = median(members.iter().map(|p| along(&n, p)).collect());
+    let face: Vec<&Point3<f32>> =
+        members.iter().filter(|p| (along(&n, p) - cn).abs() <= FACE_DEPTH).collect();
+    let coordinates =
+        |axis: &Vector3<f64>| -> Vec<f64> { face.iter().map(|p| along(axis, p)).collect() };
     let middle = |mut values: Vec<f64>| {
         values.sort_unstable_by(f64::total_cmp);
         let last = values.len() - 1;
         let at = |q: f64| values[(q * last as f64).round() as usize];
         (at(TRIM) + at(1.0 - TRIM)) / 2.0
     };
-    let median = |mut values: Vec<f64>| {
-        let half = values.len() / 2;
-        *values.select_nth_unstable_by(half, f64::total_cmp).1
-    };
     // The plane's axes are orthonormal, so the three coordinates give the point.
-    let (cu, cv, cn) = (middle(coordinates(&u)), middle(coordinates(&v)), median(coordinates(&n)));
+    let (cu, cv) = (middle(coordinates(&u)), middle(coordinates(&v)));
     Some(Point3::from(u * cu + v * cv + n * cn))
 }
 
