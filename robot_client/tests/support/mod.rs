@@ -92,7 +92,7 @@ impl Registry {
     /// Every trial the registry holds, as JSON.
     pub async fn trials(&self) -> Vec<serde_json::Value> {
         let page: serde_json::Value = reqwest::Client::new()
-            .get(format!("{}/api/v1/trials?limit=500", self.url()))
+            .get(format!("{}/api/v1/trials?include=forces&limit=500", self.url()))
             .bearer_auth(&self.admin)
             .send()
             .await
