@@ -3,6 +3,7 @@
 
 mod bench;
 mod perceive;
+mod real_rfid;
 mod registry_args;
 mod rfid;
 mod run;
