@@ -2,8 +2,10 @@
 //! The binary only parses and dispatches, so adding a subcommand is one variant here.
 
 mod bench;
+mod bench_llrp;
 mod overlay;
 mod perceive;
+mod real_rfid;
 mod registry_args;
 mod rfid;
 mod run;
@@ -13,6 +15,7 @@ mod trials;
 use clap::{Parser, Subcommand};
 
 pub use bench::BenchArgs;
+pub use bench_llrp::BenchLlrpArgs;
 pub use overlay::draw_overlay;
 pub use perceive::{PerceiveArgs, PerceiveReport};
 pub use registry_args::RegistryArgs;
@@ -48,6 +51,8 @@ pub enum Command {
     Rfid(RfidArgs),
     /// Time each perception step and the whole chain on the fixed benchmark scene.
     BenchPerception(BenchArgs),
+    /// Time LLRP report decoding, and inventory rounds on a reader.
+    BenchLlrp(BenchLlrpArgs),
 }
 
 /// Runs one parsed command line.
@@ -56,6 +61,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Perceive(args) => perceive::run(&args),
         Command::Scene(args) => scene::run(&args),
         Command::BenchPerception(args) => bench::run(&args),
+        Command::BenchLlrp(args) => bench_llrp::run(&args),
         Command::Run(args) => run::run(&args),
         Command::Rfid(args) => rfid::run(&args),
     }

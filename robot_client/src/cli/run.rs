@@ -10,8 +10,10 @@ use nalgebra::{Isometry2, Point3, Rotation2, Vector2};
 use pps_schema::StartPose;
 use time::OffsetDateTime;
 
+use super::real_rfid::WithRealReader;
 use super::registry_args::RegistryArgs;
-use crate::hal::{HalError, Operator, PlanarPose, VerticalChoice};
+use super::rfid::{ReadSettings, ReaderChoice, open_reader};
+use crate::hal::{HalError, Operator, PlanarPose, RfidReader, VerticalChoice};
 use crate::registry::{RegistryClient, RegistryError};
 use crate::sim::{
     DeviceKind, DeviceTruth, OperatorScript, Room, RoomOptions, Scenario, SimBody, SimOperator,
@@ -42,6 +44,14 @@ pub struct RunArgs {
     /// switches' tags 30 cm apart, lacquered fronts, evening light).
     #[arg(long, default_value = "paper", value_parser = RoomOptions::named)]
     pub room: RoomOptions,
+    /// Phase 3 reads a real LLRP reader, HOST[:PORT], instead of the simulated fingers.
+    #[arg(long, conflicts_with = "rfid_m5e")]
+    pub rfid_llrp: Option<String>,
+    /// Phase 3 reads a real ThingMagic M5e on this serial device.
+    #[arg(long)]
+    pub rfid_m5e: Option<String>,
+    #[command(flatten)]
+    pub rfid_read: ReadSettings,
 }
 
 /// The failures of the paper's second set of trials.
@@ -227,6 +237,16 @@ pub async fn run_simulated(
     registry: &RegistryClient,
     config: &TaskConfig,
 ) -> anyhow::Result<SimulatedResult> {
+    run_simulated_reading(trial, registry, config, None).await
+}
+
+/// [`run_simulated`], its phase-3 RFID read from `rfid` (a real reader) when given.
+pub async fn run_simulated_reading(
+    trial: &SimulatedTrial,
+    registry: &RegistryClient,
+    config: &TaskConfig,
+    rfid: Option<&dyn RfidReader>,
+) -> anyhow::Result<SimulatedResult> {
     let room = Room::new(trial.room);
     let start = start_pose_at(&room, trial.device, trial.start_angle, trial.start_distance);
     let robot = SimRobot::of_class(room, start, trial.seed, trial.scenario, trial.body);
@@ -257,7 +277,13 @@ pub async fn run_simulated(
         }),
         ..config.clone()
     };
-    let report = run_task(&robot, &person, registry, &clock, &config).await?;
+    let report = match rfid {
+        Some(reader) => {
+            let robot = WithRealReader { robot: robot.clone(), reader };
+            run_task(&robot, &person, registry, &clock, &config).await?
+        }
+        None => run_task(&robot, &person, registry, &clock, &config).await?,
+    };
     let after = robot.truth();
     Ok(SimulatedResult {
         achieved: achieved(trial.device, &trial.action, &before, &after),
@@ -269,6 +295,13 @@ pub async fn run_simulated(
 
 pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let registry = args.registry.connect()?;
+    let choice = match (&args.rfid_llrp, &args.rfid_m5e) {
+        (Some(address), _) => Some(ReaderChoice::Llrp(address.clone())),
+        (None, Some(device)) => Some(ReaderChoice::M5e(device.clone())),
+        (None, None) => None,
+    };
+    // Connected before the task starts, so an unreachable reader stops it at once.
+    let reader = choice.map(|c| open_reader(&c, &args.rfid_read)).transpose()?;
     let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build()?;
     let result = runtime.block_on(async {
         let trial = SimulatedTrial {
@@ -278,7 +311,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
             body: start_up(&registry).await?,
             ..SimulatedTrial::new(args.device, &args.action, args.fault)
         };
-        run_simulated(&trial, &registry, &TaskConfig::default()).await
+        run_simulated_reading(&trial, &registry, &TaskConfig::default(), reader.as_deref()).await
     })?;
     eprintln!("state directory: {}", args.registry.state_dir().display());
     print!("{}", result.report);
