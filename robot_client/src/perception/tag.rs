@@ -1,6 +1,6 @@
 //! Finding the PPS-tag near a target point: the paper's §III-B, step by step.
 
-use std::collections::{BTreeMap, HashMap, HashSet};
+use std::collections::{BTreeMap, BTreeSet, HashSet};
 
 use nalgebra::Point3;
 
@@ -162,7 +162,8 @@ pub fn locate_tag(
 /// Joins components whose points fall in one blob of the image and come within
 /// `params.fragment_gap` of each other: one tag that the laser sampled too sparsely (a towel at
 /// a steep angle, a line of dropouts) for its voxels to touch. Components far from the target are
-/// left as they are.
+/// left as they are. Blobs and components are visited in order, so the result is the same on
+/// every run.
 fn join_fragments(
     components: Vec<Component>,
     blobs: &Blobs,
@@ -180,10 +181,10 @@ fn join_fragments(
     let gap = params.fragment_gap;
     let cell = |p: &Point3<f32>| [p.x, p.y, p.z].map(|v| (f64::from(v) / gap).floor() as i64);
     // Each component's blobs and coarse cells.
-    let mut by_blob: HashMap<u32, Vec<usize>> = HashMap::new();
+    let mut by_blob: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
     let mut cells: Vec<HashSet<[i64; 3]>> = Vec::with_capacity(near.len());
     for (i, c) in near.iter().enumerate() {
-        let mut own = HashSet::new();
+        let mut own = BTreeSet::new();
         for p in &c.members {
             let pixel = k.project(&(camera_from_base * p.cast::<f64>()));
             if let Some(blob) = pixel.and_then(|uv| {
