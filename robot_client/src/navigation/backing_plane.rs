@@ -89,29 +89,33 @@ pub fn choose_backing_plane(
 ) -> BackingChoice {
     let d = robot - tag;
     let toward_robot = Vector3::new(d.x, d.y, 0.0).try_normalize(1e-9).unwrap_or(Vector3::x());
-    let verdicts: Vec<Result<f64, PlaneRejection>> =
-        planes.iter().map(|p| judge(p, points, tag, tag_radius, &toward_robot, rule)).collect();
-    // How far the tag sits from each plane: its height plus how thick it is across the plane.
-    let fit =
-        |p: &DetectedPlane, height: f64| height.max(0.0) + spread_across(tag_points, &p.plane);
+    // For each plane that could carry the tag, how far the tag sits from it: its height plus
+    // how thick it is across the plane.
+    let verdicts: Vec<Result<f64, PlaneRejection>> = planes
+        .iter()
+        .map(|p| {
+            let height = judge(p, points, tag, tag_radius, &toward_robot, rule)?;
+            Ok(height.max(0.0) + spread_across(tag_points, &p.plane))
+        })
+        .collect();
     let chosen = verdicts
         .iter()
         .enumerate()
-        .filter_map(|(i, v)| v.as_ref().ok().map(|&height| (i, fit(&planes[i], height))))
+        .filter_map(|(i, v)| v.as_ref().ok().map(|&fit| (i, fit)))
         .min_by(|a, b| a.1.total_cmp(&b.1));
     let rejected = planes
         .iter()
         .zip(&verdicts)
         .enumerate()
         .filter(|&(i, _)| chosen.is_none_or(|(c, _)| c != i))
-        .map(|(i, (p, verdict))| RejectedPlane {
+        .map(|(_, (p, verdict))| RejectedPlane {
             normal: p.plane.normal,
             offset: p.plane.offset,
             points: p.inliers.len(),
             why: match *verdict {
                 Err(why) => why,
-                Ok(height) => PlaneRejection::FartherThanChosen {
-                    fit: fit(&planes[i], height),
+                Ok(fit) => PlaneRejection::FartherThanChosen {
+                    fit,
                     chosen: chosen.map_or(0.0, |(_, h)| h),
                 },
             },
