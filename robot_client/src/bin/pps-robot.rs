@@ -3,17 +3,10 @@
 use std::process::ExitCode;
 
 use clap::Parser;
-use pps_robot::cli::{Cli, run};
-use tracing_subscriber::EnvFilter;
+use pps_robot::cli::{Cli, init_logging, run};
 
 fn main() -> ExitCode {
-    // Warnings (a lost antenna, a skipped frame) on stderr; RUST_LOG=pps_robot=debug for more.
-    tracing_subscriber::fmt()
-        .with_writer(std::io::stderr)
-        .with_env_filter(
-            EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("warn")),
-        )
-        .init();
+    init_logging();
     match run(Cli::parse()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(error) => {

@@ -18,6 +18,7 @@ struct Cli {
 }
 
 fn main() -> ExitCode {
+    pps_robot::cli::init_logging();
     match pps_robot::cli::trials_main(&Cli::parse().args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(error) => {

@@ -26,7 +26,7 @@ pub struct BenchArgs {
 
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     ensure!(args.iterations > 0, "--iterations must be at least 1");
-    eprintln!("rendering the benchmark scene (1280×960 image, tilting-laser sweep)...");
+    tracing::info!("rendering the benchmark scene (1280×960 image, tilting-laser sweep)...");
     let scene = capture_scene(
         Room::paper(),
         DeviceKind::Drawer,
@@ -37,7 +37,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     );
     if let Some(dir) = &args.export {
         scene.write(dir)?;
-        eprintln!("wrote the scene to {}", dir.display());
+        tracing::info!("wrote the scene to {}", dir.display());
     }
     let params = ApproachParams::default();
     let mut runs = Vec::with_capacity(args.iterations);

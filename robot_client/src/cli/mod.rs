@@ -3,6 +3,7 @@
 
 mod bench;
 mod bench_llrp;
+mod logging;
 mod overlay;
 mod perceive;
 mod real_rfid;
@@ -16,6 +17,7 @@ use clap::{Parser, Subcommand};
 
 pub use bench::BenchArgs;
 pub use bench_llrp::BenchLlrpArgs;
+pub use logging::init_logging;
 pub use overlay::draw_overlay;
 pub use perceive::{PerceiveArgs, PerceiveReport};
 pub use registry_args::RegistryArgs;

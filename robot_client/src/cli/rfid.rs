@@ -135,9 +135,7 @@ pub fn run(args: &RfidArgs) -> anyhow::Result<()> {
     let mut reads: Vec<TagRead> = Vec::new();
     for round in 1..=args.rounds {
         let got = reader.inventory().with_context(|| format!("inventory round {round}"))?;
-        if !args.json {
-            eprintln!("round {round}: {} reads", got.len());
-        }
+        tracing::info!("round {round}: {} reads", got.len());
         reads.extend(got);
     }
     drop(reader);

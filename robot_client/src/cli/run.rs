@@ -224,7 +224,10 @@ pub async fn start_up(registry: &RegistryClient) -> anyhow::Result<SimBody> {
     match registry.sync_entries().await {
         Ok(_) => {}
         Err(error @ RegistryError::Unreachable(_)) => {
-            eprintln!("{error}; going on with the {} entries kept", registry.known_entries().len())
+            tracing::warn!(
+                "{error}; going on with the {} entries kept",
+                registry.known_entries().len()
+            )
         }
         Err(error) => return Err(error.into()),
     }
@@ -313,7 +316,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         };
         run_simulated_reading(&trial, &registry, &TaskConfig::default(), reader.as_deref()).await
     })?;
-    eprintln!("state directory: {}", args.registry.state_dir().display());
+    tracing::info!("state directory: {}", args.registry.state_dir().display());
     print!("{}", result.report);
     Ok(())
 }

@@ -45,7 +45,7 @@ pub fn run(args: &SceneArgs) -> anyhow::Result<()> {
         capture_scene(Room::paper(), args.device, args.from, args.distance, args.seed, &settings);
     capture.write(&args.out)?;
     let dir = args.out.display();
-    eprintln!(
+    tracing::info!(
         "wrote {dir}/image.png ({}×{}), {dir}/cloud.ply ({} points), {dir}/camera.json, {dir}/scene.json",
         capture.image.width,
         capture.image.height,

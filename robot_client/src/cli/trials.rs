@@ -9,7 +9,7 @@
 //!
 //! The randomized sweep is a benchmark, not a test (it takes minutes):
 //! `pps-trials --server URL --token T --robot el-e-1 --randomized 1000 --seed 1`.
-//! Set `PPS_TRIALS_DEBUG` to print the full report of every trial that missed.
+//! `RUST_LOG=pps_robot=debug` prints the full report of every trial that missed.
 
 use std::time::Duration;
 
@@ -235,9 +235,7 @@ pub async fn run_trials(
         if ok {
             row.successes += 1;
         } else {
-            if std::env::var_os("PPS_TRIALS_DEBUG").is_some() {
-                eprintln!("{}", result.report);
-            }
+            tracing::debug!("missed trial:\n{}", result.report);
             let stopped = result.report.phases.iter().find(|p| !p.ok).map(|p| {
                 format!(
                     "stopped in phase {}: {}",
@@ -257,7 +255,7 @@ pub async fn run_trials(
             ));
         }
         if progress {
-            eprintln!(
+            tracing::info!(
                 "[{}/{}] {} {}: {}",
                 n + 1,
                 plan.len(),
@@ -278,7 +276,11 @@ pub async fn flush_until_stored(registry: &RegistryClient) -> anyhow::Result<()>
         if report.remaining == 0 {
             return Ok(());
         }
-        eprintln!("{} trial(s) waiting for the registry; retrying in {:?}", report.remaining, wait);
+        tracing::warn!(
+            "{} trial(s) waiting for the registry; retrying in {:?}",
+            report.remaining,
+            wait
+        );
         tokio::time::sleep(wait).await;
         wait = (wait * 2).min(Duration::from_secs(10));
     }
