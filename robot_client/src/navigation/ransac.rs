@@ -113,7 +113,8 @@ pub fn find_planes(
         if seeds.is_empty() {
             break;
         }
-        let alive_in_subset = subset.iter().filter(|&&i| alive[i as usize]).count().max(1);
+        let sample = ScoringSample::of(points, &subset, &alive);
+        let alive_in_subset = sample.len().max(1);
         let mut best: Option<(Plane, i64)> = None;
         let mut needed = params.max_iterations;
         let mut iteration = 0;
@@ -122,19 +123,7 @@ pub fn find_planes(
             let Some(plane) = sample_plane(&cells, points, &alive, &seeds, rng) else {
                 continue;
             };
-            // Support minus the points just outside the band: a slab through a volume scores ~0.
-            let (mut near, mut outside) = (0i64, 0i64);
-            for &i in &subset {
-                if alive[i as usize] {
-                    let d = plane.signed_distance(&points[i as usize].cast()).abs();
-                    if d < t {
-                        near += 1;
-                    } else if d < 2.0 * t {
-                        outside += 1;
-                    }
-                }
-            }
-            let score = near - outside;
+            let score = sample.score(&plane, t);
             if best.is_none_or(|(_, s)| score > s) {
                 best = Some((plane, score));
                 let w = (score.max(0) as f64 / alive_in_subset as f64).clamp(1e-6, 1.0);
@@ -200,6 +189,43 @@ pub fn find_planes(
         }
     }
     search
+}
+
+/// The alive points of the scoring subset, each coordinate in its own array, so that scoring a
+/// hypothesis — the loop RANSAC spends its time in — is one pass of vector arithmetic.
+struct ScoringSample {
+    x: Vec<f32>,
+    y: Vec<f32>,
+    z: Vec<f32>,
+}
+
+impl ScoringSample {
+    fn of(points: &[Point3<f32>], subset: &[u32], alive: &[bool]) -> Self {
+        let mut sample = Self { x: Vec::new(), y: Vec::new(), z: Vec::new() };
+        for p in subset.iter().filter(|&&i| alive[i as usize]).map(|&i| &points[i as usize]) {
+            sample.x.push(p.x);
+            sample.y.push(p.y);
+            sample.z.push(p.z);
+        }
+        sample
+    }
+
+    fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    /// Support minus the points just outside the band: a slab through a volume scores ~0.
+    fn score(&self, plane: &Plane, band: f64) -> i64 {
+        let [a, b, c] = [plane.normal.x, plane.normal.y, plane.normal.z].map(|v| v as f32);
+        let (d, t) = (plane.offset as f32, band as f32);
+        let (mut near, mut outside) = (0u32, 0u32);
+        for ((&x, &y), &z) in self.x.iter().zip(&self.y).zip(&self.z) {
+            let distance = (a * x + b * y + c * z + d).abs();
+            near += u32::from(distance < t);
+            outside += u32::from((distance >= t) & (distance < 2.0 * t));
+        }
+        i64::from(near) - i64::from(outside)
+    }
 }
 
 /// A plane through a random seed point and two alive points of its cell: a sample of three
