@@ -28,6 +28,14 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
     },
+    /// Write the scenes `bench` runs, each into its own directory `OUT/NNN`, for a peer
+    /// implementation to be timed on the very same scenes.
+    WriteCorpus {
+        #[arg(long, default_value_t = 100)]
+        scenes: u64,
+        #[arg(long)]
+        out: PathBuf,
+    },
     /// Run the approach over the corpus and print the median and p95 of every step.
     Bench {
         /// Scenes to run, the device kinds in turn (seed i / 5 of kind i % 5, as the corpus test).
@@ -46,6 +54,10 @@ fn parse_kind(text: &str) -> Result<DeviceKind, String> {
 fn main() -> anyhow::Result<()> {
     match Cli::parse().command {
         Command::Write { seed, kind, out } => write(seed, kind, &out),
+        Command::WriteCorpus { scenes, out } => (0..scenes).try_for_each(|i| {
+            let (seed, kind) = corpus_scene(i);
+            write(seed, Some(kind), &out.join(format!("{i:03}")))
+        }),
         Command::Bench { scenes } => {
             bench(scenes);
             Ok(())
@@ -91,6 +103,13 @@ fn write(seed: u64, kind: Option<DeviceKind>, out: &Path) -> anyhow::Result<()> 
     Ok(())
 }
 
+/// The `i`-th scene of the benchmark: the device kinds in turn, seed `i / 5` of kind `i % 5`,
+/// as the corpus test draws them.
+fn corpus_scene(i: u64) -> (u64, DeviceKind) {
+    let kinds = DeviceKind::ALL.len() as u64;
+    (i / kinds, DeviceKind::ALL[(i % kinds) as usize])
+}
+
 /// The value below which `q` of the sorted `values` lie.
 fn quantile(sorted: &[f64], q: f64) -> f64 {
     if sorted.is_empty() {
@@ -105,8 +124,8 @@ fn bench(scenes: u64) {
     let (mut totals, mut renders) = (Vec::new(), Vec::new());
     let mut right = 0;
     for i in 0..scenes {
-        let kind = DeviceKind::ALL[(i % 5) as usize];
-        let scene: GeneratedScene = generate(i / 5, Some(kind));
+        let (seed, kind) = corpus_scene(i);
+        let scene: GeneratedScene = generate(seed, Some(kind));
         renders.push(scene.render_ms);
         let Ok(plan) =
             plan_approach(&scene.image, &scene.cloud, &scene.calibration, &scene.target, &params)

@@ -1,0 +1,251 @@
+"""The approach's perception chain in OpenCV and Open3D: the peer `pps-scenes bench` is compared
+with. Each step does what the Rust step of the same name does, with the same parameters, through
+the libraries' own calls wherever they have one (colour conversion, morphology, voxel grid,
+DBSCAN for 3D components, RANSAC plane segmentation); the rest is NumPy.
+
+    python chain.py SCENE_DIR [SCENE_DIR ...]
+
+reads each directory `pps-scenes write` made (image.png, cloud.ply, camera.json, truth.json) and
+prints the median and p95 of every step in milliseconds, then the whole chain's, as JSON.
+"""
+
+import json
+import sys
+import time
+from pathlib import Path
+
+import cv2
+import numpy as np
+import open3d as o3d
+
+# The Rust defaults (perception/tag.rs, navigation/approach.rs, navigation/ransac.rs).
+HUE_DEG = (340.0, 20.0)
+SATURATION_MIN = 0.6
+VALUE_MIN = 0.15
+CLOSE_RADIUS_PX = 2
+OPEN_RADIUS_PX = 1
+OCCLUSION_CELL_RAD = 0.008
+OCCLUSION_TOLERANCE_M = 0.03
+VOXEL_M = 0.01
+MIN_TAG_POINTS = 10
+VOI_RADIUS_M = 0.5
+VOI_HALF_HEIGHT_M = 0.5
+INLIER_M = 0.015
+MAX_ITERATIONS = 400
+CONFIDENCE = 0.995
+MAX_PLANES = 12
+MIN_PLANE_POINTS = 300
+STANDOFF_M = 0.5
+BASE_HALF = (0.25, 0.25)
+BODY_HEIGHT_M = 1.6
+FLOOR_CLEARANCE_M = 0.04
+
+
+class Timings:
+    def __init__(self):
+        self.steps = {}
+
+    def time(self, name, f):
+        start = time.perf_counter()
+        result = f()
+        self.steps[name] = (time.perf_counter() - start) * 1000.0
+        return result
+
+
+def read_ply(path):
+    data = path.read_bytes()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode("ascii").splitlines()
+    count = next(int(line.split()[2]) for line in header if line.startswith("element vertex"))
+    if not any(line.startswith("format binary_little_endian") for line in header):
+        raise SystemExit(f"{path}: only binary little-endian PLY is read here")
+    return np.frombuffer(data, dtype="<f4", count=count * 3, offset=end).reshape(count, 3)
+
+
+def quaternion_matrix(x, y, z, w):
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def segment(bgr):
+    # OpenCV's full-range hue: 0..255 for 0..360°.
+    hsv = cv2.cvtColor(bgr, cv2.COLOR_BGR2HSV_FULL)
+    lo, hi = (round(h / 360.0 * 255.0) for h in HUE_DEG)
+    s, v = round(SATURATION_MIN * 255), round(VALUE_MIN * 255)
+    upper = cv2.inRange(hsv, (lo, s, v), (255, 255, 255))
+    lower = cv2.inRange(hsv, (0, s, v), (hi, 255, 255))
+    return cv2.bitwise_or(upper, lower)
+
+
+def morphology(mask):
+    # Hole filling: flood the background from the border; what it cannot reach is a hole.
+    padded = cv2.copyMakeBorder(mask, 1, 1, 1, 1, cv2.BORDER_CONSTANT, value=0)
+    flood = padded.copy()
+    cv2.floodFill(flood, None, (0, 0), 255)
+    filled = cv2.bitwise_or(padded, cv2.bitwise_not(flood))[1:-1, 1:-1]
+    disc = lambda r: cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
+    closed = cv2.morphologyEx(filled, cv2.MORPH_CLOSE, disc(CLOSE_RADIUS_PX))
+    return cv2.morphologyEx(closed, cv2.MORPH_OPEN, disc(OPEN_RADIUS_PX))
+
+
+def packed(cells):
+    """Integer cells (rows of 2 or 3, |c| < 2**20) as one int64 each, for fast 1-D set operations."""
+    key = np.zeros(len(cells), dtype=np.int64)
+    for column in range(cells.shape[1]):
+        key = (key << 21) | (cells[:, column] + (1 << 20))
+    return key
+
+
+def project(points, mask, camera):
+    t = np.array(camera["base_from_camera"]["translation"])
+    r = quaternion_matrix(*camera["base_from_camera"]["rotation_xyzw"])
+    in_camera = (points - t) @ r
+    z = in_camera[:, 2]
+    ahead = z > 1e-3
+    u = camera["fx"] * in_camera[:, 0] / np.where(ahead, z, 1) + camera["cx"]
+    v = camera["fy"] * in_camera[:, 1] / np.where(ahead, z, 1) + camera["cy"]
+    inside = ahead & (u >= 0) & (u < camera["width"]) & (v >= 0) & (v < camera["height"])
+    # Occlusion: a point counts only if it is near the nearest depth of its angular cell.
+    depth = np.linalg.norm(in_camera, axis=1)
+    idx = np.flatnonzero(inside)
+    cells = np.stack(
+        [
+            np.floor(np.arctan2(in_camera[idx, 0], z[idx]) / OCCLUSION_CELL_RAD),
+            np.floor(np.arctan2(in_camera[idx, 1], z[idx]) / OCCLUSION_CELL_RAD),
+        ],
+        axis=1,
+    ).astype(np.int64)
+    _, cell_of = np.unique(packed(cells), return_inverse=True)
+    cell_of = cell_of.ravel()
+    nearest = np.full(cell_of.max() + 1 if len(cell_of) else 0, np.inf)
+    np.minimum.at(nearest, cell_of, depth[idx])
+    seen = depth[idx] <= nearest[cell_of] + OCCLUSION_TOLERANCE_M
+    idx = idx[seen]
+    on_red = mask[v[idx].astype(np.int64), u[idx].astype(np.int64)] > 0
+    return points[idx[on_red]]
+
+
+def components(red_points, target):
+    cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(red_points.astype(np.float64)))
+    # Two points are neighbours when their voxels touch (26-connectivity of 1 cm voxels).
+    labels = np.asarray(cloud.cluster_dbscan(eps=VOXEL_M * np.sqrt(3.0), min_points=1))
+    best, best_distance = None, np.inf
+    for label in range(labels.max() + 1 if len(labels) else 0):
+        members = red_points[labels == label]
+        if len(members) < MIN_TAG_POINTS:
+            continue
+        distance = np.linalg.norm(members.mean(axis=0) - target)
+        if distance < best_distance:
+            best, best_distance = members, distance
+    return best
+
+
+def volume_of_interest(points, target, tag):
+    d = points - target
+    inside = (np.hypot(d[:, 0], d[:, 1]) <= VOI_RADIUS_M) & (np.abs(d[:, 2]) <= VOI_HALF_HEIGHT_M)
+    voi = points[inside]
+    if tag is None:
+        return voi
+    own = packed(np.floor(tag / VOXEL_M).astype(np.int64))
+    keys = packed(np.floor(voi / VOXEL_M).astype(np.int64))
+    return voi[~np.isin(keys, own)]
+
+
+def planes(surface):
+    cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(surface.astype(np.float64)))
+    found = []
+    while len(found) < MAX_PLANES and len(cloud.points) >= MIN_PLANE_POINTS:
+        model, inliers = cloud.segment_plane(
+            distance_threshold=INLIER_M,
+            ransac_n=3,
+            num_iterations=MAX_ITERATIONS,
+            probability=CONFIDENCE,
+        )
+        if len(inliers) < MIN_PLANE_POINTS:
+            break
+        found.append((np.array(model), np.asarray(cloud.select_by_index(inliers).points)))
+        cloud = cloud.select_by_index(inliers, invert=True)
+    return found
+
+
+def backing_plane(found, tag, robot):
+    centre = tag.mean(axis=0)
+    best, best_fit = None, np.inf
+    for model, inliers in found:
+        normal, offset = model[:3], model[3]
+        if normal @ robot + offset < 0:
+            normal, offset = -normal, -offset
+        if abs(normal[2]) > 0.5:  # a floor or a table top, not a front
+            continue
+        height = normal @ centre + offset
+        spread = np.ptp(tag @ normal)
+        fit = max(height, 0.0) + spread
+        if fit < best_fit:
+            best, best_fit = (normal, offset), fit
+    return best
+
+
+def waypoint(tag, plane):
+    normal, _ = plane
+    horizontal = np.array([normal[0], normal[1], 0.0])
+    horizontal /= np.linalg.norm(horizontal)
+    return tag.mean(axis=0) + STANDOFF_M * horizontal, -horizontal
+
+
+def collision_check(points, position, heading):
+    d = points[:, :2] - position[:2]
+    along = d @ heading[:2]
+    across = d @ np.array([-heading[1], heading[0]])
+    body = (np.abs(along) <= BASE_HALF[0]) & (np.abs(across) <= BASE_HALF[1])
+    tall = (points[:, 2] > FLOOR_CLEARANCE_M) & (points[:, 2] < BODY_HEIGHT_M)
+    return int(np.count_nonzero(body & tall))
+
+
+def chain(scene):
+    bgr = cv2.imread(str(scene / "image.png"), cv2.IMREAD_COLOR)
+    points = read_ply(scene / "cloud.ply")
+    camera = json.loads((scene / "camera.json").read_text())
+    target = np.array(json.loads((scene / "truth.json").read_text())["target"])
+    robot = np.array(camera["base_from_camera"]["translation"])
+    t = Timings()
+    raw = t.time("segment", lambda: segment(bgr))
+    red = t.time("morphology", lambda: morphology(raw))
+    red_points = t.time("project", lambda: project(points, red, camera))
+    t.time("occupancy_grid", lambda: o3d.geometry.VoxelGrid.create_from_point_cloud(
+        o3d.geometry.PointCloud(o3d.utility.Vector3dVector(red_points.astype(np.float64))),
+        VOXEL_M,
+    ))
+    tag = t.time("components", lambda: components(red_points, target))
+    surface = t.time("volume_of_interest", lambda: volume_of_interest(points, target, tag))
+    found = t.time("ransac", lambda: planes(surface))
+    plane = t.time("backing_plane", lambda: None if tag is None else backing_plane(found, tag, robot))
+    goal = t.time("waypoint", lambda: None if plane is None else waypoint(tag, plane))
+    if goal is not None:
+        t.time("collision_check", lambda: collision_check(points, *goal))
+    return t.steps, goal is not None
+
+
+def main(dirs):
+    steps, totals, planned = {}, [], 0
+    for scene in map(Path, dirs):
+        timed, ok = chain(scene)
+        planned += ok
+        for name, ms in timed.items():
+            steps.setdefault(name, []).append(ms)
+        totals.append(sum(timed.values()))
+    summary = {
+        name: {"median": float(np.median(v)), "p95": float(np.percentile(v, 95, method="nearest"))}
+        for name, v in [*steps.items(), ("whole chain", totals)]
+    }
+    print(json.dumps({"scenes": len(dirs), "planned": planned, "steps": summary}, indent=2))
+
+
+if __name__ == "__main__":
+    if len(sys.argv) < 2:
+        raise SystemExit(__doc__)
+    main(sys.argv[1:])
