@@ -5,11 +5,11 @@
 
 use nalgebra::{Isometry2, Vector2};
 use pps_robot::behaviors::{
-    Clock, DropGeometry, ForceRecorder, RobotBody, WallClock, WantedLight, drop_object,
-    operate_light_switch, pull_back, pull_lamp, push,
+    DropGeometry, ForceRecorder, RobotBody, WantedLight, drop_object, operate_light_switch,
+    pull_back, pull_lamp, push,
 };
-use pps_robot::hal::{Arm, Carriage, Gripper, LookDirection};
-use pps_robot::sim::{DeviceKind, Room, Scenario, SimRobot, StartDirection, start_pose};
+use pps_robot::hal::{Arm, Carriage, Clock, Gripper, LookDirection};
+use pps_robot::sim::{DeviceKind, Room, Scenario, SimClock, SimRobot, StartDirection, start_pose};
 use pps_schema::{BehaviorParams, Outcome, StateChange, TagEntry};
 use serde_json::json;
 
@@ -42,7 +42,13 @@ fn robot_at(device: DeviceKind, scenario: Scenario) -> SimRobot {
     robot
 }
 
-fn recorder<'a>(robot: &'a SimRobot, clock: &'a WallClock) -> ForceRecorder<'a> {
+/// The simulator's own time, from a fixed epoch: the behaviours' timing is part of what is
+/// tested, and must not depend on how fast the host runs.
+fn sim_clock(robot: &SimRobot) -> SimClock {
+    SimClock::new(robot.clone(), time::macros::datetime!(2026-01-01 00:00 UTC))
+}
+
+fn recorder<'a>(robot: &'a SimRobot, clock: &'a SimClock) -> ForceRecorder<'a> {
     ForceRecorder::new(robot, clock, clock.now())
 }
 
@@ -54,7 +60,7 @@ fn switch(
 ) -> (SimRobot, pps_robot::behaviors::BehaviorReport) {
     let robot = robot_at(device, Scenario { ceiling_light_on: light_on, ..Scenario::office() });
     let BehaviorParams::LightSwitch(p) = params(device, key) else { panic!() };
-    let clock = WallClock;
+    let clock = sim_clock(&robot);
     let report =
         operate_light_switch(&robot, &p, LookDirection::Up, wanted, recorder(&robot, &clock))
             .unwrap();
@@ -104,7 +110,7 @@ fn a_tag_moved_out_of_reach_is_a_detected_failure() {
     let BehaviorParams::LightSwitch(p) = params(DeviceKind::AdaLightSwitch, "push_top") else {
         panic!()
     };
-    let clock = WallClock;
+    let clock = sim_clock(&robot);
     let report = operate_light_switch(
         &robot,
         &p,
@@ -138,7 +144,7 @@ fn a_tag_moved_out_of_reach_is_a_detected_failure() {
 fn lamp(scenario: Scenario) -> (SimRobot, pps_robot::behaviors::BehaviorReport) {
     let robot = robot_at(DeviceKind::Lamp, scenario);
     let BehaviorParams::PullLamp(p) = params(DeviceKind::Lamp, "pull_chain") else { panic!() };
-    let clock = WallClock;
+    let clock = sim_clock(&robot);
     let report =
         pull_lamp(&robot, &p, LookDirection::Forward, WantedLight::On, recorder(&robot, &clock))
             .unwrap();
@@ -163,7 +169,7 @@ fn drawer_pull(stuck: bool) -> (SimRobot, pps_robot::behaviors::BehaviorReport) 
     let robot =
         robot_at(DeviceKind::Drawer, Scenario { drawer_stuck: stuck, ..Scenario::office() });
     let BehaviorParams::PullBack(p) = params(DeviceKind::Drawer, "pull_open") else { panic!() };
-    let clock = WallClock;
+    let clock = sim_clock(&robot);
     let report = pull_back(&robot, &p, recorder(&robot, &clock)).unwrap();
     (robot, report)
 }
@@ -191,7 +197,7 @@ fn drawer_push(stuck: bool) -> (SimRobot, pps_robot::behaviors::BehaviorReport) 
     let scenario = Scenario { drawer_open: 0.3, drawer_stuck: stuck, ..Scenario::office() };
     let robot = robot_at(DeviceKind::Drawer, scenario);
     let BehaviorParams::Push(p) = params(DeviceKind::Drawer, "push_closed") else { panic!() };
-    let clock = WallClock;
+    let clock = sim_clock(&robot);
     let report = push(
         &robot,
         &p,
@@ -232,7 +238,7 @@ fn drop_into_trash(sticky: bool) -> (SimRobot, pps_robot::behaviors::BehaviorRep
         body: RobotBody::default(),
         seed: 1,
     };
-    let clock = WallClock;
+    let clock = sim_clock(&robot);
     let report = drop_object(&robot, &p, &geometry, recorder(&robot, &clock)).unwrap();
     (robot, report)
 }

@@ -4,22 +4,7 @@
 use pps_schema::{ForceSample, MAX_FORCE_SAMPLES};
 use time::OffsetDateTime;
 
-use crate::hal::{Finger, FingerForceTorque, HalError};
-
-/// Where trial times come from: the simulator's virtual clock, or the wall clock on a robot.
-pub trait Clock: Send + Sync {
-    fn now(&self) -> OffsetDateTime;
-}
-
-/// Real time.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct WallClock;
-
-impl Clock for WallClock {
-    fn now(&self) -> OffsetDateTime {
-        OffsetDateTime::now_utc()
-    }
-}
+use crate::hal::{Clock, Finger, FingerForceTorque, HalError};
 
 /// One reading of both fingers' force magnitudes, newtons.
 #[derive(Debug, Clone, Copy, PartialEq)]

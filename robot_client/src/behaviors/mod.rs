@@ -23,7 +23,7 @@ use serde_json::{Map, Value};
 
 pub use alignment::{Alignment, AlignmentParams, Contact, close_range_alignment};
 pub use drop::{DropGeometry, drop_object};
-pub use force::{Clock, FingerForces, ForceRecorder, WallClock};
+pub use force::{FingerForces, ForceRecorder};
 pub use light_switch::operate_light_switch;
 pub use motion::{Hand, RobotBody};
 pub use pull_back::pull_back;

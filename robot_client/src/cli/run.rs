@@ -16,10 +16,10 @@ use super::rfid::{ReadSettings, ReaderChoice, open_reader};
 use crate::hal::{HalError, Operator, PlanarPose, RfidReader, VerticalChoice};
 use crate::registry::{RegistryClient, RegistryError};
 use crate::sim::{
-    DeviceKind, DeviceTruth, OperatorScript, Room, RoomOptions, Scenario, SimBody, SimOperator,
-    SimRobot, StartDirection,
+    DeviceKind, DeviceTruth, OperatorScript, Room, RoomOptions, Scenario, SimBody, SimClock,
+    SimOperator, SimRobot, StartDirection,
 };
-use crate::task::{SimClock, TaskConfig, TaskReport, run_task, vertical_choice_for};
+use crate::task::{TaskConfig, TaskReport, run_task, vertical_choice_for};
 
 #[derive(Debug, Args)]
 pub struct RunArgs {

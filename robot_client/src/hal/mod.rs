@@ -13,6 +13,7 @@
 
 mod base;
 mod camera;
+mod clock;
 mod laser;
 mod manipulator;
 mod operator;
@@ -24,6 +25,7 @@ pub use camera::{
     BrightnessCamera, CameraCalibration, CameraIntrinsics, ColorCamera, ColorImage, GrayImage,
     LookDirection,
 };
+pub use clock::{Clock, WallClock};
 pub use laser::{PointCloud, TiltSweep, TiltingLaser};
 pub use manipulator::{Arm, Carriage, Gripper};
 pub use operator::{Operator, VerticalChoice};

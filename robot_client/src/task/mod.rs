@@ -10,13 +10,11 @@
 
 mod act;
 mod approach;
-mod clock;
 mod drive;
 mod identify;
 mod report;
 mod run;
 
 pub use act::{ActionChoice, choose_action, vertical_choice_for};
-pub use clock::SimClock;
 pub use report::{PhaseReport, TaskReport};
 pub use run::{TaskConfig, TaskRobot, run_task};

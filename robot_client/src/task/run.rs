@@ -9,9 +9,9 @@ use super::approach::approach_tag;
 use super::drive::{drive_toward, in_base, in_odom};
 use super::identify::servo_and_read;
 use super::report::{PhaseReport, TaskReport};
-use crate::behaviors::{Clock, DropGeometry, ForceRecorder, Hand, RobotBody};
+use crate::behaviors::{DropGeometry, ForceRecorder, Hand, RobotBody};
 use crate::hal::{
-    BrightnessCamera, ColorCamera, MobileBase, Operator, RfidReader, TiltSweep, TiltingLaser,
+    BrightnessCamera, Clock, ColorCamera, MobileBase, Operator, RfidReader, TiltSweep, TiltingLaser,
 };
 use crate::navigation::{ApproachParams, RfidIdentity};
 use crate::perception::{HsvThresholds, covering_colour, describe_colour};

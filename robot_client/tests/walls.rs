@@ -1,0 +1,116 @@
+//! The walls the crate declares, held: what runs on a real robot (the task, the behaviours,
+//! perception, navigation, the registry client, the hardware traits, the readers and the
+//! recording formats) never reaches into the simulator or the command line. The simulator is one
+//! more implementation of `hal`, and the command line only parses and prints; a `use` across
+//! either wall would make the robot code work only inside our own world.
+//!
+//! Unit tests inside those modules may draw test data from the simulator (its noise, its colour
+//! model); only the code a robot runs is held to the wall.
+
+use std::path::{Path, PathBuf};
+
+/// The modules a robot runs.
+const ROBOT_SIDE: [&str; 8] =
+    ["task", "behaviors", "perception", "navigation", "registry", "hal", "rfid", "recording"];
+
+/// Paths into the modules they must not use.
+const BEYOND_THE_WALL: [&str; 4] = ["crate::sim", "crate::cli", "super::sim", "super::cli"];
+
+fn rust_files(dir: &Path, into: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            rust_files(&path, into);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            into.push(path);
+        }
+    }
+}
+
+/// The lines of a source file that are not test code, numbered from 1, and the names of the
+/// modules it declares test-only (`#[cfg(test)] mod name;`, whose files are test code too).
+fn robot_code(text: &str) -> (Vec<(usize, &str)>, Vec<String>) {
+    let (mut kept, mut test_modules) = (Vec::new(), Vec::new());
+    let mut lines = text.lines().enumerate();
+    while let Some((n, line)) = lines.next() {
+        if line.trim() != "#[cfg(test)]" {
+            kept.push((n + 1, line));
+            continue;
+        }
+        // The item the attribute applies to: a module declared here or inline, or one line.
+        let Some((_, item)) = lines.next() else { break };
+        let item = item.trim();
+        if let Some(name) = item.strip_prefix("mod ").and_then(|rest| rest.strip_suffix(';')) {
+            test_modules.push(name.to_owned());
+        } else if item.ends_with('{') {
+            let mut depth = 1i32;
+            for (_, body) in lines.by_ref() {
+                depth += body.matches('{').count() as i32 - body.matches('}').count() as i32;
+                if depth <= 0 {
+                    break;
+                }
+            }
+        }
+    }
+    (kept, test_modules)
+}
+
+/// Whether `line` names the module `path` itself (`crate::sim`, not `crate::simple`).
+fn names(line: &str, path: &str) -> bool {
+    line.match_indices(path).any(|(at, _)| {
+        !line[at + path.len()..].starts_with(|c: char| c.is_alphanumeric() || c == '_')
+    })
+}
+
+#[test]
+fn robot_code_never_reaches_into_the_simulator_or_the_command_line() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    for module in ROBOT_SIDE {
+        rust_files(&src.join(module), &mut files);
+    }
+    assert!(files.len() > 40, "the robot side's sources were not found under {}", src.display());
+    files.sort();
+    let sources: Vec<(&PathBuf, String)> =
+        files.iter().map(|f| (f, std::fs::read_to_string(f).unwrap())).collect();
+    // Files of test-only modules, wherever in the tree they are declared.
+    let test_only: Vec<PathBuf> = sources
+        .iter()
+        .flat_map(|(file, text)| {
+            let dir = file.parent().unwrap().to_path_buf();
+            robot_code(text).1.into_iter().map(move |m| dir.join(format!("{m}.rs")))
+        })
+        .collect();
+    let mut breaches = Vec::new();
+    for (file, text) in sources.iter().filter(|(f, _)| !test_only.contains(f)) {
+        for (n, line) in robot_code(text).0 {
+            if let Some(path) = BEYOND_THE_WALL.iter().find(|p| names(line, p)) {
+                let shown = file.strip_prefix(&src).unwrap().display();
+                breaches.push(format!("src/{shown}:{n} uses {path}: {}", line.trim()));
+            }
+        }
+    }
+    assert!(breaches.is_empty(), "robot code crosses a wall:\n{}", breaches.join("\n"));
+}
+
+#[test]
+fn the_wall_check_sees_through_test_modules_but_not_around_code() {
+    let text = "use crate::hal::Clock;\n\
+                use crate::sim::SimRobot;\n\
+                #[cfg(test)]\n\
+                mod helpers;\n\
+                #[cfg(test)]\n\
+                mod tests {\n\
+                    use crate::sim::gaussian;\n\
+                    fn f() { if true { } }\n\
+                }\n\
+                fn after() {}\n";
+    let (code, test_modules) = robot_code(text);
+    let lines: Vec<&str> = code.iter().map(|(_, l)| *l).collect();
+    assert_eq!(lines, ["use crate::hal::Clock;", "use crate::sim::SimRobot;", "fn after() {}"]);
+    assert_eq!(code[1].0, 2);
+    assert_eq!(test_modules, ["helpers"]);
+    assert!(names("use crate::sim::{Room};", "crate::sim"));
+    assert!(names("crate::sim", "crate::sim"));
+    assert!(!names("use super::client::Thing;", "super::cli"));
+}
