@@ -6,7 +6,7 @@ use serde_json::Value;
 use crate::db::Db;
 use crate::entry;
 use crate::error::ApiError;
-use crate::http::precondition::WriteCondition;
+use crate::store::WriteCondition;
 use crate::store::tags;
 
 /// `seed_tags/*.json`, compiled in so a bare binary can seed an empty registry.

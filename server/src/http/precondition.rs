@@ -5,6 +5,7 @@ use axum::http::HeaderMap;
 use axum::http::header::{IF_MATCH, IF_NONE_MATCH};
 
 use crate::error::ApiError;
+use crate::store::WriteCondition;
 
 /// The strong ETag of a tag revision.
 pub fn tag_etag(revision: i64) -> String {
@@ -14,27 +15,6 @@ pub fn tag_etag(revision: i64) -> String {
 /// The revision an ETag of ours names, if it is one.
 fn revision_of(etag: &str) -> Option<i64> {
     etag.strip_prefix("\"r")?.strip_suffix('"')?.parse().ok()
-}
-
-/// What a write request demands of the current state.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum WriteCondition {
-    /// `If-None-Match: *`: only if nothing exists yet.
-    Absent,
-    /// `If-Match: *`: whatever the current revision.
-    AnyRevision,
-    /// `If-Match: "rN", ...`: only if the current revision is one of these.
-    Revisions(Vec<i64>),
-}
-
-impl WriteCondition {
-    pub fn allows(&self, current_revision: i64) -> bool {
-        match self {
-            Self::Absent => false,
-            Self::AnyRevision => true,
-            Self::Revisions(revisions) => revisions.contains(&current_revision),
-        }
-    }
 }
 
 /// Reads the precondition of a tag write; `None` when the request has none.

@@ -11,8 +11,9 @@ use serde_json::{Value, json};
 use crate::error::ApiError;
 use crate::http::extract::{Caller, EpcPath, JsonBody, parse_epc};
 use crate::http::openapi::{Body, Doc, Header, Param, Reply};
-use crate::http::precondition::{self, WriteCondition};
+use crate::http::precondition;
 use crate::state::AppState;
+use crate::store::WriteCondition;
 use crate::store::events::{self, EventKind};
 use crate::store::{learning, retired, tags, trials};
 

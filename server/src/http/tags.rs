@@ -13,8 +13,9 @@ use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, EpcPath, JsonBody};
 use crate::http::openapi::{Body, Doc, Header, Param, ParamType, Reply};
 use crate::http::page::{self, Page, PageParams};
-use crate::http::precondition::{self, WriteCondition};
+use crate::http::precondition;
 use crate::state::AppState;
+use crate::store::WriteCondition;
 use crate::store::tags::{self, StoredTag, TagFilter, TagWriteError};
 
 #[derive(Debug, Deserialize)]

@@ -10,3 +10,6 @@ pub mod tags;
 pub mod tokens;
 pub mod trials;
 pub mod users;
+mod write_condition;
+
+pub use write_condition::WriteCondition;

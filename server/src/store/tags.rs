@@ -7,9 +7,9 @@ use pps_schema::Epc;
 use serde_json::{Map, Value, json};
 use sqlx::SqlitePool;
 
+use super::WriteCondition;
 use crate::clock;
 use crate::db::Db;
-use crate::http::precondition::WriteCondition;
 use crate::store::events::{self, EventKind};
 use crate::store::{inbox, retired};
 
