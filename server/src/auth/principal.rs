@@ -14,28 +14,6 @@ pub struct Principal {
 }
 
 impl Principal {
-    /// Caretakers and admins edit tags.
-    pub fn require_editor(&self) -> Result<(), ApiError> {
-        match self.role {
-            Role::Admin | Role::Caretaker => Ok(()),
-            Role::Robot => Err(ApiError::Forbidden(
-                "robots read tags but cannot change them; use a caretaker or admin credential"
-                    .into(),
-            )),
-        }
-    }
-
-    pub fn require_admin(&self) -> Result<(), ApiError> {
-        if self.role == Role::Admin {
-            Ok(())
-        } else {
-            Err(ApiError::Forbidden(format!(
-                "this needs an admin credential; yours has the role {}",
-                self.role
-            )))
-        }
-    }
-
     /// A robot may act only as itself; caretakers and admins as any robot.
     pub fn require_robot_or_editor(&self, robot: &str) -> Result<(), ApiError> {
         match (&self.role, &self.robot) {
