@@ -22,10 +22,7 @@ pub use overlay::draw_overlay;
 pub use perceive::{PerceiveArgs, PerceiveReport};
 pub use registry_args::RegistryArgs;
 pub use rfid::{ReadSettings, ReaderChoice, RfidArgs, open_reader};
-pub use run::{
-    Fault, RunArgs, SimulatedResult, SimulatedTrial, achieved, run_simulated, start_pose_at,
-    start_up,
-};
+pub use run::{Fault, RunArgs, SimulatedResult, SimulatedTrial, achieved, run_simulated, start_up};
 pub use scene::SceneArgs;
 pub use trials::{
     Protocol, TABLE_ONE, TableRow, TrialsArgs, flush_until_stored, render_table, rows_json,

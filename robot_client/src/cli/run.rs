@@ -6,18 +6,18 @@
 //! does not). The robot's side is [`run_task`], which sees only the hardware traits.
 
 use clap::Args;
-use nalgebra::{Isometry2, Point3, Rotation2, Vector2};
+use nalgebra::Point3;
 use pps_schema::StartPose;
 use time::OffsetDateTime;
 
 use super::real_rfid::WithRealReader;
 use super::registry_args::RegistryArgs;
 use super::rfid::{ReadSettings, ReaderChoice, open_reader};
-use crate::hal::{HalError, Operator, PlanarPose, RfidReader, VerticalChoice};
+use crate::hal::{HalError, Operator, RfidReader, VerticalChoice};
 use crate::registry::{RegistryClient, RegistryError};
 use crate::sim::{
     DeviceKind, DeviceTruth, OperatorScript, Room, RoomOptions, Scenario, SimBody, SimClock,
-    SimOperator, SimRobot, StartDirection,
+    SimOperator, SimRobot, StartDirection, start_pose_at_angle,
 };
 use crate::task::{TaskConfig, TaskReport, run_task, vertical_choice_for};
 
@@ -182,16 +182,6 @@ impl Operator for Person {
     }
 }
 
-/// The robot's pose `distance` from `device`'s tag, `angle` off its normal, facing it.
-pub fn start_pose_at(room: &Room, device: DeviceKind, angle: f64, distance: f64) -> PlanarPose {
-    let d = room.device(device);
-    let tag = Vector2::new(d.tag_center.x, d.tag_center.y);
-    let normal = Vector2::new(d.tag_normal.x, d.tag_normal.y).normalize();
-    let position = tag + Rotation2::new(angle) * normal * distance;
-    let toward = tag - position;
-    Isometry2::new(position, toward.y.atan2(toward.x))
-}
-
 /// What the robot does when it starts: learns its class from the registry, so the simulator
 /// builds that class's body, and reads the registry's tags into its cache. Without the registry
 /// it goes on with the record and the entries it kept from the last time.
@@ -251,7 +241,8 @@ pub async fn run_simulated_reading(
     rfid: Option<&dyn RfidReader>,
 ) -> anyhow::Result<SimulatedResult> {
     let room = Room::new(trial.room);
-    let start = start_pose_at(&room, trial.device, trial.start_angle, trial.start_distance);
+    let start =
+        start_pose_at_angle(room.device(trial.device), trial.start_angle, trial.start_distance);
     let robot = SimRobot::of_class(room, start, trial.seed, trial.scenario, trial.body);
     // The person picks up or down as the interface's convention has it for the entry.
     let choice = match registry.effective_entry(&trial.device.epc()).await {

@@ -65,9 +65,15 @@ impl StartDirection {
 
 /// The robot's pose `distance` metres from `device`'s tag in `direction`, facing the tag.
 pub fn start_pose(device: &Device, direction: StartDirection, distance: f64) -> PlanarPose {
+    start_pose_at_angle(device, direction.angle(), distance)
+}
+
+/// The robot's pose `distance` metres from `device`'s tag, `angle` radians off the tag's
+/// normal (counter-clockwise seen from above), facing the tag.
+pub fn start_pose_at_angle(device: &Device, angle: f64, distance: f64) -> PlanarPose {
     let tag = Vector2::new(device.tag_center.x, device.tag_center.y);
     let normal = Vector2::new(device.tag_normal.x, device.tag_normal.y).normalize();
-    let position = tag + Rotation2::new(direction.angle()) * normal * distance;
+    let position = tag + Rotation2::new(angle) * normal * distance;
     let toward = tag - position;
     Isometry2::new(position, toward.y.atan2(toward.x))
 }

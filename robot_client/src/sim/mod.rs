@@ -33,7 +33,9 @@ mod sim_body;
 
 pub use body::{BodyGeometry, BodyState, head_camera};
 pub use camera::{Exposure, Lighting, render_color, render_gray};
-pub use capture::{CaptureSettings, SceneCapture, StartDirection, capture_scene, start_pose};
+pub use capture::{
+    CaptureSettings, SceneCapture, StartDirection, capture_scene, start_pose, start_pose_at_angle,
+};
 pub use clock::{SimClock, VirtualClock};
 pub use laser::{LaserModel, sweep_scan};
 #[cfg(test)]
