@@ -23,9 +23,20 @@ pub struct AlignmentParams {
 }
 
 impl AlignmentParams {
+    /// Palm range that means near contact: the paper's 2 cm.
+    pub const NEAR_RANGE: f64 = 0.02;
+    /// How far forward every behaviour feels before giving up: the hand starts about 10 cm
+    /// from the tag, so 25 cm finds a surface a hand's width behind where it was seen.
+    pub const MAX_REACH: f64 = 0.25;
+
     /// The paper's 2 N contact, near contact at 2 cm, and the entry's back-off.
     pub fn with_backoff(backoff: f64) -> Self {
-        Self { contact_force: 2.0, near_range: 0.02, backoff, max_reach: 0.25 }
+        Self {
+            contact_force: 2.0,
+            near_range: Self::NEAR_RANGE,
+            backoff,
+            max_reach: Self::MAX_REACH,
+        }
     }
 }
 

@@ -77,7 +77,8 @@ fn flip(
     forces: &mut ForceRecorder<'_>,
     evidence: &mut Evidence,
 ) -> Result<f64, HalError> {
-    let (touch, _) = advance_until_touch(robot, forces, params.contact_force, None, 0.25)?;
+    let (touch, _) =
+        advance_until_touch(robot, forces, params.contact_force, None, AlignmentParams::MAX_REACH)?;
     if !matches!(touch, Touch::Force(_)) {
         evidence.step("no wall within reach");
         return Ok(0.0);
@@ -107,7 +108,13 @@ fn press(
     forces: &mut ForceRecorder<'_>,
     evidence: &mut Evidence,
 ) -> Result<f64, HalError> {
-    let (touch, moved) = advance_until_touch(robot, forces, params.force_threshold, None, 0.25)?;
+    let (touch, moved) = advance_until_touch(
+        robot,
+        forces,
+        params.force_threshold,
+        None,
+        AlignmentParams::MAX_REACH,
+    )?;
     let pressed = matches!(touch, Touch::Force(_));
     evidence.step(if pressed {
         format!("pressed to {} N after {:.3} m", params.force_threshold, moved)

@@ -63,8 +63,8 @@ impl Touch {
 }
 
 /// Extends the arm by up to `reach` metres in [`FEEL_STEP`]s, stopping when a finger feels more
-/// than `contact_force` newtons or the palm sees a surface nearer than `near_range` metres.
-/// Returns how it ended and how far the arm moved.
+/// than `contact_force` newtons or the palm sees a surface nearer than `near_range` metres, or
+/// at the end of the arm's travel. Returns how it ended and how far the arm moved.
 pub fn advance_until_touch(
     hand: &impl Hand,
     forces: &mut ForceRecorder<'_>,
@@ -73,6 +73,7 @@ pub fn advance_until_touch(
     reach: f64,
 ) -> Result<(Touch, f64), HalError> {
     let start = hand.extension()?;
+    let reach = reach.min(hand.farthest() - start).max(0.0);
     let mut moved = 0.0;
     while moved < reach - 1e-9 {
         let step = FEEL_STEP.min(reach - moved);

@@ -115,8 +115,13 @@ fn grasp(
 ) -> Result<Option<FingerForces>, HalError> {
     if reach {
         set_gripper_deg(robot, params.gripper_deg, f64::INFINITY)?;
-        let (touch, moved) =
-            advance_until_touch(robot, forces, params.grasp_force, Some(0.02), 0.25)?;
+        let (touch, moved) = advance_until_touch(
+            robot,
+            forces,
+            params.grasp_force,
+            Some(AlignmentParams::NEAR_RANGE),
+            AlignmentParams::MAX_REACH,
+        )?;
         evidence.step(format!(
             "opened to {}°, moved onto the towel {:.3} m ({})",
             params.gripper_deg,

@@ -44,8 +44,13 @@ pub fn push(
 
     // The gripper as the entry says: open for a drawer front, closed to poke a switch.
     set_gripper_deg(robot, params.gripper_deg, f64::INFINITY)?;
-    let (touch, _) =
-        advance_until_touch(robot, &mut forces, params.contact_force, Some(0.02), 0.25)?;
+    let (touch, _) = advance_until_touch(
+        robot,
+        &mut forces,
+        params.contact_force,
+        Some(AlignmentParams::NEAR_RANGE),
+        AlignmentParams::MAX_REACH,
+    )?;
     let touched = touch != Touch::Nothing;
     evidence.step(format!(
         "gripper at {}°, forward to the surface: {}",

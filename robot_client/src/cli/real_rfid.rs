@@ -79,6 +79,9 @@ impl Arm for WithRealReader<'_> {
     fn extension(&self) -> Result<f64, HalError> {
         self.robot.extension()
     }
+    fn farthest(&self) -> f64 {
+        self.robot.farthest()
+    }
     fn move_to_extension(&self, extension: f64, max_force: f64) -> Result<f64, HalError> {
         self.robot.move_to_extension(extension, max_force)
     }

@@ -18,6 +18,9 @@ pub trait Arm: Send + Sync {
     /// How far the hand is extended ahead of the base's front, metres.
     fn extension(&self) -> Result<f64, HalError>;
 
+    /// The farthest extension the arm reaches, metres.
+    fn farthest(&self) -> f64;
+
     /// Extends (or retracts) the hand to `extension` metres, stopping early when the force on the
     /// fingers exceeds `max_force` newtons. Returns the extension reached.
     fn move_to_extension(&self, extension: f64, max_force: f64) -> Result<f64, HalError>;

@@ -336,6 +336,10 @@ impl Arm for SimRobot {
         Ok(self.state().body.arm_extension)
     }
 
+    fn farthest(&self) -> f64 {
+        self.state().geometry.arm_travel.1
+    }
+
     fn move_to_extension(&self, extension: f64, max_force: f64) -> Result<f64, HalError> {
         let mut s = self.state();
         check_travel("arm", extension, s.geometry.arm_travel)?;

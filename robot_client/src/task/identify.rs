@@ -68,8 +68,10 @@ pub(crate) fn servo_and_read(
     }
     let body = &config.body;
     let mut extension = here.x - config.servo_distance - body.palm_ahead - body.finger_length;
-    if !(0.0..=0.3).contains(&extension) {
-        // Beyond what the arm should do: the base covers the difference.
+    // The arm keeps room to move closer when the read is ambiguous; beyond that, or behind its
+    // start, the base covers the difference.
+    let spare = CLOSER_TRIES as f64 * CLOSER_STEP;
+    if !(0.0..=robot.farthest() - spare).contains(&extension) {
         let by = if extension < 0.0 { extension } else { extension - 0.1 };
         robot.drive(by)?;
         extension -= by;
