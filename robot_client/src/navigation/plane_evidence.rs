@@ -20,6 +20,7 @@ use nalgebra::{Matrix2, Matrix6, Point3, SymmetricEigen, Vector2, Vector6};
 
 use super::plane::Plane;
 use super::rejection::PlaneRejection;
+use crate::perception::flood_fill::flood_fill;
 
 /// Thresholds of the plane evidence test.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -95,6 +96,14 @@ fn noise_across(distances: impl Iterator<Item = f64>, window: f64) -> Option<f64
     Some(1.4826 * *near.select_nth_unstable_by(middle, f64::total_cmp).1)
 }
 
+/// A point near a plane: its index, in-plane coordinates and signed distance from the plane.
+#[derive(Debug, Clone, Copy)]
+struct NearPoint {
+    index: u32,
+    at: Vector2<f64>,
+    residual: f64,
+}
+
 /// Applies the rule to `plane` over the `alive` points; the first rule it fails when it is not
 /// a surface.
 pub fn assess_plane(
@@ -104,123 +113,191 @@ pub fn assess_plane(
     rule: &PlaneEvidenceRule,
 ) -> Result<PlanarPatch, PlaneRejection> {
     let too_few = |points: usize| PlaneRejection::TooFewPoints { points, min: rule.min_points };
+    // Every point the widest band could take in.
+    let window = near_points(points, alive, plane, 2.0 * rule.max_band);
+    let Some(noise) = noise_across(window.iter().map(|w| w.residual), rule.max_band) else {
+        return Err(too_few(0));
+    };
+    let inlier_distance = (rule.noise_multiple * noise).clamp(rule.min_band, rule.max_band);
+    // The ±2t band.
+    let band: Vec<NearPoint> =
+        window.into_iter().filter(|w| w.residual.abs() < 2.0 * inlier_distance).collect();
+    if band.len() < rule.min_points {
+        return Err(too_few(band.len()));
+    }
+    let raster = Raster::over(&band, rule.cell, inlier_distance);
+    let patch = raster.largest_patch();
+    if raster.points_in(&patch) < rule.min_points {
+        return Err(too_few(raster.points_in(&patch)));
+    }
+    let measured = measure(&band, &raster, &patch, noise, rule);
+    if measured.thickness_ratio > rule.max_thickness_ratio {
+        return Err(PlaneRejection::Thick {
+            ratio: measured.thickness_ratio,
+            max: rule.max_thickness_ratio,
+        });
+    }
+    if measured.extent[1] < rule.min_extent {
+        return Err(PlaneRejection::Narrow { width: measured.extent[1], min: rule.min_extent });
+    }
+    if measured.waviness > rule.max_waviness {
+        return Err(PlaneRejection::Wavy { waviness: measured.waviness, max: rule.max_waviness });
+    }
+    if measured.fill < rule.min_fill {
+        return Err(PlaneRejection::Unfilled { fill: measured.fill, min: rule.min_fill });
+    }
+    Ok(measured)
+}
+
+/// The `alive` points within `window` of `plane`.
+fn near_points(
+    points: &[Point3<f32>],
+    alive: &[bool],
+    plane: &Plane,
+    window: f64,
+) -> Vec<NearPoint> {
     let (u, v) = plane.basis();
-    // Every point the widest band could take in, with its in-plane coordinates and residual.
-    let mut window = Vec::new();
+    let mut near = Vec::new();
     for (i, p) in points.iter().enumerate() {
         if !alive[i] {
             continue;
         }
         let p: Point3<f64> = p.cast();
-        let d = plane.signed_distance(&p);
-        if d.abs() < 2.0 * rule.max_band {
-            window.push((i as u32, Vector2::new(u.dot(&p.coords), v.dot(&p.coords)), d));
+        let residual = plane.signed_distance(&p);
+        if residual.abs() < window {
+            let at = Vector2::new(u.dot(&p.coords), v.dot(&p.coords));
+            near.push(NearPoint { index: i as u32, at, residual });
         }
     }
-    let Some(noise) = noise_across(window.iter().map(|w| w.2), rule.max_band) else {
-        return Err(too_few(0));
-    };
-    let inlier_distance = (rule.noise_multiple * noise).clamp(rule.min_band, rule.max_band);
-    // The ±2t band.
-    let band: Vec<(u32, Vector2<f64>, f64)> =
-        window.into_iter().filter(|w| w.2.abs() < 2.0 * inlier_distance).collect();
-    if band.len() < rule.min_points {
-        return Err(too_few(band.len()));
+    near
+}
+
+/// The band's points rastered in the plane: square cells, and how many points within ±t of
+/// the plane (the near points) each holds.
+struct Raster {
+    lo: Vector2<f64>,
+    cell: f64,
+    cols: usize,
+    rows: usize,
+    inlier_distance: f64,
+    near_count: Vec<u32>,
+}
+
+/// The largest 8-connected patch of cells holding near points.
+struct Patch {
+    label: Vec<Option<u32>>,
+    id: u32,
+}
+
+impl Patch {
+    fn holds(&self, cell: usize) -> bool {
+        self.label[cell] == Some(self.id)
     }
-    // Raster the near points in the plane, then label 8-connected occupied cells.
-    let (mut lo, mut hi) = (Vector2::repeat(f64::INFINITY), Vector2::repeat(f64::NEG_INFINITY));
-    for (_, q, _) in &band {
-        lo = lo.inf(q);
-        hi = hi.sup(q);
-    }
-    let cols = (((hi.x - lo.x) / rule.cell) as usize + 1).min(4096);
-    let rows = (((hi.y - lo.y) / rule.cell) as usize + 1).min(4096);
-    let cell_of = |q: &Vector2<f64>| {
-        let c = (((q.x - lo.x) / rule.cell) as usize).min(cols - 1);
-        let r = (((q.y - lo.y) / rule.cell) as usize).min(rows - 1);
-        r * cols + c
-    };
-    let mut count = vec![0u32; cols * rows];
-    let near = |d: f64| d.abs() < inlier_distance;
-    for (_, q, d) in &band {
-        if near(*d) {
-            count[cell_of(q)] += 1;
+}
+
+impl Raster {
+    fn over(band: &[NearPoint], cell: f64, inlier_distance: f64) -> Self {
+        let (mut lo, mut hi) = (Vector2::repeat(f64::INFINITY), Vector2::repeat(f64::NEG_INFINITY));
+        for p in band {
+            lo = lo.inf(&p.at);
+            hi = hi.sup(&p.at);
         }
-    }
-    let mut label = vec![u32::MAX; cols * rows];
-    let (mut best_label, mut best_count) = (u32::MAX, 0u32);
-    let mut stack = Vec::new();
-    for seed in 0..count.len() {
-        if count[seed] == 0 || label[seed] != u32::MAX {
-            continue;
-        }
-        let id = seed as u32;
-        label[seed] = id;
-        stack.push(seed);
-        let mut total = 0;
-        while let Some(cell) = stack.pop() {
-            total += count[cell];
-            let (r, c) = ((cell / cols) as isize, (cell % cols) as isize);
-            for dr in -1..=1 {
-                for dc in -1..=1 {
-                    let (rr, cc) = (r + dr, c + dc);
-                    if rr < 0 || cc < 0 || rr >= rows as isize || cc >= cols as isize {
-                        continue;
-                    }
-                    let n = rr as usize * cols + cc as usize;
-                    if count[n] > 0 && label[n] == u32::MAX {
-                        label[n] = id;
-                        stack.push(n);
-                    }
-                }
+        let cols = (((hi.x - lo.x) / cell) as usize + 1).min(4096);
+        let rows = (((hi.y - lo.y) / cell) as usize + 1).min(4096);
+        let mut raster =
+            Self { lo, cell, cols, rows, inlier_distance, near_count: vec![0; cols * rows] };
+        for p in band {
+            if raster.is_near(p) {
+                let c = raster.cell_of(&p.at);
+                raster.near_count[c] += 1;
             }
         }
-        if total > best_count {
-            (best_label, best_count) = (id, total);
+        raster
+    }
+
+    fn cell_of(&self, q: &Vector2<f64>) -> usize {
+        let c = (((q.x - self.lo.x) / self.cell) as usize).min(self.cols - 1);
+        let r = (((q.y - self.lo.y) / self.cell) as usize).min(self.rows - 1);
+        r * self.cols + c
+    }
+
+    fn is_near(&self, p: &NearPoint) -> bool {
+        p.residual.abs() < self.inlier_distance
+    }
+
+    /// The cells around `cell` (itself included) that lie inside the raster.
+    fn around(&self, cell: usize) -> impl Iterator<Item = usize> + use<> {
+        let (cols, rows) = (self.cols as isize, self.rows as isize);
+        let (r, c) = ((cell / self.cols) as isize, (cell % self.cols) as isize);
+        (-1..=1)
+            .flat_map(move |dr| (-1..=1).map(move |dc| (r + dr, c + dc)))
+            .filter(move |&(rr, cc)| rr >= 0 && cc >= 0 && rr < rows && cc < cols)
+            .map(move |(rr, cc)| (rr * cols + cc) as usize)
+    }
+
+    /// The connected patch of occupied cells holding the most near points (the first found
+    /// among equals).
+    fn largest_patch(&self) -> Patch {
+        let found = flood_fill(
+            self.near_count.len(),
+            |cell| self.near_count[cell] > 0,
+            |cell, push| self.around(cell).for_each(&mut *push),
+        );
+        let total = |cells: &Vec<usize>| cells.iter().map(|&c| self.near_count[c]).sum::<u32>();
+        let (mut id, mut most) = (0, 0);
+        for (i, cells) in found.members.iter().enumerate() {
+            if total(cells) > most {
+                (id, most) = (i as u32, total(cells));
+            }
         }
+        Patch { label: found.label, id }
     }
-    if (best_count as usize) < rule.min_points {
-        return Err(too_few(best_count as usize));
+
+    fn points_in(&self, patch: &Patch) -> usize {
+        (0..self.near_count.len())
+            .filter(|&c| patch.holds(c))
+            .map(|c| self.near_count[c] as usize)
+            .sum()
     }
-    // Over the patch's cells (and their neighbours, where its edge noise falls), compare bands.
-    let in_patch = |cell: usize| {
-        let (r, c) = ((cell / cols) as isize, (cell % cols) as isize);
-        (-1..=1).any(|dr| {
-            (-1..=1).any(|dc| {
-                let (rr, cc) = (r + dr, c + dc);
-                rr >= 0
-                    && cc >= 0
-                    && rr < rows as isize
-                    && cc < cols as isize
-                    && label[rr as usize * cols + cc as usize] == best_label
-            })
-        })
-    };
-    let mut inliers = Vec::with_capacity(best_count as usize);
+}
+
+/// The patch's inliers, its band with the noise at its edges, and its shape, the plane's
+/// `noise` given.
+fn measure(
+    band: &[NearPoint],
+    raster: &Raster,
+    patch: &Patch,
+    noise: f64,
+    rule: &PlaneEvidenceRule,
+) -> PlanarPatch {
+    // Over the patch's cells and their neighbours, where its edge noise falls, compare bands.
+    let beside_patch = |cell: usize| raster.around(cell).any(|n| patch.holds(n));
+    let mut inliers = Vec::new();
     let mut wide = Vec::new();
     let (mut sum, mut outer) = (Vector2::zeros(), Matrix2::zeros());
     // Per cell: the sums of in-plane position, residual and squared residual of its near points.
-    let mut cell_sums = vec![(Vector2::zeros(), 0.0, 0.0); cols * rows];
-    for (i, q, d) in &band {
-        let cell = cell_of(q);
-        if near(*d) && label[cell] == best_label {
-            inliers.push(*i);
+    let mut cell_sums = vec![(Vector2::zeros(), 0.0, 0.0); raster.near_count.len()];
+    for p in band {
+        let cell = raster.cell_of(&p.at);
+        if raster.is_near(p) && patch.holds(cell) {
+            let (q, d) = (&p.at, p.residual);
+            inliers.push(p.index);
             sum += q;
             outer += q * q.transpose();
             cell_sums[cell].0 += q;
             cell_sums[cell].1 += d;
             cell_sums[cell].2 += d * d;
         }
-        if in_patch(cell) {
-            wide.push(*i);
+        if beside_patch(cell) {
+            wide.push(p.index);
         }
     }
     let thickness_ratio = wide.len() as f64 / inliers.len() as f64;
     let cells: Vec<CellResiduals> = cell_sums
         .iter()
-        .zip(&count)
+        .zip(&raster.near_count)
         .enumerate()
-        .filter(|&(cell, (_, &n))| n >= 4 && label[cell] == best_label)
+        .filter(|&(cell, (_, &n))| n >= 4 && patch.holds(cell))
         .map(|(_, (&(q, d, dd), &n))| {
             let n = f64::from(n);
             CellResiduals { at: q / n, mean: d / n, square_sum: dd - d * d / n, points: n }
@@ -229,8 +306,7 @@ pub fn assess_plane(
     let waviness = waviness_beyond_noise(&cells);
     let n = inliers.len() as f64;
     let mean = sum / n;
-    let covariance = outer / n - mean * mean.transpose();
-    let eigen = SymmetricEigen::new(covariance);
+    let eigen = SymmetricEigen::new(outer / n - mean * mean.transpose());
     // Width of a uniform spread with this variance: √12 σ.
     let widths = eigen.eigenvalues.map(|l| (12.0 * l.max(0.0)).sqrt());
     let extent = [widths.max(), widths.min()];
@@ -243,43 +319,28 @@ pub fn assess_plane(
         Vector2::y(),
     ];
     let mut span = [(f64::INFINITY, f64::NEG_INFINITY); 4];
-    for (_, q, d) in &band {
-        if near(*d) && label[cell_of(q)] == best_label {
+    for p in band {
+        if raster.is_near(p) && patch.holds(raster.cell_of(&p.at)) {
             for (axis, (lo, hi)) in axes.iter().zip(span.iter_mut()) {
-                let x = axis.dot(q);
+                let x = axis.dot(&p.at);
                 (*lo, *hi) = (lo.min(x), hi.max(x));
             }
         }
     }
     let side = |i: usize| span[i].1 - span[i].0 + rule.cell;
     let rectangle = (side(0) * side(1)).min(side(2) * side(3));
-    let patch_cells = label.iter().filter(|&&l| l == best_label).count() as f64;
+    let patch_cells = patch.label.iter().filter(|&&l| l == Some(patch.id)).count() as f64;
     let fill = patch_cells * rule.cell * rule.cell / rectangle;
-    if thickness_ratio > rule.max_thickness_ratio {
-        return Err(PlaneRejection::Thick {
-            ratio: thickness_ratio,
-            max: rule.max_thickness_ratio,
-        });
-    }
-    if extent[1] < rule.min_extent {
-        return Err(PlaneRejection::Narrow { width: extent[1], min: rule.min_extent });
-    }
-    if waviness > rule.max_waviness {
-        return Err(PlaneRejection::Wavy { waviness, max: rule.max_waviness });
-    }
-    if fill < rule.min_fill {
-        return Err(PlaneRejection::Unfilled { fill, min: rule.min_fill });
-    }
-    Ok(PlanarPatch {
+    PlanarPatch {
         inliers,
         band: wide,
         extent,
         noise,
-        inlier_distance,
+        inlier_distance: raster.inlier_distance,
         thickness_ratio,
         waviness,
         fill,
-    })
+    }
 }
 
 /// The near points of one cell of a patch, by their residuals from the plane.

@@ -11,6 +11,7 @@
 
 mod blobs;
 mod brightness;
+pub(crate) mod flood_fill;
 mod hsv;
 mod mask;
 mod occupancy;

@@ -5,6 +5,8 @@
 
 use nalgebra::Point3;
 
+use super::flood_fill::flood_fill;
+
 /// One connected lump of occupied voxels: a tag candidate.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Component {
@@ -116,57 +118,50 @@ impl OccupancyGrid {
 
     /// The 26-connected components of the occupied voxels, with their distance to `target`.
     pub fn connected_components(&self, target: &Point3<f64>) -> Vec<Component> {
-        let mut label = vec![u32::MAX; self.keys.len()];
-        let mut components = Vec::new();
-        let mut stack = Vec::new();
-        for seed in 0..self.keys.len() {
-            if label[seed] != u32::MAX {
-                continue;
-            }
-            let id = components.len() as u32;
-            label[seed] = id;
-            stack.push(seed);
-            let (mut sum, mut points, mut voxels, mut nearest) =
-                (nalgebra::Vector3::zeros(), 0, 0, f64::INFINITY);
-            let (mut lo, mut hi) =
-                (Point3::from([f32::INFINITY; 3]), Point3::from([f32::NEG_INFINITY; 3]));
-            let mut members = Vec::new();
-            while let Some(v) = stack.pop() {
-                voxels += 1;
-                let (from, to) = self.ranges[v];
-                for p in &self.points[from as usize..to as usize] {
-                    (lo, hi) = (lo.inf(p), hi.sup(p));
-                    members.push(*p);
-                    let p: Point3<f64> = p.cast();
-                    sum += p.coords;
-                    points += 1;
-                    nearest = nearest.min((p - target).norm());
-                }
+        let found = flood_fill(
+            self.keys.len(),
+            |_| true,
+            |v, push| {
                 let [x, y, z] = coords_of(self.keys[v]);
                 for dx in -1..=1 {
                     for dy in -1..=1 {
                         for dz in -1..=1 {
                             let Some(k) = key_of([x + dx, y + dy, z + dz]) else { continue };
-                            if let Ok(n) = self.keys.binary_search(&k)
-                                && label[n] == u32::MAX
-                            {
-                                label[n] = id;
-                                stack.push(n);
+                            if let Ok(n) = self.keys.binary_search(&k) {
+                                push(n);
                             }
                         }
                     }
                 }
+            },
+        );
+        found.members.iter().map(|voxels| self.component(voxels, target)).collect()
+    }
+
+    /// The component made of `voxels`, its points in the voxels' order.
+    fn component(&self, voxels: &[usize], target: &Point3<f64>) -> Component {
+        let (mut sum, mut nearest) = (nalgebra::Vector3::zeros(), f64::INFINITY);
+        let (mut lo, mut hi) =
+            (Point3::from([f32::INFINITY; 3]), Point3::from([f32::NEG_INFINITY; 3]));
+        let mut members = Vec::new();
+        for &v in voxels {
+            let (from, to) = self.ranges[v];
+            for p in &self.points[from as usize..to as usize] {
+                (lo, hi) = (lo.inf(p), hi.sup(p));
+                members.push(*p);
+                let p: Point3<f64> = p.cast();
+                sum += p.coords;
+                nearest = nearest.min((p - target).norm());
             }
-            components.push(Component {
-                centroid: Point3::from(sum / points as f64),
-                points,
-                voxels,
-                distance_to_target: nearest,
-                radius: f64::from((hi - lo).norm()) / 2.0,
-                members,
-            });
         }
-        components
+        Component {
+            centroid: Point3::from(sum / members.len() as f64),
+            points: members.len(),
+            voxels: voxels.len(),
+            distance_to_target: nearest,
+            radius: f64::from((hi - lo).norm()) / 2.0,
+            members,
+        }
     }
 }
 
