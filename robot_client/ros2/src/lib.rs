@@ -15,6 +15,7 @@
 //! The node never reaches into the simulator: it sees only what a robot publishes.
 
 pub mod camera;
+pub mod cdr;
 pub mod click;
 pub mod cloud;
 pub mod dds;
