@@ -152,7 +152,7 @@ fn pose_stamped() {
             header: header("map"),
             pose: Pose {
                 position: Point { x: 2.0, y: 3.5, z: 0.0 },
-                orientation: quaternion(0.0, 0.0, 0.70710678, 0.70710678),
+                orientation: quaternion(0.0, 0.0, 0.6, 0.8),
             },
         },
     );

@@ -55,7 +55,7 @@ def messages():
     yield "point_stamped", t.PointStamped(header=header("base_link"), point=t.Point(1.25, -0.5, 0.875))
     yield "pose_stamped", t.PoseStamped(
         header=header("map"),
-        pose=t.Pose(t.Point(2.0, 3.5, 0.0), t.Quaternion(0.0, 0.0, 0.70710678, 0.70710678)),
+        pose=t.Pose(t.Point(2.0, 3.5, 0.0), t.Quaternion(0.0, 0.0, 0.6, 0.8)),
     )
     yield "marker_array", t.MarkerArray(markers=[
         t.Marker(header=header("base_link"), ns="pps", id=0, type=0, action=3),
