@@ -56,7 +56,8 @@ async fn a_click_on_a_rendered_scene_gives_the_tag_pose_and_the_goal() {
         StartDirection::PAPER[0],
         1.5,
         3,
-        &CaptureSettings::small(),
+        // Full size: a 3.7 MB image and a 2.4 MB cloud arrive as thousands of fragments.
+        &CaptureSettings::full(),
     );
     write_scene(&scene, dir.path());
     let expected = plan_approach(
@@ -74,9 +75,14 @@ async fn a_click_on_a_rendered_scene_gives_the_tag_pose_and_the_goal() {
     let node = RosNode::start(&server, &dir.path().join("state"));
     let mut peer = Peer::start();
     matched(&mut peer, &node);
+    // A click before any cloud is answered with nothing, and said once in words.
+    let t = scene.target;
+    for _ in 0..2 {
+        let early = peer.command(json!({"click": [t.x, t.y, t.z], "timeout": 0.5}));
+        assert!(early["tag_pose"].is_null() && early["goal_pose"].is_null(), "{early}");
+    }
     let streaming = peer.command(json!({"scene": dir.path()}));
     assert_eq!(streaming["streaming"]["points"], scene.cloud.len(), "{streaming}");
-    let t = scene.target;
     let answer = peer.command(json!({"click": [t.x, t.y, t.z], "timeout": 60}));
     assert!(answer["tag_pose"].is_object(), "no tag pose: {answer}\nnode log:\n{}", node.log());
     assert!(answer["goal_pose"].is_object(), "no goal: {answer}\nnode log:\n{}", node.log());
@@ -118,6 +124,8 @@ async fn a_click_on_a_rendered_scene_gives_the_tag_pose_and_the_goal() {
     let standoff = (Point3::new(goal_at[0], goal_at[1], 0.0) - Point3::new(at.x, at.y, 0.0)).norm();
     assert!((standoff - 0.5).abs() < 0.05, "the goal is {standoff:.3} m from the tag");
     assert!(answer["markers"].as_u64().unwrap_or(0) >= 6, "markers: {answer}");
+    let said = node.log().matches("a point was clicked before any point cloud arrived").count();
+    assert_eq!(said, 1, "the early clicks were to be said once:\n{}", node.log());
 }
 
 fn trial(id: &str, epc: &str) -> Value {
