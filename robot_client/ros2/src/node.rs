@@ -179,6 +179,7 @@ async fn on_points(shared: &Arc<Shared>, cloud: PointCloud2) {
     match read {
         Ok(points) => {
             shared.sensors.lock().unwrap_or_else(|e| e.into_inner()).cloud = Some(Arc::new(points));
+            shared.once.recovered(TOPIC);
         }
         Err(error) => {
             shared.once.warn(TOPIC, &error);
@@ -204,7 +205,10 @@ async fn on_click(shared: &Arc<Shared>, click: PointStamped) {
     })
     .await;
     let answer = match answered {
-        Ok(Ok(answer)) => answer,
+        Ok(Ok(answer)) => {
+            shared.once.recovered(TOPIC);
+            answer
+        }
         Ok(Err(error)) => {
             shared.once.warn(TOPIC, &error);
             return;

@@ -24,9 +24,10 @@ impl LogOnce {
         first
     }
 
-    /// Forgets a kind of trouble once the input is good again, so a relapse is reported.
-    pub fn recovered(&self, topic: &'static str, kind: &'static str) {
-        self.seen.lock().unwrap_or_else(|e| e.into_inner()).remove(&(topic, kind));
+    /// Forgets the trouble reported on `topic` once its input is good again, so a relapse is
+    /// reported too.
+    pub fn recovered(&self, topic: &'static str) {
+        self.seen.lock().unwrap_or_else(|e| e.into_inner()).retain(|(t, _)| *t != topic);
     }
 }
 
@@ -41,7 +42,8 @@ mod tests {
         assert!(once.warn("/camera/image_raw", &error));
         assert!(!once.warn("/camera/image_raw", &error));
         assert!(once.warn("/points", &InputError::CloudBigEndian));
-        once.recovered("/camera/image_raw", error.kind());
+        once.recovered("/camera/image_raw");
         assert!(once.warn("/camera/image_raw", &error));
+        assert!(!once.warn("/points", &InputError::CloudBigEndian));
     }
 }
