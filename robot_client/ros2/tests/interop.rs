@@ -204,3 +204,52 @@ async fn inventory_rounds_give_entries_and_trials_are_stored() {
     let items = listed["items"].as_array().cloned().unwrap_or_default();
     assert_eq!(items.iter().filter(|t| t["id"] == id).count(), 1, "{listed}");
 }
+
+#[tokio::test(flavor = "multi_thread")]
+async fn with_the_registry_away_entries_still_answer_and_trials_wait_in_the_outbox() {
+    if !isolated("with_the_registry_away_entries_still_answer_and_trials_wait_in_the_outbox") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let mut server = Server::start(dir.path()).await;
+    let node = RosNode::start(&server, &dir.path().join("state"));
+    let mut peer = Peer::start();
+    matched(&mut peer, &node);
+    // The node read the home's tags at start; the registry then goes away.
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
+    while !node.log().contains("5 tags known from the registry") {
+        assert!(std::time::Instant::now() < deadline, "no start-up sync:\n{}", node.log());
+        tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+    }
+    server.stop();
+
+    let drawer = DeviceKind::Drawer.epc().as_hex().to_owned();
+    let answer = peer.command(json!({"rfid": [[drawer, -45.0, 2]]}));
+    assert_eq!(answer["entry"]["error"], "", "offline, from the cache: {answer}\n{}", node.log());
+    assert_eq!(answer["entry"]["epc"], drawer.as_str());
+    let document: Value =
+        serde_json::from_str(answer["entry"]["entry_json"].as_str().unwrap()).unwrap();
+    assert_eq!(document["entry"]["properties"]["type"], "drawer");
+    let unknown = peer.command(json!({"rfid": [["E2003412DEADBEEF00000002", -50.0, 1]]}));
+    let error = unknown["entry"]["error"].as_str().unwrap_or_default();
+    assert!(error.contains("unreachable"), "an unknown tag offline says why: {unknown}");
+
+    let id = "0b6f3c1e-2d4a-4f70-8e19-5a7c3d2e1f00";
+    assert_eq!(peer.command(json!({"trial": trial(id, &drawer)}))["sent"], true);
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
+    while !node.log().contains(&format!("trial {id} kept in the outbox")) {
+        assert!(std::time::Instant::now() < deadline, "trial not kept:\n{}", node.log());
+        tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+    }
+    server.restart().await;
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
+    let stored = loop {
+        let (status, body) = server.get(&format!("/api/v1/trials/{id}")).await;
+        if status == 200 {
+            break body;
+        }
+        assert!(std::time::Instant::now() < deadline, "trial not uploaded:\n{}", node.log());
+        tokio::time::sleep(std::time::Duration::from_millis(50)).await;
+    };
+    assert_eq!(stored["epc"], drawer.as_str());
+}

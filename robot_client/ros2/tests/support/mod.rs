@@ -39,6 +39,7 @@ fn drain(stderr: impl std::io::Read + Send + 'static) -> Arc<Mutex<Vec<String>>>
 /// The real registry on a fresh database, with the robot `el-e-1` registered.
 pub struct Server {
     child: Child,
+    db: PathBuf,
     pub url: String,
     pub admin: String,
     pub robot_token: String,
@@ -85,7 +86,33 @@ impl Server {
             .expect("pps-server token create runs");
         assert!(minted.status.success(), "{}", String::from_utf8_lossy(&minted.stderr));
         let robot_token = String::from_utf8_lossy(&minted.stdout).trim().to_owned();
-        Self { child, url, admin, robot_token }
+        Self { child, db, url, admin, robot_token }
+    }
+
+    /// Stops the registry, as when its machine goes away.
+    pub fn stop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+
+    /// Starts the stopped registry again on the same address and database; returns once it
+    /// answers.
+    pub async fn restart(&mut self) {
+        let address = self.url.trim_start_matches("http://").to_owned();
+        self.child = Command::new(workspace_bin("pps-server"))
+            .args(["serve", "--listen", &address, "--db"])
+            .arg(&self.db)
+            .env("RUST_LOG", "warn")
+            .stdin(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("pps-server starts again");
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
+        let http = reqwest::Client::new();
+        while http.get(format!("{}/healthz", self.url)).send().await.is_err() {
+            assert!(std::time::Instant::now() < deadline, "the registry did not come back");
+            tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+        }
     }
 
     /// GET a path with the admin token: status and body.
