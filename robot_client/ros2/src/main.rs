@@ -8,6 +8,7 @@ use pps_robot::navigation::ApproachParams;
 use pps_robot::perception::HsvThresholds;
 use pps_robot::task::TaskConfig;
 use pps_ros2::dds::DdsSettings;
+use pps_ros2::msg::visualization::MarkerLayout;
 use pps_ros2::node::{NodeSettings, run};
 use pps_ros2::topics::Topics;
 use pps_schema::ColorSegmentation;
@@ -32,6 +33,10 @@ struct Cli {
     /// loopback); every interface when not given.
     #[arg(long, env = "PPS_DDS_INTERFACE", value_name = "ADDRESS")]
     dds_interface: Option<IpAddr>,
+    /// The robot's ROS 2 distribution (humble, jazzy, ...), as its setup script sets
+    /// `ROS_DISTRO`: Humble's RViz reads an older layout of the markers. Default jazzy.
+    #[arg(long, env = "ROS_DISTRO", default_value = "jazzy")]
+    ros_distro: String,
 }
 
 fn parse_hsv(text: &str) -> Result<HsvThresholds, String> {
@@ -77,6 +82,7 @@ async fn main() -> anyhow::Result<()> {
         base_frame: cli.base_frame.trim_start_matches('/').to_owned(),
         approach,
         rfid_margin_db: TaskConfig::default().rfid_margin_db,
+        marker_layout: MarkerLayout::of_distro(&cli.ros_distro),
     };
     let dds = DdsSettings {
         domain_id: DdsSettings::domain_from_env().map_err(anyhow::Error::msg)?,

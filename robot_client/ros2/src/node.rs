@@ -17,7 +17,7 @@ use crate::msg::geometry::{PointStamped, PoseStamped};
 use crate::msg::pps::{TagEntry, TagReads, Trial};
 use crate::msg::sensor::{CameraInfo, Image, PointCloud2};
 use crate::msg::tf::TfMessage;
-use crate::msg::visualization::MarkerArray;
+use crate::msg::visualization::{HumbleMarkerArray, MarkerArray, MarkerLayout};
 use crate::once::LogOnce;
 use crate::qos;
 use crate::registry_bridge::{entry_for_round, hal_reads, record_trial};
@@ -32,13 +32,30 @@ pub struct NodeSettings {
     pub approach: ApproachParams,
     /// Two tags closer than this in RSSI are ambiguous, dB.
     pub rfid_margin_db: f64,
+    /// The layout of the markers the robot's RViz reads.
+    pub marker_layout: MarkerLayout,
+}
+
+/// `/pps/markers` in the layout the robot's ROS 2 distribution reads.
+enum MarkerPublisher {
+    Iron(Publisher<MarkerArray>),
+    Humble(Publisher<HumbleMarkerArray>),
+}
+
+impl MarkerPublisher {
+    fn publish(&self, topic: &str, markers: MarkerArray) {
+        match self {
+            Self::Iron(publisher) => publish(publisher, topic, markers),
+            Self::Humble(publisher) => publish(publisher, topic, HumbleMarkerArray::from(markers)),
+        }
+    }
 }
 
 /// The node's outputs.
 struct Outputs {
     tag_pose: Publisher<PoseStamped>,
     goal_pose: Publisher<PoseStamped>,
-    markers: Publisher<MarkerArray>,
+    markers: MarkerPublisher,
     entry: Publisher<TagEntry>,
 }
 
@@ -108,7 +125,14 @@ pub async fn run(
     let outputs = Outputs {
         tag_pose: advertise(&mut node, &topics.tag_pose, qos::command())?,
         goal_pose: advertise(&mut node, &topics.goal_pose, qos::command())?,
-        markers: advertise(&mut node, &topics.markers, qos::command())?,
+        markers: match settings.marker_layout {
+            MarkerLayout::Iron => {
+                MarkerPublisher::Iron(advertise(&mut node, &topics.markers, qos::command())?)
+            }
+            MarkerLayout::Humble => {
+                MarkerPublisher::Humble(advertise(&mut node, &topics.markers, qos::command())?)
+            }
+        },
         entry: advertise(&mut node, &topics.entry, qos::command())?,
     };
     let spinner = node.spinner().map_err(|e| anyhow::anyhow!("cannot spin the node: {e:?}"))?;
@@ -220,7 +244,7 @@ async fn on_click(shared: &Arc<Shared>, click: PointStamped) {
     };
     let topics = &shared.settings.topics;
     let outputs = &shared.outputs;
-    publish(&outputs.markers, &topics.markers, answer.markers);
+    outputs.markers.publish(&topics.markers, answer.markers);
     match (answer.tag_pose, answer.goal_pose) {
         (Some(tag), Some(goal)) => {
             tracing::info!(

@@ -12,7 +12,9 @@ use pps_ros2::msg::sensor::{
     CameraInfo, CompressedImage, Image, PointCloud2, PointField, RegionOfInterest,
 };
 use pps_ros2::msg::tf::TfMessage;
-use pps_ros2::msg::visualization::{Marker, MarkerArray, MeshFile, UvCoordinate};
+use pps_ros2::msg::visualization::{
+    HumbleMarkerArray, Marker, MarkerArray, MeshFile, UvCoordinate,
+};
 
 const STAMP: Time = Time { sec: 1764583200, nanosec: 123456789 };
 
@@ -196,7 +198,12 @@ fn marker_array() {
         mesh_file: MeshFile { filename: "m.stl".into(), data: vec![1, 2, 3, 4, 5] },
         mesh_use_embedded_materials: true,
     };
-    same_as_peer("marker_array", MarkerArray { markers: vec![clear, tag] });
+    same_as_peer("marker_array", MarkerArray { markers: vec![clear, tag.clone()] });
+    // Humble's layout of the same marker: what the node publishes under ROS_DISTRO=humble.
+    same_as_peer(
+        "marker_array_humble",
+        HumbleMarkerArray::from(MarkerArray { markers: vec![tag] }),
+    );
 }
 
 #[test]

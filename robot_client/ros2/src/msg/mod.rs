@@ -3,7 +3,7 @@
 //!
 //! The layouts are those of ROS 2 Jazzy (also Iron and Kilted, whose messages used here are
 //! the same); Humble differs only in `visualization_msgs/Marker`, which lacks the texture and
-//! mesh-file fields. `uint8[]` fields are `serde_bytes`, so a 3.7 MB image is one copy rather
+//! mesh-file fields ([`visualization::HumbleMarker`]). `uint8[]` fields are `serde_bytes`, so a 3.7 MB image is one copy rather
 //! than four million visits. Nothing here knows perception or the registry.
 
 pub mod builtin;

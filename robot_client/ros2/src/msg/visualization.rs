@@ -73,3 +73,96 @@ pub struct MarkerArray {
     pub markers: Vec<Marker>,
 }
 ros_message!(MarkerArray, "visualization_msgs", "MarkerArray");
+
+/// `visualization_msgs/Marker` as ROS 2 Humble has it: without the texture, UV coordinates and
+/// mesh file that Iron added. Same DDS type name, different layout: a Humble RViz reads only
+/// this one.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct HumbleMarker {
+    pub header: Header,
+    pub ns: String,
+    pub id: i32,
+    #[serde(rename = "type")]
+    pub kind: i32,
+    pub action: i32,
+    pub pose: Pose,
+    pub scale: Vector3,
+    pub color: ColorRgba,
+    pub lifetime: Duration,
+    pub frame_locked: bool,
+    pub points: Vec<Point>,
+    pub colors: Vec<ColorRgba>,
+    pub text: String,
+    pub mesh_resource: String,
+    pub mesh_use_embedded_materials: bool,
+}
+ros_message!(HumbleMarker, "visualization_msgs", "Marker");
+
+/// `visualization_msgs/MarkerArray` of Humble's markers.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct HumbleMarkerArray {
+    pub markers: Vec<HumbleMarker>,
+}
+ros_message!(HumbleMarkerArray, "visualization_msgs", "MarkerArray");
+
+impl From<Marker> for HumbleMarker {
+    /// The marker without the fields Humble lacks (the node never fills them).
+    fn from(m: Marker) -> Self {
+        Self {
+            header: m.header,
+            ns: m.ns,
+            id: m.id,
+            kind: m.kind,
+            action: m.action,
+            pose: m.pose,
+            scale: m.scale,
+            color: m.color,
+            lifetime: m.lifetime,
+            frame_locked: m.frame_locked,
+            points: m.points,
+            colors: m.colors,
+            text: m.text,
+            mesh_resource: m.mesh_resource,
+            mesh_use_embedded_materials: m.mesh_use_embedded_materials,
+        }
+    }
+}
+
+impl From<MarkerArray> for HumbleMarkerArray {
+    fn from(array: MarkerArray) -> Self {
+        Self { markers: array.markers.into_iter().map(HumbleMarker::from).collect() }
+    }
+}
+
+/// Which layout of `visualization_msgs/Marker` the robot's ROS 2 speaks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MarkerLayout {
+    /// Humble (and older): no texture or mesh-file fields.
+    Humble,
+    /// Iron, Jazzy, Kilted and Rolling.
+    Iron,
+}
+
+impl MarkerLayout {
+    /// The layout of a ROS 2 distribution by its `ROS_DISTRO` name; later distributions than
+    /// those known are taken to keep Iron's.
+    pub fn of_distro(distro: &str) -> Self {
+        match distro.trim().to_ascii_lowercase().as_str() {
+            "foxy" | "galactic" | "humble" => Self::Humble,
+            _ => Self::Iron,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn humble_and_older_get_the_old_layout_later_ones_the_new() {
+        assert_eq!(MarkerLayout::of_distro("humble"), MarkerLayout::Humble);
+        assert_eq!(MarkerLayout::of_distro(" Humble\n"), MarkerLayout::Humble);
+        assert_eq!(MarkerLayout::of_distro("jazzy"), MarkerLayout::Iron);
+        assert_eq!(MarkerLayout::of_distro("rolling"), MarkerLayout::Iron);
+    }
+}

@@ -74,6 +74,17 @@ def messages():
             mesh_use_embedded_materials=True,
         ),
     ])
+    yield "marker_array_humble", t.HumbleMarkerArray(markers=[
+        t.HumbleMarker(
+            header=header("base_link"), ns="pps", id=4, type=8, action=0,
+            pose=t.Pose(t.Point(0.5, 0.25, 1.0), t.Quaternion(0.0, 0.0, 0.0, 1.0)),
+            scale=t.Vector3(0.008, 0.008, 0.008), color=t.ColorRGBA(1.0, 0.125, 0.125, 1.0),
+            lifetime=t.Duration(sec=2, nanosec=500000000), frame_locked=True,
+            points=[t.Point(1.0, 2.0, 3.0), t.Point(-1.0, 0.5, 0.25)],
+            colors=[t.ColorRGBA(0.0, 0.5, 1.0, 0.75)],
+            text="tag", mesh_resource="package://pps/mesh.dae", mesh_use_embedded_materials=True,
+        ),
+    ])
     yield "tag_reads", t.TagReads(stamp=STAMP, reads=[
         t.TagRead(epc="E20034120000000000001001", rssi_dbm=-47.5, antenna=1),
         t.TagRead(epc="355AB1C6", rssi_dbm=-61.25, antenna=3),

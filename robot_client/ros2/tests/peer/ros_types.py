@@ -1,6 +1,7 @@
 """The ROS 2 messages pps-ros2 speaks, declared for Cyclone DDS's Python binding as ROS 2's
 rosidl generates them for DDS: type `<pkg>::msg::dds_::<Type>_`, fields in `.msg` order.
-Layouts of ROS 2 Jazzy (visualization_msgs/Marker with its texture and mesh-file fields)."""
+Layouts of ROS 2 Jazzy (visualization_msgs/Marker with its texture and mesh-file fields);
+Humble's Marker is HumbleMarker at the end."""
 
 from dataclasses import dataclass, field
 
@@ -225,3 +226,28 @@ class TagEntry(IdlStruct, typename=ros_type("pps_msgs", "TagEntry")):
 @dataclass
 class Trial(IdlStruct, typename=ros_type("pps_msgs", "Trial")):
     trial_json: str = ""
+
+
+@dataclass
+class HumbleMarker(IdlStruct, typename=ros_type("visualization_msgs", "Marker")):
+    """Marker as ROS 2 Humble lays it out: no texture, UV coordinates or mesh file."""
+    header: Header = field(default_factory=Header)
+    ns: str = ""
+    id: types.int32 = 0
+    type: types.int32 = 0
+    action: types.int32 = 0
+    pose: Pose = field(default_factory=Pose)
+    scale: Vector3 = field(default_factory=Vector3)
+    color: ColorRGBA = field(default_factory=ColorRGBA)
+    lifetime: Duration = field(default_factory=Duration)
+    frame_locked: bool = False
+    points: types.sequence[Point] = field(default_factory=list)
+    colors: types.sequence[ColorRGBA] = field(default_factory=list)
+    text: str = ""
+    mesh_resource: str = ""
+    mesh_use_embedded_materials: bool = False
+
+
+@dataclass
+class HumbleMarkerArray(IdlStruct, typename=ros_type("visualization_msgs", "MarkerArray")):
+    markers: types.sequence[HumbleMarker] = field(default_factory=list)
