@@ -57,11 +57,12 @@ fn parse_hsv(text: &str) -> Result<HsvThresholds, String> {
 
 #[tokio::main]
 async fn main() -> anyhow::Result<()> {
+    // The node's own lines only: RustDDS logs through `log`, which is not forwarded here,
+    // since it warns about every datagram it could not deliver to a peer that went away.
     tracing_subscriber::fmt()
         .with_writer(std::io::stderr)
         .with_env_filter(
-            tracing_subscriber::EnvFilter::try_from_default_env()
-                .unwrap_or_else(|_| "info,rustdds=warn,ros2_client=warn".into()),
+            tracing_subscriber::EnvFilter::try_from_default_env().unwrap_or_else(|_| "info".into()),
         )
         .init();
     let cli = Cli::parse();

@@ -148,7 +148,7 @@ impl RosNode {
             .arg(state)
             .env("PPS_TOKEN", &server.robot_token)
             .env("PPS_DDS_INTERFACE", "127.0.0.1")
-            .env("RUST_LOG", "info,rustdds=error,ros2_client=error")
+            .env("RUST_LOG", "info")
             .stdin(Stdio::null())
             .stdout(Stdio::null())
             .stderr(Stdio::piped())
