@@ -32,6 +32,8 @@ pub enum InputError {
     ClickNotFinite,
     #[error("perception could not run: {0}")]
     Perception(String),
+    #[error("an inventory round holds a read that cannot be used: {0}")]
+    TagRead(String),
 }
 
 impl InputError {
@@ -52,6 +54,7 @@ impl InputError {
             Self::SizeMismatch { .. } => "size mismatch",
             Self::ClickNotFinite => "click",
             Self::Perception(_) => "perception",
+            Self::TagRead(_) => "tag read",
         }
     }
 }

@@ -267,9 +267,13 @@ async fn on_click(shared: &Arc<Shared>, click: PointStamped) {
 }
 
 async fn on_round(shared: &Arc<Shared>, round: TagReads) {
+    const TOPIC: &str = "rfid";
     let (_, refused) = hal_reads(&round);
-    for reason in refused {
-        tracing::warn!(topic = "rfid", "{reason} (read ignored)");
+    match refused.into_iter().next() {
+        Some(reason) => {
+            shared.once.warn(TOPIC, &InputError::TagRead(reason));
+        }
+        None => shared.once.recovered(TOPIC),
     }
     let entry = entry_for_round(&shared.registry, &round, shared.settings.rfid_margin_db).await;
     if !entry.error.is_empty() {
