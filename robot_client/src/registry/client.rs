@@ -32,6 +32,9 @@ pub enum Source {
 #[derive(Debug, Clone)]
 pub struct Fetched {
     pub entry: EffectiveEntry,
+    /// The document as the registry sent it, for passing on unchanged (typed, `10` and `10.0`
+    /// would both come back as `10.0`).
+    pub document: Value,
     pub etag: String,
     pub source: Source,
 }
@@ -110,6 +113,7 @@ impl RegistryClient {
         if let Some((cached, true)) = &cached {
             return Ok(Fetched {
                 entry: parse_entry(&cached.entry)?,
+                document: cached.entry.clone(),
                 etag: cached.etag.clone(),
                 source: Source::Fresh,
             });
@@ -126,6 +130,7 @@ impl RegistryClient {
                 return match cached {
                     Some((cached, _)) => Ok(Fetched {
                         entry: parse_entry(&cached.entry)?,
+                        document: cached.entry,
                         etag: cached.etag,
                         source: Source::Offline,
                     }),
@@ -141,6 +146,7 @@ impl RegistryClient {
                 self.cache.confirm(key, live);
                 Ok(Fetched {
                     entry: parse_entry(&cached.entry)?,
+                    document: cached.entry,
                     etag: cached.etag,
                     source: Source::Revalidated,
                 })
@@ -155,8 +161,12 @@ impl RegistryClient {
                 let entry: Value =
                     response.json().await.map_err(|e| RegistryError::Malformed(e.to_string()))?;
                 let parsed = parse_entry(&entry)?;
-                self.cache.put(key, CachedEntry { etag: etag.clone(), entry }, live)?;
-                Ok(Fetched { entry: parsed, etag, source: Source::Registry })
+                self.cache.put(
+                    key,
+                    CachedEntry { etag: etag.clone(), entry: entry.clone() },
+                    live,
+                )?;
+                Ok(Fetched { entry: parsed, document: entry, etag, source: Source::Registry })
             }
             status => {
                 if status == StatusCode::NOT_FOUND {
