@@ -199,7 +199,7 @@ pub async fn start_up(registry: &RegistryClient) -> anyhow::Result<SimBody> {
         Err(error) => return Err(error.into()),
     };
     let known = SimBody::ALL.map(SimBody::class).join(" or ");
-    let Some(class) = record["class"].as_str() else {
+    let Some(class) = record.class.as_ref().map(|c| c.as_str()) else {
         anyhow::bail!(
             "robot {0} has no class yet: an admin sets one ({known}) by PUT /api/v1/robots/{0}",
             registry.robot()

@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use pps_schema::{EffectiveEntry, Epc, RobotId, Trial};
+use pps_schema::{EffectiveEntry, Epc, Robot, RobotId, Trial};
 use reqwest::StatusCode;
 use reqwest::header::{ETAG, IF_NONE_MATCH};
 use serde_json::Value;
@@ -308,10 +308,11 @@ impl RegistryClient {
 
     /// This robot's record in the robot registry (its class, capabilities and limits); the copy
     /// kept from the last time when the registry is unreachable.
-    pub async fn robot_record(&self) -> Result<Value, RegistryError> {
-        match self.get_json::<Value>(&format!("/api/v1/robots/{}", self.robot)).await {
+    pub async fn robot_record(&self) -> Result<Robot, RegistryError> {
+        match self.get_json::<Robot>(&format!("/api/v1/robots/{}", self.robot)).await {
             Ok(record) => {
-                state_file::replace(&self.record_file, record.to_string().as_bytes())?;
+                let kept = serde_json::to_vec(&record).expect("a robot record serialises");
+                state_file::replace(&self.record_file, &kept)?;
                 Ok(record)
             }
             Err(unreachable @ RegistryError::Unreachable(_)) => std::fs::read(&self.record_file)
