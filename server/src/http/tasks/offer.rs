@@ -1,0 +1,108 @@
+//! Which task a claiming robot gets: the fairness rule.
+//!
+//! A robot is offered the oldest task it may claim (the task targets it, its class or anyone,
+//! and its effective entry makes the action available) unless another robot waiting in line
+//! ranks before it for that task. Robots rank first by whether their class is reliable for the
+//! task's action on that tag (the stats' reliable flag), then by when they asked. A robot that
+//! steps aside for a better-ranked one looks at the next task; when the better one leaves the
+//! line, everyone waiting looks again, so a task passed over is never stranded.
+
+use time::OffsetDateTime;
+
+use super::availability::why_not;
+use crate::clock;
+use crate::error::ApiError;
+use crate::state::AppState;
+use crate::store::learning;
+use crate::store::tasks::{self, TaskRow};
+use crate::task_board::{Place, Waiter};
+
+/// Tasks looked at per attempt: the oldest ones this robot might claim.
+const CANDIDATES: u32 = 200;
+
+/// A robot's standing for one task: lower is preferred.
+fn rank(reliable_classes: &[String], class: Option<&str>, arrival: u64) -> (bool, u64) {
+    let reliable = class.is_some_and(|c| reliable_classes.iter().any(|r| r == c));
+    (!reliable, arrival)
+}
+
+/// Whether the task is meant for this robot at all (its targets; not yet its abilities).
+fn targets(task: &TaskRow, robot: &str, class: Option<&str>) -> bool {
+    task.robot.as_deref().is_none_or(|r| r == robot)
+        && task.class.as_deref().is_none_or(|c| Some(c) == class)
+}
+
+/// Claims the task this robot should get now, if any.
+pub async fn claim_next(
+    state: &AppState,
+    place: &Place,
+    robot: &str,
+    class: Option<&str>,
+) -> Result<Option<TaskRow>, ApiError> {
+    let reader = state.db.reader();
+    let now = OffsetDateTime::now_utc();
+    let candidates =
+        tasks::claimable(reader, robot, class, &clock::format(now), CANDIDATES).await?;
+    if candidates.is_empty() {
+        return Ok(None);
+    }
+    let others = state.tasks.others(place);
+    for task in candidates {
+        if why_not(state, &task.epc, &task.action, robot).await?.is_some() {
+            continue;
+        }
+        if !others.is_empty() && someone_else_first(state, &task, &others, class, place).await? {
+            state.tasks.stepped_aside();
+            continue;
+        }
+        let lease_until = clock::format(now + state.tasks.lease());
+        let mut tx = state.db.begin_write().await?;
+        let claimed = tasks::claim(&mut tx, &task.id, robot, &lease_until).await?;
+        tx.commit().await?;
+        if let Some(claimed) = claimed {
+            state.feed.committed();
+            return Ok(Some(claimed));
+        }
+        // Another robot was faster: the next one, then.
+    }
+    Ok(None)
+}
+
+/// Whether a robot waiting in line ranks before this one for `task` and could run it.
+async fn someone_else_first(
+    state: &AppState,
+    task: &TaskRow,
+    others: &[Waiter],
+    class: Option<&str>,
+    place: &Place,
+) -> Result<bool, ApiError> {
+    let reliable = learning::reliable_classes(state.db.reader(), &task.epc, &task.action).await?;
+    let mine = rank(&reliable, class, place.arrival());
+    for other in others {
+        if rank(&reliable, other.class.as_deref(), other.arrival) < mine
+            && targets(task, &other.robot, other.class.as_deref())
+            && why_not(state, &task.epc, &task.action, &other.robot).await?.is_none()
+        {
+            return Ok(true);
+        }
+    }
+    Ok(false)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_reliable_class_ranks_first_then_the_robot_that_asked_first() {
+        let reliable = vec!["pr2".to_owned()];
+        let early_el_e = rank(&reliable, Some("el-e"), 1);
+        let late_pr2 = rank(&reliable, Some("pr2"), 9);
+        let later_el_e = rank(&reliable, Some("el-e"), 5);
+        let classless = rank(&reliable, None, 0);
+        assert!(late_pr2 < early_el_e);
+        assert!(early_el_e < later_el_e);
+        assert!(classless < early_el_e, "without a reliable class, arrival decides");
+        assert!(late_pr2 < classless);
+    }
+}
