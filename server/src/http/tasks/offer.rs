@@ -4,7 +4,8 @@
 //! and its effective entry makes the action available) unless another robot waiting in line
 //! ranks before it for that task. Robots rank first by whether their class is reliable for the
 //! task's action on that tag (the stats' reliable flag), then by when they asked. A robot that
-//! steps aside for a better-ranked one looks at the next task; when the better one leaves the
+//! steps aside leaves that task to the best-ranked such robot and looks at the next task, for
+//! which that robot no longer counts (it takes one task at a time). When a robot leaves the
 //! line, everyone waiting looks again, so a task passed over is never stranded.
 
 use time::OffsetDateTime;
@@ -46,12 +47,14 @@ pub async fn claim_next(
     if candidates.is_empty() {
         return Ok(None);
     }
-    let others = state.tasks.others(place);
+    let mut others = state.tasks.others(place);
     for task in candidates {
         if why_not(state, &task.epc, &task.action, robot).await?.is_some() {
             continue;
         }
-        if !others.is_empty() && someone_else_first(state, &task, &others, class, place).await? {
+        if let Some(first) = someone_else_first(state, &task, &others, class, place).await? {
+            // That robot will take this task; for the next one it is busy.
+            others.retain(|other| other.arrival != first);
             state.tasks.stepped_aside();
             continue;
         }
@@ -68,25 +71,32 @@ pub async fn claim_next(
     Ok(None)
 }
 
-/// Whether a robot waiting in line ranks before this one for `task` and could run it.
+/// The robot waiting in line that ranks first for `task`, if it ranks before this one and
+/// could run it (its place in line).
 async fn someone_else_first(
     state: &AppState,
     task: &TaskRow,
     others: &[Waiter],
     class: Option<&str>,
     place: &Place,
-) -> Result<bool, ApiError> {
+) -> Result<Option<u64>, ApiError> {
+    if others.is_empty() {
+        return Ok(None);
+    }
     let reliable = learning::reliable_classes(state.db.reader(), &task.epc, &task.action).await?;
     let mine = rank(&reliable, class, place.arrival());
-    for other in others {
-        if rank(&reliable, other.class.as_deref(), other.arrival) < mine
-            && targets(task, &other.robot, other.class.as_deref())
-            && why_not(state, &task.epc, &task.action, &other.robot).await?.is_none()
-        {
-            return Ok(true);
+    let mut ahead: Vec<&Waiter> = others
+        .iter()
+        .filter(|other| rank(&reliable, other.class.as_deref(), other.arrival) < mine)
+        .filter(|other| targets(task, &other.robot, other.class.as_deref()))
+        .collect();
+    ahead.sort_by_key(|other| rank(&reliable, other.class.as_deref(), other.arrival));
+    for other in ahead {
+        if why_not(state, &task.epc, &task.action, &other.robot).await?.is_none() {
+            return Ok(Some(other.arrival));
         }
     }
-    Ok(false)
+    Ok(None)
 }
 
 #[cfg(test)]
