@@ -162,11 +162,11 @@ async fn two_robots_share_a_queue_and_a_dead_robots_task_goes_to_the_other() {
     assert_eq!(one_task.said().len(), 1, "{:?}", one_task.said());
 
     // SIGTERM while a task is under way: it is finished first.
-    let last = ask(&registry, FLIP_SWITCH, "off").await;
-    task_in(&registry, &last, "claimed").await;
+    let last = ask(registry, FLIP_SWITCH, "off").await;
+    task_in(registry, &last, "claimed").await;
     survivor.signal("TERM");
     assert!(survivor.exited("the stretch to stop after SIGTERM").await.success());
-    let last = task(&registry, &last).await;
+    let last = task(registry, &last).await;
     assert!(["done", "failed"].contains(&last["state"].as_str().unwrap()), "{last}");
     assert!(survivor.said().iter().any(|line| line.contains(last["id"].as_str().unwrap())));
 }
