@@ -43,6 +43,8 @@ pub struct WorkArgs {
 const CLAIM_WAIT: Duration = Duration::from_secs(5);
 /// How long to wait before trying again when the registry is unreachable.
 const RETRY_AFTER: Duration = Duration::from_secs(2);
+/// Finishing a done task is tried this often (RETRY_AFTER apart) while the registry is away.
+const FINISH_TRIES: u32 = 10;
 
 pub fn run(args: &WorkArgs) -> anyhow::Result<()> {
     if args.idle_exit.is_some_and(|s| !(s >= 0.0 && s.is_finite())) {
@@ -141,10 +143,26 @@ async fn work_on(
     };
     // The registry checks the trial when the task is finished: it must be stored by then.
     flush_until_stored(registry).await?;
-    Ok(match registry.finish_task(task.id, trial, outcome).await {
-        Ok(ended) => format!("{said}: {} (trial {trial}, {})", ended.state, outcome_words(outcome)),
-        Err(error) => {
-            format!("{said}: trial {trial} recorded, but the task was not finished: {error}")
+    let mut tries = 0;
+    Ok(loop {
+        tries += 1;
+        match registry.finish_task(task.id, trial, outcome).await {
+            Ok(ended) => {
+                break format!(
+                    "{said}: {} (trial {trial}, {})",
+                    ended.state,
+                    outcome_words(outcome)
+                );
+            }
+            // Done but not said: keep saying it while the lease lasts, or another robot redoes it.
+            Err(RegistryError::Unreachable(_)) if tries < FINISH_TRIES => {
+                tokio::time::sleep(RETRY_AFTER).await;
+            }
+            Err(error) => {
+                break format!(
+                    "{said}: trial {trial} recorded, but the task was not finished: {error}"
+                );
+            }
         }
     })
 }

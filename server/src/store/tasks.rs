@@ -105,6 +105,17 @@ async fn announce(tx: &mut SqliteConnection, rows: &[TaskRow]) -> sqlx::Result<(
     events::append_all(tx, EventKind::TaskChanged, &data).await
 }
 
+/// Announces the task a statement changed, if it changed one.
+async fn announced(
+    tx: &mut SqliteConnection,
+    row: Option<TaskRow>,
+) -> sqlx::Result<Option<TaskRow>> {
+    if let Some(row) = &row {
+        announce(tx, std::slice::from_ref(row)).await?;
+    }
+    Ok(row)
+}
+
 #[tracing::instrument(skip_all)]
 pub async fn create(tx: &mut SqliteConnection, task: &NewTask) -> sqlx::Result<TaskRow> {
     let now = clock::now();
@@ -237,10 +248,7 @@ pub async fn claim(
     .bind(MAX_ATTEMPTS)
     .fetch_optional(&mut *tx)
     .await?;
-    if let Some(row) = &row {
-        announce(tx, std::slice::from_ref(row)).await?;
-    }
-    Ok(row)
+    announced(tx, row).await
 }
 
 /// Extends `robot`'s lease on a task it holds and whose lease has not run out.
@@ -291,10 +299,7 @@ pub async fn finish(
     .bind(robot)
     .fetch_optional(&mut *tx)
     .await?;
-    if let Some(row) = &row {
-        announce(tx, std::slice::from_ref(row)).await?;
-    }
-    Ok(row)
+    announced(tx, row).await
 }
 
 /// Cancels a queued or claimed task; `None` when it had ended already.
