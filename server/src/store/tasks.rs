@@ -223,6 +223,20 @@ pub async fn claimable(
     .await
 }
 
+/// Whether any task could be claimed now by some robot: queued, or its lease ran out with
+/// attempts left.
+pub async fn any_claimable(pool: &SqlitePool, now: &str) -> sqlx::Result<bool> {
+    sqlx::query_scalar(
+        "select exists (select 1 from tasks where state = 'queued')
+             or exists (select 1 from tasks
+                        where state = 'claimed' and lease_until <= ?1 and attempts < ?2)",
+    )
+    .bind(now)
+    .bind(MAX_ATTEMPTS)
+    .fetch_one(pool)
+    .await
+}
+
 /// Gives the task to `robot` until `lease_until`, if it is still there for the taking (queued,
 /// or its holder's lease ran out with attempts left); `None` when another robot was faster.
 #[tracing::instrument(skip_all)]

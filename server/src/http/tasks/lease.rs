@@ -85,15 +85,17 @@ pub async fn claim(
     let deadline = tokio::time::Instant::now() + wait;
     let class = robots::get(state.db.reader(), robot).await?.and_then(|r| r.class);
     let place = state.tasks.join(robot, class.as_deref());
-    let mut changes = state.tasks.subscribe();
     loop {
-        // Marked seen before looking, so a change while looking makes the wait below end.
-        changes.borrow_and_update();
         if let Some(task) = offer::claim_next(&state, &place, robot, class.as_deref()).await? {
             return Ok(Json(task.to_json()).into_response());
         }
+        // Nothing for this robot: the robot behind it may have better luck.
+        let now = clock::now();
+        if tasks::any_claimable(state.db.reader(), &now).await? {
+            state.tasks.pass_on(&place);
+        }
         tokio::select! {
-            changed = changes.changed() => if changed.is_err() { break },
+            () = place.turn() => {}
             () = tokio::time::sleep_until(deadline) => break,
             // A shutdown does not wait for long polls.
             () = state.feed.closed() => break,

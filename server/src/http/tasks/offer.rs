@@ -8,6 +8,8 @@
 //! which that robot no longer counts (it takes one task at a time). When a robot leaves the
 //! line, everyone waiting looks again, so a task passed over is never stranded.
 
+use std::collections::HashMap;
+
 use time::OffsetDateTime;
 
 use super::availability::why_not;
@@ -33,6 +35,47 @@ fn targets(task: &TaskRow, robot: &str, class: Option<&str>) -> bool {
         && task.class.as_deref().is_none_or(|c| Some(c) == class)
 }
 
+/// What one look found out, so many tasks on the same tag and action cost one check each.
+#[derive(Default)]
+struct Memo {
+    can: HashMap<(String, String, String), bool>,
+    reliable: HashMap<(String, String), Vec<String>>,
+}
+
+impl Memo {
+    /// Whether `robot` can run the task's action (its effective entry says so).
+    async fn can(
+        &mut self,
+        state: &AppState,
+        task: &TaskRow,
+        robot: &str,
+    ) -> Result<bool, ApiError> {
+        let key = (task.epc.clone(), task.action.clone(), robot.to_owned());
+        if let Some(&can) = self.can.get(&key) {
+            return Ok(can);
+        }
+        let can = why_not(state, &task.epc, &task.action, robot).await?.is_none();
+        self.can.insert(key, can);
+        Ok(can)
+    }
+
+    /// The classes reliable for the task's action on its tag.
+    async fn reliable(
+        &mut self,
+        state: &AppState,
+        task: &TaskRow,
+    ) -> Result<Vec<String>, ApiError> {
+        let key = (task.epc.clone(), task.action.clone());
+        if let Some(classes) = self.reliable.get(&key) {
+            return Ok(classes.clone());
+        }
+        let classes =
+            learning::reliable_classes(state.db.reader(), &task.epc, &task.action).await?;
+        self.reliable.insert(key, classes.clone());
+        Ok(classes)
+    }
+}
+
 /// Claims the task this robot should get now, if any.
 pub async fn claim_next(
     state: &AppState,
@@ -48,11 +91,14 @@ pub async fn claim_next(
         return Ok(None);
     }
     let mut others = state.tasks.others(place);
+    let mut memo = Memo::default();
     for task in candidates {
-        if why_not(state, &task.epc, &task.action, robot).await?.is_some() {
+        if !memo.can(state, &task, robot).await? {
             continue;
         }
-        if let Some(first) = someone_else_first(state, &task, &others, class, place).await? {
+        if let Some(first) =
+            someone_else_first(state, &mut memo, &task, &others, class, place).await?
+        {
             // That robot will take this task; for the next one it is busy.
             others.retain(|other| other.arrival != first);
             state.tasks.stepped_aside();
@@ -75,6 +121,7 @@ pub async fn claim_next(
 /// could run it (its place in line).
 async fn someone_else_first(
     state: &AppState,
+    memo: &mut Memo,
     task: &TaskRow,
     others: &[Waiter],
     class: Option<&str>,
@@ -83,7 +130,7 @@ async fn someone_else_first(
     if others.is_empty() {
         return Ok(None);
     }
-    let reliable = learning::reliable_classes(state.db.reader(), &task.epc, &task.action).await?;
+    let reliable = memo.reliable(state, task).await?;
     let mine = rank(&reliable, class, place.arrival());
     let mut ahead: Vec<&Waiter> = others
         .iter()
@@ -92,7 +139,7 @@ async fn someone_else_first(
         .collect();
     ahead.sort_by_key(|other| rank(&reliable, other.class.as_deref(), other.arrival));
     for other in ahead {
-        if why_not(state, &task.epc, &task.action, &other.robot).await?.is_none() {
+        if memo.can(state, task, &other.robot).await? {
             return Ok(Some(other.arrival));
         }
     }
