@@ -10,7 +10,7 @@ use pps_server::auth::Role;
 use reqwest::{Method, Response, StatusCode};
 use serde_json::{Value, json};
 
-const ROCKER: &str = "355AB1C60000001000000001";
+const FLIP_SWITCH: &str = "355AB1C60000001000000001";
 const LAMP: &str = "355AB1C60000003000000001";
 
 async fn ask(server: &TestServer, body: Value) -> Response {
@@ -55,8 +55,8 @@ fn id(task: &Value) -> &str {
 async fn record(server: &TestServer, token: &str, robot: &str, epc: &str, action: &str) -> String {
     let id = uuid::Uuid::new_v4().to_string();
     let behavior = match (epc, action) {
-        (ROCKER, "on") => "flip_up",
-        (ROCKER, "off") => "flip_down",
+        (FLIP_SWITCH, "on") => "flip_up",
+        (FLIP_SWITCH, "off") => "flip_down",
         (ADA_SWITCH, "on") => "push_top",
         (ADA_SWITCH, "off") => "push_bottom",
         _ => "pull_chain",
@@ -94,7 +94,8 @@ async fn robots_waiting(server: &TestServer, n: usize) {
 #[tokio::test]
 async fn a_task_is_asked_for_listed_read_and_cancelled() {
     let server = TestServer::start().await;
-    let response = ask(&server, json!({ "epc": ROCKER, "action": "off", "note": "hallway" })).await;
+    let response =
+        ask(&server, json!({ "epc": FLIP_SWITCH, "action": "off", "note": "hallway" })).await;
     assert_eq!(response.status(), StatusCode::CREATED);
     let location = response.headers()["location"].to_str().unwrap().to_owned();
     let task: Value = response.json().await.unwrap();
@@ -143,21 +144,33 @@ async fn a_task_the_tag_or_its_targets_cannot_take_is_refused_with_a_pointer() {
     robot(&server, "el-e-1", "el-e").await;
     register_robot(&server, "weak-1", "weak", &["push"], 15.0).await;
     let cases = [
-        (json!({ "epc": ROCKER, "action": "dance" }), "/action", "offers off, on"),
+        (json!({ "epc": FLIP_SWITCH, "action": "dance" }), "/action", "offers off, on"),
         (json!({ "epc": "E2003412000000000000ABCD", "action": "on" }), "/epc", "register"),
         (json!({ "epc": "not hex", "action": "on" }), "/epc", "not an EPC"),
-        (json!({ "epc": ROCKER }), "/action", "required"),
-        (json!({ "epc": ROCKER, "action": "on", "robot": "ghost-1" }), "/robot", "registered"),
-        (json!({ "epc": ROCKER, "action": "on", "robot": "weak-1" }), "/robot", "light_switch"),
-        (json!({ "epc": ROCKER, "action": "on", "class": "pr2" }), "/class", "no robot of class"),
-        (json!({ "epc": ROCKER, "action": "on", "class": "weak" }), "/class", "cannot"),
+        (json!({ "epc": FLIP_SWITCH }), "/action", "required"),
+        (json!({ "epc": FLIP_SWITCH, "action": "on", "robot": "ghost-1" }), "/robot", "registered"),
         (
-            json!({ "epc": ROCKER, "action": "on", "robot": "el-e-1", "class": "stretch" }),
+            json!({ "epc": FLIP_SWITCH, "action": "on", "robot": "weak-1" }),
+            "/robot",
+            "light_switch",
+        ),
+        (
+            json!({ "epc": FLIP_SWITCH, "action": "on", "class": "pr2" }),
+            "/class",
+            "no robot of class",
+        ),
+        (json!({ "epc": FLIP_SWITCH, "action": "on", "class": "weak" }), "/class", "cannot"),
+        (
+            json!({ "epc": FLIP_SWITCH, "action": "on", "robot": "el-e-1", "class": "stretch" }),
             "/class",
             "of class el-e",
         ),
-        (json!({ "epc": ROCKER, "action": "on", "priority": 1 }), "/priority", "no field"),
-        (json!({ "epc": ROCKER, "action": "on", "note": "x".repeat(501) }), "/note", "at most"),
+        (json!({ "epc": FLIP_SWITCH, "action": "on", "priority": 1 }), "/priority", "no field"),
+        (
+            json!({ "epc": FLIP_SWITCH, "action": "on", "note": "x".repeat(501) }),
+            "/note",
+            "at most",
+        ),
         (json!([]), "", "object"),
     ];
     for (body, pointer, words) in cases {
@@ -177,7 +190,8 @@ async fn a_task_the_tag_or_its_targets_cannot_take_is_refused_with_a_pointer() {
     assert!(refused.to_string().contains("archived"), "{refused}");
     let nothing = server.get_json("/api/v1/tasks").await;
     assert_eq!(nothing["items"], json!([]), "a refused task is not stored");
-    let targeted = asked(&server, json!({ "epc": ROCKER, "action": "on", "class": "el-e" })).await;
+    let targeted =
+        asked(&server, json!({ "epc": FLIP_SWITCH, "action": "on", "class": "el-e" })).await;
     assert_eq!(targeted["class"], "el-e");
 }
 
@@ -203,7 +217,7 @@ async fn a_waiting_robot_gets_a_new_task_at_once_and_an_empty_wait_ends_in_204()
         })
     };
     robots_waiting(&server, 1).await;
-    let task = asked(&server, json!({ "epc": ROCKER, "action": "off" })).await;
+    let task = asked(&server, json!({ "epc": FLIP_SWITCH, "action": "off" })).await;
     let asked_at = Instant::now();
     let (answered_at, status, got) = waiting.await.unwrap();
     assert_eq!(status, StatusCode::OK);
@@ -229,7 +243,7 @@ async fn only_robots_that_can_run_the_action_and_are_targeted_are_offered_it() {
     let pusher = server.token(Role::Robot, "pusher-1").await;
     let stretch = robot(&server, "stretch-1", "stretch").await;
     let el_e = robot(&server, "el-e-1", "el-e").await;
-    let rocker = asked(&server, json!({ "epc": ROCKER, "action": "on" })).await;
+    let rocker = asked(&server, json!({ "epc": FLIP_SWITCH, "action": "on" })).await;
     let for_el_e = asked(&server, json!({ "epc": LAMP, "action": "on", "class": "el-e" })).await;
 
     let listed = server.get("/api/v1/tasks", &pusher).await.json::<Value>().await.unwrap();
@@ -253,7 +267,7 @@ async fn the_holder_heartbeats_and_finishes_with_its_own_trial() {
     let server = TestServer::start().await;
     let token = robot(&server, "el-e-1", "el-e").await;
     let other = robot(&server, "el-e-2", "el-e").await;
-    let task = asked(&server, json!({ "epc": ROCKER, "action": "off" })).await;
+    let task = asked(&server, json!({ "epc": FLIP_SWITCH, "action": "off" })).await;
     let held = claimed(&server, &token, "el-e-1").await;
     let heartbeat = format!("/api/v1/tasks/{}/heartbeat", id(&task));
     let finish = format!("/api/v1/tasks/{}/finish", id(&task));
@@ -269,18 +283,18 @@ async fn the_holder_heartbeats_and_finishes_with_its_own_trial() {
     )
     .await;
     assert_eq!(pointers(&refused), ["/trial"]);
-    let theirs = record(&server, &other, "el-e-2", ROCKER, "off").await;
+    let theirs = record(&server, &other, "el-e-2", FLIP_SWITCH, "off").await;
     let body = json!({ "trial": theirs, "outcome": "success" });
     let refused =
         problem(post(&server, &finish, &token, Some(body)).await, StatusCode::FORBIDDEN).await;
     assert!(refused["detail"].as_str().unwrap().contains("el-e-2"), "{refused}");
-    let wrong_action = record(&server, &token, "el-e-1", ROCKER, "on").await;
+    let wrong_action = record(&server, &token, "el-e-1", FLIP_SWITCH, "on").await;
     let body = json!({ "trial": wrong_action, "outcome": "success" });
     let refused =
         problem(post(&server, &finish, &token, Some(body)).await, StatusCode::UNPROCESSABLE_ENTITY)
             .await;
     assert_eq!(pointers(&refused), ["/trial"]);
-    let mine = record(&server, &token, "el-e-1", ROCKER, "off").await;
+    let mine = record(&server, &token, "el-e-1", FLIP_SWITCH, "off").await;
     let body = json!({ "trial": mine, "outcome": "failure" });
     let refused =
         problem(post(&server, &finish, &token, Some(body)).await, StatusCode::UNPROCESSABLE_ENTITY)
@@ -320,7 +334,7 @@ async fn a_lease_that_runs_out_requeues_the_task_and_the_third_fails_it() {
         robot(&server, "el-e-3", "el-e").await,
     ];
     let mut feed = SseClient::connect(&server, &server.admin, None).await;
-    let task = asked(&server, json!({ "epc": ROCKER, "action": "on" })).await;
+    let task = asked(&server, json!({ "epc": FLIP_SWITCH, "action": "on" })).await;
     assert_eq!(feed.until("task_changed", "task", id(&task)).await.data["state"], "queued");
     for (n, token) in robots.iter().enumerate() {
         let name = format!("el-e-{}", n + 1);
@@ -360,7 +374,7 @@ async fn a_robot_whose_token_is_revoked_mid_task_loses_it_to_another() {
     let minted =
         pps_server::store::tokens::create(&server.db, Role::Robot, "el-e-1", None).await.unwrap();
     let other = robot(&server, "el-e-2", "el-e").await;
-    let task = asked(&server, json!({ "epc": ROCKER, "action": "on" })).await;
+    let task = asked(&server, json!({ "epc": FLIP_SWITCH, "action": "on" })).await;
     claimed(&server, &minted.token, "el-e-1").await;
     assert!(pps_server::store::tokens::revoke(&server.db, &minted.record.id).await.unwrap());
     let heartbeat = format!("/api/v1/tasks/{}/heartbeat", id(&task));
@@ -375,7 +389,7 @@ async fn a_robot_whose_token_is_revoked_mid_task_loses_it_to_another() {
     let taken: Value = response.json().await.unwrap();
     assert_eq!(taken["id"], task["id"]);
     assert_eq!(taken["attempts"], 2);
-    let trial = record(&server, &other, "el-e-2", ROCKER, "on").await;
+    let trial = record(&server, &other, "el-e-2", FLIP_SWITCH, "on").await;
     let finish = format!("/api/v1/tasks/{}/finish", id(&task));
     let body = json!({ "trial": trial, "outcome": "success" });
     let done: Value = post(&server, &finish, &other, Some(body)).await.json().await.unwrap();
@@ -403,9 +417,9 @@ async fn tasks_follow_a_retagged_tag_and_end_with_an_archived_one() {
     let held = claimed(&server, &token, "el-e-1").await;
     assert_eq!(held["epc"], new_epc);
 
-    let queued = asked(&server, json!({ "epc": ROCKER, "action": "on" })).await;
+    let queued = asked(&server, json!({ "epc": FLIP_SWITCH, "action": "on" })).await;
     let archive =
-        server.request(Method::DELETE, &format!("/api/v1/tags/{ROCKER}"), Some(&server.admin));
+        server.request(Method::DELETE, &format!("/api/v1/tags/{FLIP_SWITCH}"), Some(&server.admin));
     assert_eq!(archive.header("if-match", "*").send().await.unwrap().status(), StatusCode::OK);
     let ended = server.get_json(&format!("/api/v1/tasks/{}", id(&queued))).await;
     assert_eq!(ended["state"], "cancelled");
@@ -467,7 +481,7 @@ async fn queued_and_claimed_tasks_and_their_leases_survive_a_restart() {
         assert!(put.send().await.unwrap().status().is_success());
     }
     let held: Value =
-        send(&url, "/api/v1/tasks", &admin, Some(json!({ "epc": ROCKER, "action": "on" })))
+        send(&url, "/api/v1/tasks", &admin, Some(json!({ "epc": FLIP_SWITCH, "action": "on" })))
             .await
             .unwrap()
             .json()
@@ -508,7 +522,7 @@ async fn a_robot_of_a_reliable_class_is_preferred_then_the_one_that_asked_first(
     let late = robot(&server, "el-e-2", "el-e").await;
     let reliable = robot(&server, "stretch-1", "stretch").await;
     let mut tx = server.db.begin_write().await.unwrap();
-    pps_server::store::learning::store_reliability(&mut tx, ROCKER, "off", "stretch", true)
+    pps_server::store::learning::store_reliability(&mut tx, FLIP_SWITCH, "off", "stretch", true)
         .await
         .unwrap();
     tx.commit().await.unwrap();
@@ -531,9 +545,9 @@ async fn a_robot_of_a_reliable_class_is_preferred_then_the_one_that_asked_first(
     robots_waiting(&server, 2).await;
     let last_in_line = wait(reliable, "stretch-1");
     robots_waiting(&server, 3).await;
-    let off = asked(&server, json!({ "epc": ROCKER, "action": "off" })).await;
+    let off = asked(&server, json!({ "epc": FLIP_SWITCH, "action": "off" })).await;
     assert_eq!(last_in_line.await.unwrap()["id"], off["id"], "the reliable class first");
-    let on = asked(&server, json!({ "epc": ROCKER, "action": "on" })).await;
+    let on = asked(&server, json!({ "epc": FLIP_SWITCH, "action": "on" })).await;
     assert_eq!(first_in_line.await.unwrap()["id"], on["id"], "then the first to ask");
     let lamp = asked(&server, json!({ "epc": LAMP, "action": "on" })).await;
     assert_eq!(second_in_line.await.unwrap()["id"], lamp["id"]);
@@ -549,7 +563,7 @@ async fn sixteen_robots_claiming_two_hundred_tasks_get_each_exactly_once() {
     }
     let mut asked_for = std::collections::BTreeSet::new();
     for n in 0..200 {
-        let (epc, action) = [(ROCKER, "on"), (LAMP, "off"), (ADA_SWITCH, "off")][n % 3];
+        let (epc, action) = [(FLIP_SWITCH, "on"), (LAMP, "off"), (ADA_SWITCH, "off")][n % 3];
         asked_for.insert(
             asked(&server, json!({ "epc": epc, "action": action })).await["id"]
                 .as_str()
