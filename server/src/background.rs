@@ -1,5 +1,6 @@
-//! The registry's background work: fanning out the change feed, and flushing what the hot
-//! path only noted in memory (robots' last-seen times, unknown EPCs for the inbox).
+//! The registry's background work: fanning out the change feed, flushing what the hot path
+//! only noted in memory (robots' last-seen times, unknown EPCs for the inbox), and returning
+//! the tasks of robots whose lease ran out to the queue.
 
 use std::time::Duration;
 
@@ -7,7 +8,7 @@ use serde_json::Value;
 
 use crate::state::AppState;
 use crate::store::events::{self, Event, EventKind};
-use crate::store::{inbox, robots};
+use crate::store::{inbox, robots, tasks};
 
 /// Unknown EPCs reach the inbox within this (DESIGN §4: "within a second").
 const SIGHTINGS_EVERY: Duration = Duration::from_millis(400);
@@ -31,11 +32,13 @@ pub async fn start(state: &AppState) -> anyhow::Result<()> {
         let mut sightings = tokio::time::interval(SIGHTINGS_EVERY);
         let mut presence = tokio::time::interval(PRESENCE_EVERY);
         let mut prune = tokio::time::interval(PRUNE_EVERY);
+        let mut leases = tokio::time::interval(flusher.tasks.sweep_every());
         loop {
             tokio::select! {
                 _ = sightings.tick() => flush_sightings(&flusher).await,
                 _ = presence.tick() => flush_presence(&flusher).await,
                 _ = prune.tick() => prune_events(&flusher).await,
+                _ = leases.tick() => expire_leases(&flusher).await,
             }
         }
     });
@@ -96,6 +99,37 @@ async fn prune_events(state: &AppState) {
         Ok(0) => {}
         Ok(pruned) => tracing::debug!(pruned, "dropped old change-feed events"),
         Err(error) => tracing::warn!(%error, "could not drop old change-feed events"),
+    }
+}
+
+/// Returns the tasks of robots whose lease ran out (from its stored expiry, so also for leases
+/// given before a restart) to the queue, or fails them after their last attempt.
+pub async fn expire_leases(state: &AppState) {
+    let now = crate::clock::now();
+    // A look on the read pool first: the sweep takes the write lock only when it has work.
+    match tasks::any_lease_expired(state.db.reader(), &now).await {
+        Ok(true) => {}
+        Ok(false) => return,
+        Err(error) => return tracing::warn!(%error, "cannot look for leases that ran out"),
+    }
+    let result = async {
+        let mut tx = state.db.begin_write().await?;
+        let changed = tasks::expire_leases(&mut tx, &now).await?;
+        tx.commit().await?;
+        Ok::<_, sqlx::Error>(changed)
+    }
+    .await;
+    match result {
+        Ok(changed) => {
+            for task in &changed {
+                tracing::info!(task = %task.id, state = %task.state, "a robot's lease ran out");
+            }
+            state.feed.committed();
+            if changed.iter().any(|task| task.state == "queued") {
+                state.tasks.changed();
+            }
+        }
+        Err(error) => tracing::warn!(%error, "could not return tasks whose lease ran out"),
     }
 }
 

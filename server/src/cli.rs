@@ -106,6 +106,20 @@ struct ServeArgs {
     #[arg(long, env = "PPS_THIN_FORCES_AFTER_DAYS", value_name = "DAYS",
           value_parser = clap::value_parser!(u32).range(..=retention::MAX_AGE_DAYS as i64))]
     thin_forces_after: Option<u32>,
+    /// Seconds a robot's claim on a task lasts without a heartbeat; then the task goes back to
+    /// the queue for another robot.
+    #[arg(long, env = "PPS_TASK_LEASE", value_name = "SECONDS",
+          default_value_t = crate::task_board::DEFAULT_LEASE.as_secs_f64(),
+          value_parser = parse_lease)]
+    task_lease: f64,
+}
+
+/// A lease long enough for one heartbeat round trip, and at most an hour.
+fn parse_lease(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(seconds) if (0.5..=3600.0).contains(&seconds) => Ok(seconds),
+        _ => Err(format!("{text:?} is not a lease of 0.5 to 3600 seconds")),
+    }
 }
 
 #[derive(Debug, Args)]
@@ -496,7 +510,9 @@ async fn serve(db: Db, args: ServeArgs) -> anyhow::Result<()> {
         transport,
         thin_forces_after: args.thin_forces_after.map(|days| Age { days }),
     };
-    crate::serve_with(listener, AppState::new(db), options, shutdown_signal()).await?;
+    let state =
+        AppState::new(db).with_task_lease(std::time::Duration::from_secs_f64(args.task_lease));
+    crate::serve_with(listener, state, options, shutdown_signal()).await?;
     tracing::info!("stopped");
     Ok(())
 }

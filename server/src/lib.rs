@@ -25,6 +25,7 @@ pub mod seed;
 pub mod sightings;
 pub mod state;
 pub mod store;
+pub mod task_board;
 pub mod telemetry;
 pub mod transport;
 pub mod trial_writer;

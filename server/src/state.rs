@@ -10,6 +10,7 @@ use crate::feed::ChangeFeed;
 use crate::metrics::Metrics;
 use crate::presence::Presence;
 use crate::sightings::Sightings;
+use crate::task_board::TaskBoard;
 use crate::trial_writer::TrialWriter;
 
 /// Cheap to clone: everything inside is shared.
@@ -26,6 +27,8 @@ pub struct AppState {
     /// Unknown EPCs robots read, on their way to the inbox.
     pub sightings: Arc<Sightings>,
     pub trials: TrialWriter,
+    /// Robots waiting for a task, and the lease a claim gives.
+    pub tasks: Arc<TaskBoard>,
     pub metrics: Arc<Metrics>,
 }
 
@@ -44,7 +47,15 @@ impl AppState {
             presence: Arc::default(),
             sightings: Arc::default(),
             trials,
+            tasks: Arc::default(),
             metrics: Arc::default(),
         }
+    }
+
+    /// The state with claims holding a task for `lease` (DESIGN leaves the lease to the
+    /// registry; tests of dead robots use a short one).
+    pub fn with_task_lease(mut self, lease: std::time::Duration) -> Self {
+        self.tasks = Arc::new(TaskBoard::new(lease));
+        self
     }
 }

@@ -106,6 +106,12 @@ fn rule(route: &RouteSpec) -> Rule {
         ("GET", "/api/v1/robots/{robot}/tags/{epc}") => ThatRobotAndEditors,
         ("GET" | "PATCH", "/api/v1/trials/{id}") | ("GET", "/api/v1/trials") => ThatRobotAndEditors,
         ("PUT", "/api/v1/trials/{id}") => ThatRobot,
+        ("POST", "/api/v1/tasks" | "/api/v1/tasks/{id}/cancel") => Editors,
+        // "caretaker, admin; a robot: those it may claim or holds".
+        ("GET", "/api/v1/tasks" | "/api/v1/tasks/{id}") => ThatRobotAndEditors,
+        // "that robot" and "the holder".
+        ("POST", "/api/v1/robots/{robot}/tasks/claim") => ThatRobot,
+        ("POST", "/api/v1/tasks/{id}/heartbeat" | "/api/v1/tasks/{id}/finish") => ThatRobot,
         ("PUT", "/api/v1/robots/{robot}") => Admin,
         ("GET" | "POST", "/api/v1/users" | "/api/v1/tokens") => Admin,
         ("DELETE", "/api/v1/users/{name}" | "/api/v1/tokens/{id}") => Admin,
@@ -117,6 +123,8 @@ fn rule(route: &RouteSpec) -> Rule {
 /// What the probes need besides the seeds and the constants below.
 struct Fixture {
     victim_token_id: String,
+    /// A task meant for `el-e-1` alone, claimed by it.
+    task_id: String,
     /// The caretaker's password login, for the login route and the session column.
     login: Value,
 }
@@ -160,6 +168,21 @@ fn probe(route: &RouteSpec, fixture: &Fixture) -> Probe {
         }
         ("PATCH", "/api/v1/trials/{id}") => (trial_path, Some(json!({ "confirmed": true }))),
         ("GET", "/api/v1/trials") => ("/api/v1/trials?robot=el-e-1".into(), None),
+        ("POST", "/api/v1/tasks") => (
+            route.path.into(),
+            Some(json!({ "epc": ADA_SWITCH, "action": "on", "robot": "el-e-1" })),
+        ),
+        ("GET", "/api/v1/tasks") => ("/api/v1/tasks?robot=el-e-1".into(), None),
+        (_, "/api/v1/robots/{robot}/tasks/claim") => {
+            ("/api/v1/robots/el-e-1/tasks/claim?wait=0".into(), None)
+        }
+        (_, "/api/v1/tasks/{id}/finish") => (
+            format!("/api/v1/tasks/{}/finish", fixture.task_id),
+            Some(json!({ "trial": TRIAL_ID, "outcome": "success" })),
+        ),
+        (_, path) if path.starts_with("/api/v1/tasks/{id}") => {
+            (path.replace("{id}", &fixture.task_id), None)
+        }
         ("POST", "/api/v1/tokens") => {
             (route.path.into(), Some(json!({ "role": "caretaker", "name": "new nurse" })))
         }
@@ -281,8 +304,23 @@ async fn fixture(server: &TestServer, credentials: &Credentials) -> Fixture {
         .await;
     assert_eq!(recorded.status(), StatusCode::CREATED);
     let victim = tokens::create(&server.db, Role::Caretaker, "victim", None).await.unwrap();
+    let task = server
+        .request(Method::POST, "/api/v1/tasks", Some(&server.admin))
+        .json(&json!({ "epc": ADA_SWITCH, "action": "on", "robot": "el-e-1" }))
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(task.status(), StatusCode::CREATED);
+    let task: Value = task.json().await.unwrap();
+    let claimed = server
+        .request(Method::POST, "/api/v1/robots/el-e-1/tasks/claim", Some(&credentials.own_robot))
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(claimed.status(), StatusCode::OK);
     Fixture {
         victim_token_id: victim.record.id,
+        task_id: task["id"].as_str().unwrap().to_owned(),
         login: json!({ "username": CARETAKER, "password": PASSWORD }),
     }
 }

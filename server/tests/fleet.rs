@@ -368,6 +368,16 @@ async fn stats_and_learned_values_follow_the_trials() {
     assert_eq!(group["success_rate"], 0.75);
     assert_eq!(group["reliable"], false);
     assert_eq!(group["learned"]["/behaviors/pull_open/pull_distance"]["value"], 0.35);
+
+    // Closing the drawer pushes: what pulling it open taught is not listed under close.
+    let id = uuid();
+    let close = trial(&id, DRAWER, "el-e-1", "close", "push_closed", "success");
+    let recorded = server.put(&format!("/api/v1/trials/{id}"), &robot, &close, None).await;
+    assert_eq!(recorded.status(), StatusCode::CREATED);
+    let stats = server.get_json(&format!("/api/v1/tags/{DRAWER}/stats")).await;
+    let close =
+        stats["groups"].as_array().unwrap().iter().find(|g| g["action"] == "close").unwrap();
+    assert_eq!(close["learned"], json!({}), "{stats}");
 }
 
 #[tokio::test]

@@ -285,6 +285,30 @@ impl Session {
         path
     }
 
+    /// The serious and critical accessibility violations axe-core finds in the page as it is
+    /// now, one line each: the rule, what it asks for, and the elements that break it.
+    pub async fn accessibility_problems(&self) -> Vec<String> {
+        let axe = target_dir().join("axe-core/node_modules/axe-core/axe.min.js");
+        let source = std::fs::read_to_string(&axe).unwrap_or_else(|e| {
+            panic!(
+                "{} is missing ({e}): run tests/axe-core/install, as tests/run does",
+                axe.display()
+            )
+        });
+        let script = format!(
+            "const done = arguments[arguments.length - 1];\n{source}\n\
+             axe.run(document, {{ resultTypes: ['violations'] }}).then((result) => done(\
+               result.violations.filter((v) => v.impact === 'serious' || v.impact === 'critical')\
+                 .map((v) => `${{v.impact}} ${{v.id}}: ${{v.help}} — ${{v.nodes.map((n) => n.target.join(' ')).join(', ')}}`)),\
+               (error) => done([`axe-core failed: ${{error}}`]));"
+        );
+        let found = self.client.execute_async(&script, vec![]).await.expect("axe-core runs");
+        found
+            .as_array()
+            .map(|lines| lines.iter().filter_map(|l| l.as_str().map(str::to_owned)).collect())
+            .unwrap_or_default()
+    }
+
     /// Whether the page fits its viewport without scrolling sideways.
     pub async fn fits_width(&self) -> bool {
         self.eval("return document.documentElement.scrollWidth <= window.innerWidth")

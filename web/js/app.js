@@ -12,6 +12,7 @@ import * as register from './pages/register.js';
 import * as robots from './pages/robots.js';
 import * as tag from './pages/tag.js';
 import * as tags from './pages/tags.js';
+import * as tasks from './pages/tasks.js';
 
 const app = document.getElementById('app');
 
@@ -20,6 +21,7 @@ const ROUTES = [
   { pattern: /^#\/tags\/([^/?]+)\/edit$/, page: tag.renderEdit, nav: 'tags' },
   { pattern: /^#\/tags\/([^/?]+)$/, page: tag.render, nav: 'tags' },
   { pattern: /^#\/register(?:\?epc=([^&]*))?$/, page: register.render, nav: 'register' },
+  { pattern: /^#\/tasks$/, page: tasks.render, nav: 'tasks' },
   { pattern: /^#\/robots$/, page: robots.render, nav: 'robots' },
   { pattern: /^#\/admin$/, page: admin.render, nav: 'admin', adminOnly: true },
   { pattern: /^#\/account$/, page: account.render, nav: 'account' },
@@ -29,6 +31,7 @@ const ROUTES = [
 const NAV = [
   ['tags', '#/tags', 'Tags'],
   ['register', '#/register', 'Register a tag'],
+  ['tasks', '#/tasks', 'Tasks'],
   ['robots', '#/robots', 'Robots'],
   ['admin', '#/admin', 'Admin', true],
 ];

@@ -4,7 +4,7 @@
 
 const EVENT_TYPES = [
   'tag_changed', 'tag_archived', 'tag_retagged', 'trial_recorded', 'trial_updated',
-  'robot_changed', 'inbox_changed', 'reliability_changed', 'learned_changed',
+  'robot_changed', 'inbox_changed', 'reliability_changed', 'learned_changed', 'task_changed',
 ];
 
 let source = null;

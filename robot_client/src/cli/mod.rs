@@ -12,6 +12,7 @@ mod rfid;
 mod run;
 mod scene;
 mod trials;
+mod work;
 
 use clap::{Parser, Subcommand};
 
@@ -28,6 +29,7 @@ pub use trials::{
     Protocol, TABLE_ONE, TableRow, TrialsArgs, flush_until_stored, render_table, rows_json,
     run as trials_main, run_trials,
 };
+pub use work::WorkArgs;
 
 /// The robot side of PPS-tags.
 #[derive(Debug, Parser)]
@@ -46,6 +48,8 @@ pub enum Command {
     Scene(SceneArgs),
     /// One task in the simulator against a registry, printed phase by phase.
     Run(RunArgs),
+    /// A simulated robot doing the tasks caretakers ask the registry for, one after another.
+    Work(WorkArgs),
     /// Inventory rounds on a real RFID reader (LLRP or ThingMagic M5e) and the tag choice.
     Rfid(RfidArgs),
     /// Time each perception step and the whole chain on the fixed benchmark scene.
@@ -62,6 +66,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::BenchPerception(args) => bench::run(&args),
         Command::BenchLlrp(args) => bench_llrp::run(&args),
         Command::Run(args) => run::run(&args),
+        Command::Work(args) => work::run(&args),
         Command::Rfid(args) => rfid::run(&args),
     }
 }

@@ -59,9 +59,9 @@ pub struct FlushReport {
 /// A robot's connection to the registry.
 #[derive(Debug, Clone)]
 pub struct RegistryClient {
-    http: reqwest::Client,
-    base: String,
-    token: String,
+    pub(super) http: reqwest::Client,
+    pub(super) base: String,
+    pub(super) token: String,
     robot: RobotId,
     cache: Arc<EntryCache>,
     outbox: TrialOutbox,

@@ -13,9 +13,11 @@ mod error;
 mod flaky_registry;
 mod outbox;
 mod state_file;
+mod tasks;
 
 pub use change_watch::ChangeWatch;
 pub use client::{Fetched, FlushReport, RegistryClient, Source};
 pub use entry_cache::EntryCache;
 pub use error::{Problem, RegistryError};
 pub use outbox::{PendingTrial, TrialOutbox};
+pub use tasks::Task;

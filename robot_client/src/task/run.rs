@@ -46,6 +46,8 @@ pub struct TaskConfig {
     pub rfid_margin_db: f64,
     /// Where the experiment put the robot, for the trial record (the robot has no map).
     pub start_pose: Option<StartPose>,
+    /// The registry task this run does, recorded in the trial's `measurements.task`.
+    pub task: Option<Uuid>,
 }
 
 impl Default for TaskConfig {
@@ -64,6 +66,7 @@ impl Default for TaskConfig {
             rfid_rounds: 5,
             rfid_margin_db: 3.0,
             start_pose: None,
+            task: None,
         }
     }
 }
@@ -239,6 +242,10 @@ async fn act(
             (Outcome::Error, detector, serde_json::Map::new(), Vec::new())
         }
     };
+    let mut measurements = measurements;
+    if let Some(task) = config.task {
+        measurements.insert("task".into(), task.to_string().into());
+    }
     let confirmed = operator.confirm_success()?;
     phase.note(format!(
         "the detector says {}; asked the person: {}",

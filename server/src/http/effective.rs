@@ -44,10 +44,7 @@ pub async fn get(
     let robot = parse_robot_id(&robot)?;
     let epc = parse_epc(&epc)?;
     caller.require_robot_or_editor(robot.as_str())?;
-    let entry = match state.effective.get(epc.as_hex(), robot.as_str()) {
-        Some(entry) => entry,
-        None => compute(&state, &epc, robot.as_str()).await?,
-    };
+    let entry = entry_for(&state, &epc, robot.as_str()).await?;
     if precondition::not_modified(&headers, &entry.etag) {
         return Ok((StatusCode::NOT_MODIFIED, [(ETAG, entry.etag.clone())]).into_response());
     }
@@ -58,6 +55,18 @@ pub async fn get(
         headers.insert(ETAG, etag);
     }
     Ok(response)
+}
+
+/// The effective entry of `epc` for `robot`, from memory when it can be.
+pub(crate) async fn entry_for(
+    state: &AppState,
+    epc: &pps_schema::Epc,
+    robot: &str,
+) -> Result<Arc<CachedEffective>, ApiError> {
+    match state.effective.get(epc.as_hex(), robot) {
+        Some(entry) => Ok(entry),
+        None => compute(state, epc, robot).await,
+    }
 }
 
 /// Merges the entry from the database and caches it.

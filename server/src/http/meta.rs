@@ -62,8 +62,11 @@ pub const METRICS: Doc =
 pub async fn metrics(
     axum::extract::State(state): axum::extract::State<crate::state::AppState>,
 ) -> impl axum::response::IntoResponse {
-    (
-        [(axum::http::header::CONTENT_TYPE, "text/plain; version=0.0.4; charset=utf-8")],
-        state.metrics.render(state.feed.clients()),
-    )
+    let mut text = state.metrics.render(state.feed.clients());
+    text.push_str(&format!(
+        "# HELP pps_robots_waiting_for_tasks Robots whose claim is waiting for a task.\n\
+         # TYPE pps_robots_waiting_for_tasks gauge\npps_robots_waiting_for_tasks {}\n",
+        state.tasks.waiting()
+    ));
+    ([(axum::http::header::CONTENT_TYPE, "text/plain; version=0.0.4; charset=utf-8")], text)
 }

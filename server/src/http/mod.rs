@@ -16,6 +16,7 @@ mod robots;
 mod session;
 mod stats;
 mod tags;
+mod tasks;
 mod tokens;
 mod trials;
 mod typed_json;
@@ -113,6 +114,31 @@ pub fn router_with_routes(state: AppState) -> (Router, Vec<RouteSpec>) {
         .add(Method::PATCH, "/api/v1/trials/{id}", RobotOrEditors, trials::patch, trials::PATCH)
         .add(get(), "/api/v1/trials", RobotOrEditors, trials::list, trials::LIST)
         .add(get(), "/api/v1/events", Anyone, events::stream, events::STREAM)
+        .add(Method::POST, "/api/v1/tasks", Editors, tasks::create, tasks::CREATE)
+        .add(get(), "/api/v1/tasks", RobotOrEditors, tasks::list, tasks::LIST)
+        .add(get(), "/api/v1/tasks/{id}", RobotOrEditors, tasks::get, tasks::GET)
+        .add(Method::POST, "/api/v1/tasks/{id}/cancel", Editors, tasks::cancel, tasks::CANCEL)
+        .add(
+            Method::POST,
+            "/api/v1/robots/{robot}/tasks/claim",
+            Robot,
+            tasks::lease::claim,
+            tasks::lease::CLAIM,
+        )
+        .add(
+            Method::POST,
+            "/api/v1/tasks/{id}/heartbeat",
+            Robot,
+            tasks::lease::heartbeat,
+            tasks::lease::HEARTBEAT,
+        )
+        .add(
+            Method::POST,
+            "/api/v1/tasks/{id}/finish",
+            Robot,
+            tasks::lease::finish,
+            tasks::lease::FINISH,
+        )
         .add(get(), "/api/v1/tokens", Admin, tokens::list, tokens::LIST)
         .add(Method::POST, "/api/v1/tokens", Admin, tokens::create, tokens::CREATE)
         .add(Method::DELETE, "/api/v1/tokens/{id}", Admin, tokens::revoke, tokens::REVOKE)

@@ -15,7 +15,7 @@ use crate::http::precondition;
 use crate::state::AppState;
 use crate::store::WriteCondition;
 use crate::store::events::{self, EventKind};
-use crate::store::{learning, retired, tags, trials};
+use crate::store::{learning, retired, tags, tasks, trials};
 
 pub const RETAG: Doc =
     Doc::new("retagTag", "Move an entry, its history and learned values to a new EPC")
@@ -71,6 +71,7 @@ pub async fn retag(
     let moved = tags::move_to(&mut tx, &current, &new, &caller.name).await?;
     let trials_moved = trials::move_to(&mut tx, old.as_hex(), new.as_hex()).await?;
     learning::move_to(&mut tx, old.as_hex(), new.as_hex()).await?;
+    tasks::move_to(&mut tx, old.as_hex(), new.as_hex()).await?;
     retired::retire(&mut tx, old.as_hex(), new.as_hex(), &caller.name).await?;
     events::append(
         &mut tx,

@@ -5,6 +5,8 @@ use axum::extract::State;
 use serde::Serialize;
 use serde_json::{Map, Value, json};
 
+use pps_schema::pointer::escape;
+
 use crate::error::ApiError;
 use crate::http::extract::EpcPath;
 use crate::http::openapi::{Doc, Param, Reply};
@@ -52,9 +54,9 @@ pub async fn get(
     EpcPath(epc): EpcPath,
 ) -> Result<Json<Value>, ApiError> {
     let pool = state.db.reader();
-    if tags::get(pool, &epc).await?.is_none() {
+    let Some(tag) = tags::get(pool, &epc).await? else {
         return Err(ApiError::NotFound(format!("no tag has the EPC {epc}")));
-    }
+    };
     let rows: Vec<Row> = sqlx::query_as(
         "select action, coalesce(robot_class, ''), count(*),
                 sum(outcome = 'success'),
@@ -86,9 +88,13 @@ pub async fn get(
         .bind(RELIABILITY_WINDOW)
         .fetch_one(pool)
         .await?;
+        // Only what the action's own behaviour uses: `close` has nothing of `pull_open`'s.
+        let behavior = tag.entry.pointer(&format!("/actions/{}", escape(&action)));
+        let prefix = behavior.and_then(Value::as_str).map(|b| format!("/behaviors/{}/", escape(b)));
         let learned_here = learned
             .iter()
             .filter(|(c, ..)| *c == class)
+            .filter(|(_, pointer, ..)| prefix.as_ref().is_some_and(|p| pointer.starts_with(p)))
             .map(|(_, pointer, value, trials)| {
                 (pointer.clone(), json!({ "value": value, "trials": trials }))
             })

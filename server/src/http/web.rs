@@ -29,7 +29,7 @@ macro_rules! web_files {
 
 const INDEX_HTML: &[u8] = include_bytes!("../../../web/index.html");
 
-const FILES: [(&str, &[u8]); 27] = web_files![
+const FILES: [(&str, &[u8]); 31] = web_files![
     "app.css",
     "icon.svg",
     "js/api.js",
@@ -43,8 +43,10 @@ const FILES: [(&str, &[u8]); 27] = web_files![
     "js/entry-form.js",
     "js/events.js",
     "js/format.js",
+    "js/learned.js",
     "js/pages/account.js",
     "js/pages/admin.js",
+    "js/pages/ask.js",
     "js/pages/login.js",
     "js/pages/register.js",
     "js/pages/robots.js",
@@ -53,10 +55,12 @@ const FILES: [(&str, &[u8]); 27] = web_files![
     "js/pages/tag-trials.js",
     "js/pages/tag.js",
     "js/pages/tags.js",
+    "js/pages/tasks.js",
     "js/pointer.js",
     "js/schema-field.js",
     "js/schema.js",
     "js/session.js",
+    "js/tasks.js",
 ];
 
 /// The seed entries as starting points for a new tag, served as `templates.json`.

@@ -20,10 +20,12 @@ pub enum EventKind {
     ReliabilityChanged,
     /// A robot class's trials taught a tag new values: its robots' effective entries changed.
     LearnedChanged,
+    /// A task was asked for, claimed, requeued, finished or cancelled.
+    TaskChanged,
 }
 
 impl EventKind {
-    pub const ALL: [EventKind; 9] = [
+    pub const ALL: [EventKind; 10] = [
         Self::TagChanged,
         Self::TagArchived,
         Self::TagRetagged,
@@ -33,6 +35,7 @@ impl EventKind {
         Self::InboxChanged,
         Self::ReliabilityChanged,
         Self::LearnedChanged,
+        Self::TaskChanged,
     ];
 
     pub fn as_str(self) -> &'static str {
@@ -46,6 +49,7 @@ impl EventKind {
             Self::InboxChanged => "inbox_changed",
             Self::ReliabilityChanged => "reliability_changed",
             Self::LearnedChanged => "learned_changed",
+            Self::TaskChanged => "task_changed",
         }
     }
 

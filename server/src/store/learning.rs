@@ -103,6 +103,21 @@ pub async fn reliability(
     .await
 }
 
+/// Robot classes whose trials made `action` on `epc` reliable (the stats' reliable flag).
+pub async fn reliable_classes(
+    pool: &SqlitePool,
+    epc: &str,
+    action: &str,
+) -> sqlx::Result<Vec<String>> {
+    sqlx::query_scalar(
+        "select robot_class from reliability where epc = ? and action = ? and reliable = 1",
+    )
+    .bind(epc)
+    .bind(action)
+    .fetch_all(pool)
+    .await
+}
+
 pub async fn store_reliability(
     conn: &mut SqliteConnection,
     epc: &str,

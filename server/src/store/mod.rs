@@ -7,6 +7,7 @@ pub mod retired;
 pub mod robots;
 pub mod sessions;
 pub mod tags;
+pub mod tasks;
 pub mod tokens;
 pub mod trials;
 pub mod users;

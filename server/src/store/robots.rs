@@ -85,6 +85,17 @@ pub async fn list(
     Ok(rows.into_iter().map(from_row).collect())
 }
 
+/// The registered robots of one class, in id order.
+#[tracing::instrument(skip_all)]
+pub async fn of_class(pool: &SqlitePool, class: &str) -> sqlx::Result<Vec<StoredRobot>> {
+    let rows: Vec<Row> =
+        sqlx::query_as("select id, class, document from robots where class = ? order by id")
+            .bind(class)
+            .fetch_all(pool)
+            .await?;
+    Ok(rows.into_iter().map(from_row).collect())
+}
+
 /// Registers or changes a robot; the same document again changes nothing.
 #[tracing::instrument(skip_all, fields(robot = id))]
 pub async fn put(db: &Db, id: &str, document: &Value, by: &str) -> sqlx::Result<RobotWrite> {

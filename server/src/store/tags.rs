@@ -221,6 +221,9 @@ pub async fn archive_in(
         ..current
     };
     write(tx, &stored, "archive").await?;
+    // No robot may record a trial on an archived tag, so nothing asked of it can be done.
+    let reason = format!("the tag was archived by {by}");
+    crate::store::tasks::cancel_on_tag(tx, &stored.epc, &reason).await?;
     Ok(stored)
 }
 

@@ -18,6 +18,8 @@ pub struct TestServer {
     pub db: Db,
     pub db_path: PathBuf,
     pub admin: String,
+    /// How long a claim on a task lasts.
+    pub lease: std::time::Duration,
     pub client: reqwest::Client,
     _dir: TempDir,
 }
@@ -25,25 +27,33 @@ pub struct TestServer {
 impl TestServer {
     /// A seeded registry with one admin token.
     pub async fn start() -> Self {
+        Self::start_with_lease(pps_server::task_board::DEFAULT_LEASE).await
+    }
+
+    /// [`Self::start`] with claims on tasks lasting `lease`.
+    pub async fn start_with_lease(lease: std::time::Duration) -> Self {
         let dir = tempfile::tempdir().unwrap();
         let db_path = dir.path().join("pps.db");
         let db = Db::open(&db_path).await.unwrap();
         pps_server::seed::seed_if_empty(&db).await.unwrap();
         let admin = tokens::create(&db, Role::Admin, "test admin", None).await.unwrap().token;
-        let (url, shutdown) = Self::serve(db.clone()).await;
+        let (url, shutdown) = Self::serve(db.clone(), lease).await;
         std::mem::forget(shutdown);
-        Self { url, db, db_path, admin, client: reqwest::Client::new(), _dir: dir }
+        Self { url, db, db_path, admin, lease, client: reqwest::Client::new(), _dir: dir }
     }
 
     /// Serves `db` on a new port until the returned sender is dropped.
-    async fn serve(db: Db) -> (String, tokio::sync::oneshot::Sender<()>) {
+    async fn serve(
+        db: Db,
+        lease: std::time::Duration,
+    ) -> (String, tokio::sync::oneshot::Sender<()>) {
         if std::env::var_os("TEST_LOG").is_some() {
             pps_server::telemetry::init();
         }
         let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
         let url = format!("http://{}", listener.local_addr().unwrap());
         let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
-        let state = AppState::new(db);
+        let state = AppState::new(db).with_task_lease(lease);
         tokio::spawn(pps_server::serve(listener, state, async move {
             let _ = stopped.await;
         }));
@@ -53,7 +63,7 @@ impl TestServer {
     /// A second server on the same database file, as after a restart; stops when dropped.
     pub async fn restarted(&self) -> (String, tokio::sync::oneshot::Sender<()>) {
         let db = Db::open(&self.db_path).await.unwrap();
-        Self::serve(db).await
+        Self::serve(db, self.lease).await
     }
 
     /// Mints a token as the CLI would, straight into the database.

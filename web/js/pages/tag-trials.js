@@ -1,4 +1,5 @@
-// A tag's trial history, newest first: when, which robot, which action, what the robot's
+// A tag's trial history, newest first by when each started (robots may upload late, from their
+// outbox, so the order of receipt is not the order of time): when, which robot, which action, what the robot's
 // detector said, what the person said, and the evidence. A caretaker can give their verdict.
 
 import { getAll, query, request, seg } from '../api.js';
@@ -12,7 +13,9 @@ export async function renderTrials(container, epc) {
     replace(container, h('p', { class: 'muted' }, 'No robot has tried this tag yet.'));
     return 0;
   }
-  const rows = trials.slice().reverse().map((trial) => trialRow(trial, () => renderTrials(container, epc)));
+  const started = (trial) => Date.parse(trial.started_at ?? trial.finished_at) || 0;
+  const newestFirst = trials.slice().sort((a, b) => started(b) - started(a) || (b.seq ?? 0) - (a.seq ?? 0));
+  const rows = newestFirst.map((trial) => trialRow(trial, () => renderTrials(container, epc)));
   replace(container, h('table', { class: 'trials responsive' },
     h('caption', { class: 'visually-hidden' }, 'Trials, newest first'),
     h('thead', {}, h('tr', {}, ['When', 'Robot', 'Action', 'Outcome', 'Verdict', 'Evidence'].map((label) => h('th', { scope: 'col' }, label)))),
@@ -40,7 +43,7 @@ function trialRow(trial, refresh) {
   const forces = Array.isArray(trial.forces) ? trial.forces.length : 0;
   const evidence = { detector: trial.detector, measurements: trial.measurements, start_pose: trial.start_pose };
   return h('tr', { dataset: { trial: trial.id } },
-    cell('When', when(trial.finished_at ?? trial.started_at)),
+    cell('When', when(trial.started_at ?? trial.finished_at)),
     cell('Robot', trial.robot),
     cell('Action', trial.action, h('span', { class: 'muted' }, ` (${trial.behavior})`)),
     cell('Outcome', h('span', { class: ['badge', trial.outcome === 'success' ? 'good' : 'bad'] }, trial.outcome)),

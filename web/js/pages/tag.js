@@ -5,10 +5,12 @@
 import { entryOf, etagOf, get, getAll, request, seg } from '../api.js';
 import { successChart } from '../chart.js';
 import { confirmDialog } from '../dialog.js';
-import { cell, debounce, h, replace, uid } from '../dom.js';
+import { debounce, h, replace, uid } from '../dom.js';
 import { mountEditor } from '../editor.js';
 import { subscribe } from '../events.js';
-import { short, when } from '../format.js';
+import { when } from '../format.js';
+import { learnedInWords } from '../learned.js';
+import { askControl } from './ask.js';
 import { renderHistory } from './tag-history.js';
 import { renderRobotView } from './tag-robots.js';
 import { renderTrials } from './tag-trials.js';
@@ -22,7 +24,7 @@ async function section(container, load) {
   }
 }
 
-function header(tag, { onArchive, onRestore }) {
+function header(tag, { onArchive, onRestore, robots, stops }) {
   const p = tag.properties ?? {};
   return h('div', { class: 'tag-head' },
     h('div', { class: 'page-head' },
@@ -41,27 +43,26 @@ function header(tag, { onArchive, onRestore }) {
     h('h2', {}, 'What robots can do'),
     h('ul', { class: 'action-list' }, Object.entries(tag.actions ?? {}).map(([action, key]) => {
       const spec = tag.behaviors?.[key] ?? {};
-      return h('li', {}, h('strong', {}, action), ` → ${key} `, h('span', { class: 'muted' }, `(${spec.behavior ?? 'unknown behaviour'})`));
+      return h('li', { dataset: { action } },
+        h('div', {}, h('strong', {}, action), ` → ${key} `, h('span', { class: 'muted' }, `(${spec.behavior ?? 'unknown behaviour'})`)),
+        tag.archived ? null : askControl(tag, action, robots, stops));
     })));
 }
 
 function statsView(stats) {
   const groups = stats.groups ?? [];
   if (groups.length === 0) return h('p', { class: 'muted' }, 'No trials yet, so no success rates.');
-  const learned = groups.flatMap((g) => Object.entries(g.learned ?? {}).map(([name, value]) => ({ g, name, value })));
+  // The registry lists under each action only what that action's behaviour uses.
+  const learned = groups.filter((g) => Object.keys(g.learned ?? {}).length > 0);
   return h('div', {},
     successChart(groups),
     h('p', { class: 'help' }, 'An action counts as reliable for a kind of robot after at least 20 attempts, at least 90 % of them successful (over its latest 50). A success is what the person confirmed, or else what the robot\'s own detector saw.'),
     h('h3', {}, 'Learned values'),
     learned.length === 0
       ? h('p', { class: 'muted' }, 'Nothing learned yet.')
-      : h('table', { class: 'responsive' },
-        h('thead', {}, h('tr', {}, ['Action', 'Robot class', 'Parameter', 'Value'].map((label) => h('th', { scope: 'col' }, label)))),
-        h('tbody', {}, learned.map(({ g, name, value }) => h('tr', {},
-          cell('Action', g.action),
-          cell('Robot class', g.robot_class ?? '—'),
-          cell('Parameter', name),
-          cell('Value', h('code', {}, short(value))))))));
+      : h('ul', { class: 'learned' }, learned.map((g) => h('li', { dataset: { action: g.action } },
+        h('strong', {}, g.action), `, ${g.robot_class ? `${g.robot_class} robots` : 'robots without a class'}: `,
+        Object.entries(g.learned).map(([pointer, value]) => learnedInWords(pointer, value)).join('; ')))));
 }
 
 function retagForm(tag, inbox) {
@@ -106,6 +107,8 @@ export async function render(main, [epc]) {
   const robotsBox = h('div', { class: 'card' }, h('p', { class: 'muted' }, 'Loading…'));
   const historyBox = h('div', { class: 'card' }, h('p', { class: 'muted' }, 'Loading…'));
   const retagBox = h('div');
+  const robots = await getAll('/api/v1/robots?limit=500', { maxPages: 1 }).catch(() => []);
+  const stops = [];
 
   const archive = async () => {
     const ok = await confirmDialog({
@@ -133,7 +136,7 @@ export async function render(main, [epc]) {
       replace(notice, h('p', { class: 'status bad', role: 'alert' }, `Not restored: ${error.message}`));
     }
   };
-  const showHead = () => replace(head, header(tag, { onArchive: archive, onRestore: restore }));
+  const showHead = () => replace(head, header(tag, { onArchive: archive, onRestore: restore, robots, stops }));
   const refreshTag = async () => {
     tag = await get(`/api/v1/tags/${seg(tag.epc)}`);
     showHead();
@@ -164,7 +167,7 @@ export async function render(main, [epc]) {
     refreshTrials();
     section(robotsBox, () => renderRobotView(robotsBox, tag.epc));
   }, 150);
-  return subscribe((type, data) => {
+  const unsubscribe = subscribe((type, data) => {
     if (data.epc !== tag.epc) return;
     if (['trial_recorded', 'trial_updated', 'reliability_changed'].includes(type)) trialsChanged();
     else if (type === 'learned_changed') learnedChanged();
@@ -173,6 +176,10 @@ export async function render(main, [epc]) {
       replace(notice, h('p', { class: 'banner' }, 'This tag moved to a new EPC. ', to ? h('a', { href: `#/tags/${seg(to)}` }, 'Open it.') : null));
     } else if (['tag_changed', 'tag_archived'].includes(type)) tagChanged();
   });
+  return () => {
+    unsubscribe();
+    for (const stop of stops) stop();
+  };
 }
 
 export async function renderEdit(main, [epc]) {

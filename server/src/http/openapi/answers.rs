@@ -191,6 +191,80 @@ pub(super) fn shapes() -> Vec<(&'static str, Value)> {
         ),
         ("stored_trial", always_with("trial", &["confirmed", "received_at", "seq"])),
         (
+            "task",
+            object(
+                &[
+                    "id",
+                    "epc",
+                    "action",
+                    "robot",
+                    "class",
+                    "note",
+                    "state",
+                    "created_by",
+                    "created_at",
+                    "claimed_by",
+                    "lease_until",
+                    "attempts",
+                    "holders",
+                    "trial",
+                    "reason",
+                    "updated_at",
+                ],
+                json!({
+                    "id": { "type": "string", "format": "uuid" },
+                    "epc": component("tag/$defs/epc"),
+                    "action": text(),
+                    "robot": nullable(component("robot/$defs/robot_id")),
+                    "class": nullable(component("robot/$defs/robot_id")),
+                    "note": nullable(text()),
+                    "state": { "enum": ["queued", "claimed", "done", "failed", "cancelled"] },
+                    "created_by": text(),
+                    "created_at": time(),
+                    "claimed_by": {
+                        "description": "The holder; once ended, the robot that ended it",
+                        "anyOf": [component("robot/$defs/robot_id"), { "type": "null" }]
+                    },
+                    "lease_until": nullable(time()),
+                    "attempts": {
+                        "description": "How many times a robot claimed it",
+                        "type": "integer", "minimum": 0
+                    },
+                    "holders": { "type": "array", "items": component("robot/$defs/robot_id") },
+                    "trial": nullable(json!({ "type": "string", "format": "uuid" })),
+                    "reason": nullable(text()),
+                    "updated_at": time()
+                }),
+            ),
+        ),
+        (
+            "new_task",
+            json!({
+                "type": "object",
+                "required": ["epc", "action"],
+                "additionalProperties": false,
+                "properties": {
+                    "epc": component("tag/$defs/epc"),
+                    "action": { "type": "string", "minLength": 1 },
+                    "robot": nullable(component("robot/$defs/robot_id")),
+                    "class": nullable(component("robot/$defs/robot_id")),
+                    "note": nullable(json!({ "type": "string", "maxLength": 500 }))
+                }
+            }),
+        ),
+        (
+            "task_finish",
+            json!({
+                "type": "object",
+                "required": ["trial", "outcome"],
+                "additionalProperties": false,
+                "properties": {
+                    "trial": { "type": "string", "format": "uuid" },
+                    "outcome": { "enum": ["success", "failure", "aborted", "error"] }
+                }
+            }),
+        ),
+        (
             "verdict",
             json!({
                 "description": "A merge patch of a trial: only the person's verdict may change.",

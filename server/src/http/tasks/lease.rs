@@ -1,0 +1,299 @@
+//! Claim, heartbeat and finish: a robot holds a task under a lease it keeps alive, and ends
+//! it with the trial the task ended in.
+//!
+//! A claim with `wait` long-polls: the robot waits in line on the [`TaskBoard`] and is answered
+//! as soon as a task it should get appears, not at the end of the wait.
+//!
+//! [`TaskBoard`]: crate::task_board::TaskBoard
+
+use std::time::Duration;
+
+use axum::Json;
+use axum::extract::{Path, State};
+use axum::http::StatusCode;
+use axum::response::{IntoResponse, Response};
+use pps_schema::FieldError;
+use serde::Deserialize;
+use serde_json::Value;
+use uuid::Uuid;
+
+use super::{TASK_ID, find, offer, parse_task_id};
+use crate::error::ApiError;
+use crate::http::extract::{ApiQuery, Caller, JsonBody};
+use crate::http::openapi::{Body, Doc, Param, ParamType, Reply};
+use crate::http::robots::parse_robot_id;
+use crate::state::AppState;
+use crate::store::tasks::{self, TaskRow};
+use crate::store::{robots, trials};
+use crate::{auth::Principal, clock};
+
+/// The longest a claim may wait for a task (DESIGN §8).
+pub const MAX_WAIT_SECONDS: u64 = 30;
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClaimParams {
+    wait: Option<f64>,
+}
+
+pub const CLAIM: Doc = Doc::new("claimTask", "Take the next task this robot should do")
+    .describe(
+        "Offers the oldest task the robot may claim (it targets the robot, its class or \
+         anyone, and the robot's effective entry makes the action available), unless a robot \
+         waiting longer, or one whose class is reliable for the action, should have it. With \
+         `wait`, the answer comes as soon as such a task appears. The robot then holds the \
+         task until `lease_until`; heartbeats extend it.",
+    )
+    .params(&[
+        Param::ROBOT,
+        Param::query(
+            "wait",
+            ParamType::Integer { min: 0, max: MAX_WAIT_SECONDS as i64 },
+            "Seconds to wait for a task when none is there now (default 0)",
+        ),
+    ])
+    .replies(&[
+        Reply::json(200, "The task, claimed by this robot until lease_until", "task"),
+        Reply::empty(204, "No task came within the wait"),
+    ]);
+
+pub async fn claim(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    Path(robot): Path<String>,
+    ApiQuery(params): ApiQuery<ClaimParams>,
+) -> Result<Response, ApiError> {
+    let robot = parse_robot_id(&robot)?;
+    let robot = robot.as_str();
+    if caller.robot.as_deref() != Some(robot) {
+        return Err(ApiError::Forbidden(format!(
+            "a robot claims tasks only for itself: this token is bound to {:?}, not {robot:?}",
+            caller.robot.as_deref().unwrap_or("")
+        )));
+    }
+    let wait = match params.wait.unwrap_or(0.0) {
+        seconds if (0.0..=MAX_WAIT_SECONDS as f64).contains(&seconds) => {
+            Duration::from_secs_f64(seconds)
+        }
+        seconds => {
+            return Err(ApiError::BadRequest(format!(
+                "wait is 0 to {MAX_WAIT_SECONDS} seconds, not {seconds}; claim again after an \
+                 empty answer"
+            )));
+        }
+    };
+    let deadline = tokio::time::Instant::now() + wait;
+    let class = robots::get(state.db.reader(), robot).await?.and_then(|r| r.class);
+    let place = state.tasks.join(robot, class.as_deref());
+    loop {
+        if let Some(task) = offer::claim_next(&state, &place, robot, class.as_deref()).await? {
+            return Ok(Json(task.to_json()).into_response());
+        }
+        // Nothing for this robot: the robot behind it may have better luck.
+        let now = clock::now();
+        if tasks::any_claimable(state.db.reader(), &now).await? {
+            state.tasks.pass_on(&place);
+        }
+        tokio::select! {
+            () = place.turn() => {}
+            () = tokio::time::sleep_until(deadline) => break,
+            // A shutdown does not wait for long polls.
+            () = state.feed.closed() => break,
+        }
+    }
+    Ok(StatusCode::NO_CONTENT.into_response())
+}
+
+pub const HEARTBEAT: Doc = Doc::new("heartbeatTask", "Extend the lease on a task this robot holds")
+    .params(&[TASK_ID])
+    .replies(&[
+        Reply::json(200, "The task with its new lease_until", "task"),
+        Reply::problem(404, "No task has this id"),
+        Reply::problem(
+            409,
+            "The lease was lost (it ran out, or the task was cancelled or taken over): stop",
+        ),
+    ]);
+
+pub async fn heartbeat(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    Path(id): Path<String>,
+) -> Result<Json<Value>, ApiError> {
+    let id = parse_task_id(&id)?;
+    let robot = holder(&caller)?;
+    let lease_until = clock::format(time::OffsetDateTime::now_utc() + state.tasks.lease());
+    let mut tx = state.db.begin_write().await?;
+    let extended = tasks::extend_lease(&mut tx, &id, robot, &lease_until).await?;
+    tx.commit().await?;
+    match extended {
+        Some(row) => Ok(Json(row.to_json())),
+        None => Err(not_held(&find(&state, &id).await?, robot)),
+    }
+}
+
+pub const FINISH: Doc =
+    Doc::new("finishTask", "End a task this robot holds with its trial")
+        .describe(
+            "The trial must be recorded already, by this robot, on the task's tag and action, \
+         with this outcome. A success makes the task `done`, any other outcome `failed`. \
+         Repeating the same finish is answered with the ended task.",
+        )
+        .params(&[TASK_ID])
+        .body(Body::json("task_finish", "The trial the task ended in and its outcome").example(
+            r#"{ "trial": "0b7c2a52-4a0e-4d8e-9a51-2f7a3c1d9e10", "outcome": "success" }"#,
+        ))
+        .replies(&[
+            Reply::json(200, "The ended task", "task"),
+            Reply::problem(403, "The trial is another robot's, or this robot never held the task"),
+            Reply::problem(404, "No task has this id"),
+            Reply::problem(409, "The lease was lost: the task is no longer this robot's to finish"),
+            Reply::problem(422, "No such trial, or it is on another tag or action or outcome"),
+        ]);
+
+const OUTCOMES: [&str; 4] = ["success", "failure", "aborted", "error"];
+
+pub async fn finish(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    Path(id): Path<String>,
+    JsonBody(body): JsonBody,
+) -> Result<Json<Value>, ApiError> {
+    let id = parse_task_id(&id)?;
+    let robot = holder(&caller)?;
+    let (trial_id, outcome) = parse_finish(&body)?;
+    let task = find(&state, &id).await?;
+    if task.trial.as_deref() == Some(trial_id.as_str()) && task.claimed_by.as_deref() == Some(robot)
+    {
+        // A retry whose first answer was lost.
+        return Ok(Json(task.to_json()));
+    }
+    if task.state != "claimed" || task.claimed_by.as_deref() != Some(robot) {
+        return Err(not_held(&task, robot));
+    }
+    let Some(trial) = trials::get(state.db.reader(), &trial_id).await? else {
+        return Err(ApiError::invalid_at(
+            "/trial",
+            format!(
+                "no trial has the id {trial_id}; record it (PUT /api/v1/trials/{trial_id}) \
+                 before finishing the task"
+            ),
+        ));
+    };
+    if trial.robot != robot {
+        return Err(ApiError::Forbidden(format!(
+            "trial {trial_id} was recorded by robot {}; a robot finishes a task with its own trial",
+            trial.robot
+        )));
+    }
+    let mut errors = Vec::new();
+    if trial.epc != task.epc {
+        errors.push(FieldError::new(
+            "/trial",
+            format!("trial {trial_id} is on the tag {}, the task on {}", trial.epc, task.epc),
+        ));
+    }
+    if trial.action != task.action {
+        errors.push(FieldError::new(
+            "/trial",
+            format!("trial {trial_id} did {}, the task asks for {}", trial.action, task.action),
+        ));
+    }
+    if trial.outcome != outcome {
+        errors.push(FieldError::new(
+            "/outcome",
+            format!("trial {trial_id} records the outcome {}, not {outcome}", trial.outcome),
+        ));
+    }
+    if !errors.is_empty() {
+        return Err(ApiError::Invalid(errors));
+    }
+    let succeeded = outcome == "success";
+    let reason = (!succeeded).then(|| format!("the robot's trial ended in {outcome}"));
+    let mut tx = state.db.begin_write().await?;
+    let ended = tasks::finish(&mut tx, &id, robot, &trial_id, succeeded, reason.as_deref()).await?;
+    tx.commit().await?;
+    match ended {
+        Some(row) => {
+            state.feed.committed();
+            Ok(Json(row.to_json()))
+        }
+        // The lease ran out between the look and the write.
+        None => Err(not_held(&find(&state, &id).await?, robot)),
+    }
+}
+
+/// The finish body: `{"trial": UUID, "outcome"}`, every problem reported at once.
+fn parse_finish(body: &Value) -> Result<(String, String), ApiError> {
+    let Some(object) = body.as_object() else {
+        return Err(ApiError::invalid_at(
+            "",
+            "a finish is a JSON object: {\"trial\": \"<uuid>\", \"outcome\": \"success\"}",
+        ));
+    };
+    let mut errors = Vec::new();
+    for key in object.keys().filter(|k| !["trial", "outcome"].contains(&k.as_str())) {
+        errors.push(FieldError::new(
+            pps_schema::pointer::join("", key),
+            format!("a finish has no field {key}; it takes trial and outcome"),
+        ));
+    }
+    let trial = match object.get("trial").and_then(Value::as_str).map(Uuid::parse_str) {
+        Some(Ok(id)) => Some(id.hyphenated().to_string()),
+        _ => {
+            errors.push(FieldError::new("/trial", "trial is the id (a UUID) of a recorded trial"));
+            None
+        }
+    };
+    let outcome = match object.get("outcome").and_then(Value::as_str) {
+        Some(outcome) if OUTCOMES.contains(&outcome) => Some(outcome.to_owned()),
+        _ => {
+            errors.push(FieldError::new(
+                "/outcome",
+                format!("outcome is one of {}", OUTCOMES.join(", ")),
+            ));
+            None
+        }
+    };
+    match (trial, outcome) {
+        (Some(trial), Some(outcome)) if errors.is_empty() => Ok((trial, outcome)),
+        _ => Err(ApiError::Invalid(errors)),
+    }
+}
+
+/// The robot a holder's route acts for.
+fn holder(caller: &Principal) -> Result<&str, ApiError> {
+    caller
+        .robot
+        .as_deref()
+        .ok_or_else(|| ApiError::Internal(anyhow::anyhow!("a robot credential without a robot id")))
+}
+
+/// Why `robot` may not heartbeat or finish `task`: 409 when it held it and lost the lease, 403
+/// when it never held it.
+fn not_held(task: &TaskRow, robot: &str) -> ApiError {
+    let held =
+        task.claimed_by.as_deref() == Some(robot) || task.holders().iter().any(|h| h == robot);
+    if !held {
+        return ApiError::Forbidden(format!(
+            "robot {robot} does not hold task {}; only its holder may heartbeat or finish it",
+            task.id
+        ));
+    }
+    let now = match (task.state.as_str(), task.claimed_by.as_deref()) {
+        ("claimed", Some(holder)) if holder == robot => format!(
+            "its lease ran out at {}; it goes back to the queue",
+            task.lease_until.as_deref().unwrap_or("?")
+        ),
+        ("claimed", Some(other)) => format!("robot {other} holds it now"),
+        ("queued", _) => "it is back in the queue".to_owned(),
+        (ended, _) => format!(
+            "it is {ended}{}",
+            task.reason.as_deref().map(|r| format!(" ({r})")).unwrap_or_default()
+        ),
+    };
+    ApiError::Conflict(format!(
+        "robot {robot} lost its lease on task {}: {now}. Stop working on it and claim the next",
+        task.id
+    ))
+}

@@ -1,0 +1,405 @@
+//! `/api/v1/tasks`: a caretaker asks for an action on a tag; robots that can run it claim it
+//! under a lease ([`lease`]) and finish it with the trial it ended in (DESIGN §8).
+
+mod availability;
+pub mod lease;
+mod offer;
+
+use axum::Json;
+use axum::extract::{Path, State};
+use axum::http::StatusCode;
+use axum::http::header::LOCATION;
+use axum::response::{IntoResponse, Response};
+use pps_schema::{Epc, FieldError, RobotId};
+use serde::Deserialize;
+use serde_json::Value;
+use uuid::Uuid;
+
+use crate::auth::{Principal, Role};
+use crate::error::ApiError;
+use crate::http::extract::{ApiQuery, Caller, JsonBody, parse_epc};
+use crate::http::openapi::{Body, Doc, Header, Param, ParamType, Reply};
+use crate::http::page;
+use crate::state::AppState;
+use crate::store::tasks::{self, NewTask, TaskFilter, TaskRow};
+use crate::store::{retired, robots, tags};
+
+/// A note longer than this is not a note.
+const MAX_NOTE_CHARS: usize = 500;
+
+pub const TASK_ID: Param = Param::path("id", ParamType::Uuid, "The task's id")
+    .example("3f0c5a8e-9b1d-4e2f-8a7c-6d5e4f3a2b10");
+
+pub const CREATE: Doc =
+    Doc::new("createTask", "Ask a robot to do an action on a tag")
+        .describe(
+            "Optionally only one robot (`robot`) or robots of one class (`class`) may do it. The \
+         task waits in the queue until a robot that can run the action claims it.",
+        )
+        .body(Body::json("new_task", "The tag, its action and optional targets").example(
+            r#"{ "epc": "355AB1C60000001000000001", "action": "off", "note": "hallway" }"#,
+        ))
+        .replies(&[
+            Reply::json(201, "Queued", "task").headers(&[Header::Location]),
+            Reply::problem(
+                422,
+                "The tag is unknown, archived or retired, lacks the action, or the targeted robot \
+             or class cannot run it; `errors` points at each problem",
+            ),
+        ]);
+
+pub async fn create(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    JsonBody(body): JsonBody,
+) -> Result<Response, ApiError> {
+    let asked = TaskRequest::parse(&body)?;
+    asked.check(&state).await?;
+    let task = NewTask {
+        id: Uuid::new_v4().to_string(),
+        epc: asked.epc.as_hex().to_owned(),
+        action: asked.action,
+        robot: asked.robot.map(|r| r.as_str().to_owned()),
+        class: asked.class,
+        note: asked.note,
+        created_by: caller.name.clone(),
+    };
+    let mut tx = state.db.begin_write().await?;
+    let row = tasks::create(&mut tx, &task).await?;
+    tx.commit().await?;
+    state.feed.committed();
+    state.tasks.changed();
+    let location = format!("/api/v1/tasks/{}", row.id);
+    Ok((StatusCode::CREATED, [(LOCATION, location)], Json(row.to_json())).into_response())
+}
+
+/// A create request, parsed; every problem found is reported at once.
+struct TaskRequest {
+    epc: Epc,
+    action: String,
+    robot: Option<RobotId>,
+    class: Option<String>,
+    note: Option<String>,
+}
+
+impl TaskRequest {
+    fn parse(body: &Value) -> Result<Self, ApiError> {
+        let Some(object) = body.as_object() else {
+            return Err(ApiError::invalid_at(
+                "",
+                "a task is a JSON object, e.g. {\"epc\": \"…\", \"action\": \"off\"}",
+            ));
+        };
+        let mut errors = Vec::new();
+        for key in object.keys() {
+            if !["epc", "action", "robot", "class", "note"].contains(&key.as_str()) {
+                errors.push(FieldError::new(
+                    pps_schema::pointer::join("", key),
+                    format!("a task has no field {key}; it takes epc, action, robot, class, note"),
+                ));
+            }
+        }
+        let mut text = |key: &str, required: bool| match object.get(key) {
+            None | Some(Value::Null) if !required => None,
+            Some(Value::String(text)) => Some(text.clone()),
+            _ => {
+                let what = if required { "a string, and required" } else { "a string or null" };
+                errors.push(FieldError::new(format!("/{key}"), format!("{key} is {what}")));
+                None
+            }
+        };
+        let (epc, action, robot, class, note) = (
+            text("epc", true),
+            text("action", true),
+            text("robot", false),
+            text("class", false),
+            text("note", false),
+        );
+        let epc = epc.and_then(|raw| {
+            Epc::parse(&raw)
+                .map_err(|error| {
+                    errors.push(FieldError::new("/epc", format!("{raw:?} is not an EPC: {error}")))
+                })
+                .ok()
+        });
+        if action.as_deref() == Some("") {
+            errors.push(FieldError::new("/action", "action names one of the tag's actions"));
+        }
+        let robot = robot.and_then(|raw| {
+            RobotId::parse(&raw)
+                .map_err(|error| {
+                    errors.push(FieldError::new(
+                        "/robot",
+                        format!("{raw:?} is not a robot id: {error}"),
+                    ))
+                })
+                .ok()
+        });
+        if let Some(raw) = &class
+            && let Err(error) = RobotId::parse(raw)
+        {
+            errors
+                .push(FieldError::new("/class", format!("{raw:?} is not a robot class: {error}")));
+        }
+        if note.as_ref().is_some_and(|n| n.chars().count() > MAX_NOTE_CHARS) {
+            errors.push(FieldError::new(
+                "/note",
+                format!("a note holds at most {MAX_NOTE_CHARS} characters"),
+            ));
+        }
+        match (epc, action) {
+            (Some(epc), Some(action)) if errors.is_empty() => {
+                Ok(Self { epc, action, robot, class, note })
+            }
+            _ => Err(ApiError::Invalid(errors)),
+        }
+    }
+
+    /// The tag must be active and have the action, and the targets must be able to run it.
+    async fn check(&self, state: &AppState) -> Result<(), ApiError> {
+        let epc = self.epc.as_hex();
+        let tag = match tags::get(state.db.reader(), &self.epc).await? {
+            Some(tag) if tag.archived => {
+                return Err(ApiError::invalid_at(
+                    "/epc",
+                    format!("the tag {epc} is archived; a caretaker restores it before asking"),
+                ));
+            }
+            Some(tag) => tag,
+            None => {
+                let mut conn = state.db.reader().acquire().await?;
+                let message = match retired::successor(&mut conn, epc).await? {
+                    Some(successor) => format!(
+                        "the EPC {epc} was retired when its tag was replaced; ask for the task \
+                         on {successor}"
+                    ),
+                    None => format!("no tag has the EPC {epc}; register the tag first"),
+                };
+                return Err(ApiError::invalid_at("/epc", message));
+            }
+        };
+        let actions = tag.entry.get("actions").and_then(Value::as_object);
+        if !actions.is_some_and(|actions| actions.contains_key(&self.action)) {
+            let offered: Vec<&str> =
+                actions.map(|a| a.keys().map(String::as_str).collect()).unwrap_or_default();
+            return Err(ApiError::invalid_at(
+                "/action",
+                format!(
+                    "the tag {epc} has no action {:?}; it offers {}",
+                    self.action,
+                    if offered.is_empty() { "none".to_owned() } else { offered.join(", ") }
+                ),
+            ));
+        }
+        let mut errors = Vec::new();
+        if let Some(robot) = &self.robot {
+            let stored = robots::get(state.db.reader(), robot.as_str()).await?;
+            match (&stored, &self.class) {
+                (None, _) => errors.push(FieldError::new(
+                    "/robot",
+                    format!("no robot {robot} is registered; name a registered robot"),
+                )),
+                (Some(stored), Some(class)) if stored.class.as_deref() != Some(class) => errors
+                    .push(FieldError::new(
+                        "/class",
+                        format!(
+                            "robot {robot} is of class {}, not {class}; name one of the two",
+                            stored.class.as_deref().unwrap_or("none")
+                        ),
+                    )),
+                _ => {}
+            }
+            if stored.is_some()
+                && let Some(reason) =
+                    availability::why_not(state, epc, &self.action, robot.as_str()).await?
+            {
+                errors.push(FieldError::new("/robot", reason));
+            }
+        } else if let Some(class) = &self.class
+            && let Some(reason) =
+                availability::why_no_robot_of_class(state, epc, &self.action, class).await?
+        {
+            errors.push(FieldError::new("/class", reason));
+        }
+        if errors.is_empty() { Ok(()) } else { Err(ApiError::Invalid(errors)) }
+    }
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ListParams {
+    state: Option<String>,
+    epc: Option<String>,
+    robot: Option<String>,
+    limit: Option<u32>,
+    cursor: Option<String>,
+}
+
+const STATES: &[&str] = &["queued", "claimed", "done", "failed", "cancelled"];
+
+pub const LIST: Doc = Doc::new("listTasks", "Tasks, newest first")
+    .describe(
+        "A robot lists only the tasks it holds or held and the queued ones it may claim \
+         (its effective entry makes the action available, and the task targets it, its class \
+         or anyone); a page may then hold fewer than `limit` items although more follow.",
+    )
+    .params(&[
+        Param::query("state", ParamType::OneOf(STATES), "Only tasks in this state"),
+        Param::query("epc", ParamType::Schema("tag/$defs/epc"), "Only tasks on this tag"),
+        Param::query(
+            "robot",
+            ParamType::Schema("robot/$defs/robot_id"),
+            "Only tasks this robot holds, did or is named in",
+        ),
+        Param::LIMIT,
+        Param::CURSOR,
+    ])
+    .replies(&[Reply::page("A page of tasks", "task")]);
+
+pub async fn list(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    ApiQuery(params): ApiQuery<ListParams>,
+) -> Result<Json<page::Page<Value>>, ApiError> {
+    let limit = page::limit(params.limit)?;
+    let before = page::decode_position(params.cursor.as_deref())?;
+    if let Some(asked) = &params.state
+        && !STATES.contains(&asked.as_str())
+    {
+        return Err(ApiError::BadRequest(format!(
+            "state is one of {}, not {asked:?}",
+            STATES.join(", ")
+        )));
+    }
+    let epc = params.epc.as_deref().map(parse_epc).transpose()?;
+    if let Some(robot) = &params.robot {
+        crate::http::robots::parse_robot_id(robot)?;
+    }
+    let visible_to = match (caller.role, &params.robot) {
+        (Role::Robot, Some(asked)) if Some(asked) != caller.robot.as_ref() => {
+            return Err(ApiError::Forbidden(
+                "a robot lists only tasks it holds or may claim; leave robot out or name yourself"
+                    .into(),
+            ));
+        }
+        (Role::Robot, _) => Some(robot_and_class(&state, &caller).await?),
+        _ => None,
+    };
+    let filter = TaskFilter {
+        state: params.state,
+        epc: epc.map(|e| e.as_hex().to_owned()),
+        robot: params.robot,
+        visible_to,
+    };
+    let rows = tasks::list(state.db.reader(), &filter, before, limit + 1).await?;
+    let mut page = page::page(rows, limit, |row| row.seq.to_string());
+    if let Some((robot, _)) = &filter.visible_to {
+        let mut offered = Vec::with_capacity(page.items.len());
+        for row in page.items {
+            if may_see(&state, robot, &row).await? {
+                offered.push(row);
+            }
+        }
+        page.items = offered;
+    }
+    Ok(Json(page::Page {
+        items: page.items.iter().map(TaskRow::to_json).collect(),
+        next_cursor: page.next_cursor,
+    }))
+}
+
+pub const GET: Doc = Doc::new("getTask", "One task")
+    .params(&[TASK_ID])
+    .replies(&[Reply::json(200, "The task", "task"), Reply::problem(404, "No task has this id")]);
+
+pub async fn get(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    Path(id): Path<String>,
+) -> Result<Json<Value>, ApiError> {
+    let row = find(&state, &id).await?;
+    if let Some(robot) = caller.robot.as_deref().filter(|_| caller.role == Role::Robot)
+        && !may_see(&state, robot, &row).await?
+    {
+        return Err(ApiError::Forbidden(format!(
+            "robot {robot} neither holds task {} nor may claim it",
+            row.id
+        )));
+    }
+    Ok(Json(row.to_json()))
+}
+
+pub const CANCEL: Doc = Doc::new("cancelTask", "Cancel a queued or claimed task")
+    .describe("Its holder, if any, learns it at its next heartbeat (409) and stops.")
+    .params(&[TASK_ID])
+    .replies(&[
+        Reply::json(200, "Cancelled (or cancelled already)", "task"),
+        Reply::problem(404, "No task has this id"),
+        Reply::problem(409, "The task is done or failed already"),
+    ]);
+
+pub async fn cancel(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    Path(id): Path<String>,
+) -> Result<Json<Value>, ApiError> {
+    let id = parse_task_id(&id)?;
+    let mut tx = state.db.begin_write().await?;
+    let cancelled = tasks::cancel(&mut tx, &id, &format!("cancelled by {}", caller.name)).await?;
+    tx.commit().await?;
+    if let Some(row) = cancelled {
+        state.feed.committed();
+        return Ok(Json(row.to_json()));
+    }
+    let row = find(&state, &id).await?;
+    match row.state.as_str() {
+        "cancelled" => Ok(Json(row.to_json())),
+        ended => Err(ApiError::Conflict(format!(
+            "task {id} is {ended} already (trial {}); only queued or claimed tasks can be \
+             cancelled — ask for a new task to undo it",
+            row.trial.as_deref().unwrap_or("none")
+        ))),
+    }
+}
+
+/// Task ids are UUIDs, stored in their lower-case hyphenated form.
+pub fn parse_task_id(raw: &str) -> Result<String, ApiError> {
+    Uuid::parse_str(raw).map(|id| id.hyphenated().to_string()).map_err(|error| {
+        ApiError::BadRequest(format!("{raw:?} is not a task id (a UUID): {error}"))
+    })
+}
+
+/// The task with this id, or 404.
+async fn find(state: &AppState, id: &str) -> Result<TaskRow, ApiError> {
+    let id = parse_task_id(id)?;
+    tasks::get(state.db.reader(), &id)
+        .await?
+        .ok_or_else(|| ApiError::NotFound(format!("no task has the id {id}")))
+}
+
+/// The caller's robot id and its class (a robot token is always bound to a robot).
+async fn robot_and_class(
+    state: &AppState,
+    caller: &Principal,
+) -> Result<(String, Option<String>), ApiError> {
+    let robot = caller.robot.clone().ok_or_else(|| {
+        ApiError::Internal(anyhow::anyhow!("a robot credential without a robot id"))
+    })?;
+    let class = robots::get(state.db.reader(), &robot).await?.and_then(|r| r.class);
+    Ok((robot, class))
+}
+
+/// A robot sees the tasks it holds or held, and the queued ones it could claim.
+async fn may_see(state: &AppState, robot: &str, row: &TaskRow) -> Result<bool, ApiError> {
+    if row.claimed_by.as_deref() == Some(robot) || row.holders().iter().any(|h| h == robot) {
+        return Ok(true);
+    }
+    if row.state != "queued" || row.robot.as_deref().is_some_and(|r| r != robot) {
+        return Ok(false);
+    }
+    let class = robots::get(state.db.reader(), robot).await?.and_then(|r| r.class);
+    if row.class.is_some() && row.class != class {
+        return Ok(false);
+    }
+    Ok(availability::why_not(state, &row.epc, &row.action, robot).await?.is_none())
+}

@@ -1,0 +1,93 @@
+//! Caretakers ask, robots do, in a real browser: a caretaker asks by keyboard alone for "off"
+//! on the rocker switch, a real `pps-robot work` process does it, and the tag's page shows the
+//! trial without a reload; the tasks and robots pages say what happened.
+
+use std::process::{Child, Command, Stdio};
+
+use pps_tests::browser::PHONE;
+use pps_tests::fixtures::{self, ADA_SWITCH};
+use pps_tests::{Browser, Registry, workspace_bin};
+
+const PASSWORD: &str = "correct horse battery";
+const TAB: &str = "\u{E004}";
+const ENTER: &str = "\u{E007}";
+
+/// A `pps-robot work` process, ended when dropped, and its state directory.
+struct Robot {
+    child: Child,
+    _state: tempfile::TempDir,
+}
+
+impl Drop for Robot {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+#[tokio::test]
+async fn a_caretaker_asks_by_keyboard_and_sees_the_robots_trial_arrive() {
+    let registry = Registry::start();
+    registry.add_user("anna", "caretaker", PASSWORD);
+    let token = fixtures::robot(&registry, "el-e-1", "el-e").await;
+    let state = tempfile::tempdir().unwrap();
+    let child = Command::new(workspace_bin("pps-robot"))
+        .args(["work", "--server", &registry.url, "--robot", "el-e-1", "--idle-exit", "120"])
+        .arg("--state")
+        .arg(state.path())
+        .env("PPS_TOKEN", &token)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("pps-robot work starts");
+    let _robot = Robot { child, _state: state };
+
+    let browser = Browser::start().await;
+    let page = browser.session(&registry.url, PHONE).await;
+    page.log_in("anna", PASSWORD).await;
+    page.open(&format!("/#/tags/{ADA_SWITCH}")).await;
+    page.wait_for_text("#trials", "No robot has tried this tag yet").await;
+
+    // Keyboard alone: Enter on the button, the form takes focus, Tab to the note, type, Tab to
+    // the Ask button, Enter.
+    let ask = page.wait_for("button.ask[data-action=off]").await;
+    assert_eq!(ask.text().await.unwrap(), "Ask a robot to turn it off");
+    ask.send_keys(ENTER).await.unwrap();
+    page.wait_until("the form to take focus", "document.activeElement?.name === 'who'").await;
+    let active = || async { page.client.active_element().await.unwrap() };
+    active().await.send_keys(TAB).await.unwrap();
+    page.wait_until("the note to take focus", "document.activeElement?.name === 'note'").await;
+    active().await.send_keys(&format!("the hallway, please{TAB}")).await.unwrap();
+    page.wait_until(
+        "the Ask button to take focus",
+        "document.activeElement?.textContent === 'Ask'",
+    )
+    .await;
+    active().await.send_keys(ENTER).await.unwrap();
+    page.wait_for_text(".ask-control .status", "Asked").await;
+
+    // The robot does it; the page learns of it from the live feed, with no reload.
+    page.eval("window.notReloaded = true; return null").await;
+    page.wait_for_text("#trials table.trials", "off").await;
+    page.wait_for_text(".ask-control .status", "done by el-e-1").await;
+    assert_eq!(page.eval("return window.notReloaded === true").await, true, "no reload");
+    let tasks = registry.get("/api/v1/tasks").await;
+    let task = &tasks["items"][0];
+    assert_eq!(task["state"], "done");
+    assert_eq!(task["note"], "the hallway, please");
+    assert_eq!(task["created_by"], "anna");
+    let trial = registry.get(&format!("/api/v1/trials/{}", task["trial"].as_str().unwrap())).await;
+    assert_eq!(trial["measurements"]["task"], task["id"]);
+    assert!(page.fits_width().await, "the tag page fits a phone");
+
+    page.click("a[data-nav=tasks]").await;
+    let row = page.wait_for_text("table.tasks tr", "done by el-e-1").await;
+    assert!(row.text().await.unwrap().contains("the hallway, please"));
+    page.wait_for(&format!("table.tasks a[data-trial='{}']", task["trial"].as_str().unwrap()))
+        .await;
+    assert!(page.fits_width().await, "the tasks page fits a phone");
+    page.click("a[data-nav=robots]").await;
+    page.wait_for_text("table.robots", "nothing asked").await;
+    page.close().await;
+}

@@ -1,0 +1,72 @@
+// What caretakers asked robots to do, newest first, with how each stands (live), who holds it,
+// the trial it ended in, and a way to cancel what has not ended.
+
+import { getAll, query, seg } from '../api.js';
+import { cell, debounce, h, replace, uid } from '../dom.js';
+import { subscribe } from '../events.js';
+import { when } from '../format.js';
+import { cancel, forWhom, stateOf } from '../tasks.js';
+
+const STATES = [['', 'All'], ['queued', 'Waiting'], ['claimed', 'Being done'], ['done', 'Done'], ['failed', 'Failed'], ['cancelled', 'Cancelled']];
+
+function taskRow(task, names, refresh) {
+  const name = names.get(task.epc) ?? task.epc;
+  const { text, badge } = stateOf(task);
+  const status = h('p', { class: 'status', role: 'status' });
+  const open = ['queued', 'claimed'].includes(task.state);
+  const stop = open
+    ? h('button', {
+      type: 'button', class: 'small danger', 'aria-label': `Cancel “${task.action}” on ${name}`,
+      on: {
+        click: async (event) => {
+          event.target.disabled = true;
+          try {
+            await cancel(task);
+            refresh();
+          } catch (error) {
+            status.classList.add('bad');
+            status.textContent = error.message;
+            event.target.disabled = false;
+          }
+        },
+      },
+    }, 'Cancel')
+    : null;
+  return h('tr', { dataset: { task: task.id, state: task.state } },
+    cell('Asked', when(task.created_at), h('div', { class: 'muted' }, `by ${task.created_by}`)),
+    cell('Tag', h('a', { href: `#/tags/${seg(task.epc)}` }, name)),
+    cell('Action', h('strong', {}, task.action), task.note ? h('div', { class: 'muted' }, task.note) : null),
+    cell('For', forWhom(task)),
+    cell('State', h('span', { class: ['badge', badge] }, text), task.reason ? h('div', { class: 'muted' }, task.reason) : null,
+      task.attempts > 1 ? h('div', { class: 'muted' }, `attempt ${task.attempts}`) : null),
+    cell('Trial', task.trial ? h('a', { href: `#/tags/${seg(task.epc)}`, dataset: { trial: task.trial } }, `trial ${task.trial.slice(0, 8)}`) : '—'),
+    cell('Cancel', stop, status));
+}
+
+export async function render(main) {
+  document.title = 'Tasks · PPS-tag registry';
+  const filterId = uid('state');
+  const filter = h('select', { id: filterId }, STATES.map(([value, label]) => h('option', { value }, label)));
+  const box = h('div', { class: 'card' }, h('p', { class: 'muted' }, 'Loading…'));
+  const tags = await getAll('/api/v1/tags?limit=500', { maxPages: 4 }).catch(() => []);
+  const names = new Map(tags.map((t) => [t.epc, t.properties?.name || t.epc]));
+  const show = async () => {
+    const tasks = await getAll(`/api/v1/tasks${query({ state: filter.value, limit: 200 })}`, { maxPages: 1 });
+    replace(box, tasks.length === 0
+      ? h('p', { class: 'muted' }, filter.value ? 'No tasks in this state.' : 'Nobody asked for anything yet. On a tag\'s page, “Ask a robot to …” does.')
+      : h('table', { class: 'tasks responsive' },
+        h('caption', { class: 'visually-hidden' }, 'Tasks, newest first'),
+        h('thead', {}, h('tr', {}, ['Asked', 'Tag', 'Action', 'For', 'State', 'Trial', 'Cancel'].map((label) => h('th', { scope: 'col' }, label)))),
+        h('tbody', {}, tasks.map((task) => taskRow(task, names, () => show().catch(() => {}))))));
+  };
+  filter.addEventListener('change', () => show().catch(() => {}));
+  replace(main, h('h1', {}, 'Tasks'),
+    h('p', { class: 'help' }, 'What caretakers asked robots to do. A robot that stops answering loses its task after its lease, and another robot takes it; after three such attempts the task fails.'),
+    h('div', { class: 'field narrow' }, h('label', { for: filterId }, 'Show'), filter),
+    box);
+  await show();
+  const changed = debounce(() => show().catch(() => {}), 150);
+  return subscribe((type) => {
+    if (type === 'task_changed') changed();
+  });
+}

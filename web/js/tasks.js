@@ -1,0 +1,38 @@
+// Tasks in words, shared by the pages that show them: what is asked, for whom, how it stands.
+
+import { request } from './api.js';
+
+/** What asking for `action` reads as on a button: "Ask a robot to turn it off". */
+export function askLabel(action) {
+  const words = { on: 'turn it on', off: 'turn it off', open: 'open it', close: 'close it', drop: 'drop something in' };
+  return `Ask a robot to ${words[action] ?? `do “${action}”`}`;
+}
+
+/** Who may do the task. */
+export function forWhom(task) {
+  if (task.robot) return `robot ${task.robot}`;
+  if (task.class) return `any ${task.class} robot`;
+  return 'any robot that can';
+}
+
+/** The task's state as a short phrase and the badge class it is shown with. */
+export function stateOf(task) {
+  switch (task.state) {
+    case 'queued': return { text: task.attempts > 0 ? 'waiting for another robot' : 'waiting for a robot', badge: 'warn' };
+    case 'claimed': return { text: `being done by ${task.claimed_by}`, badge: 'warn' };
+    case 'done': return { text: `done by ${task.claimed_by}`, badge: 'good' };
+    case 'failed': return { text: 'failed', badge: 'bad' };
+    case 'cancelled': return { text: 'cancelled', badge: '' };
+    default: return { text: String(task.state), badge: '' };
+  }
+}
+
+/** Asks the registry for a task; returns the stored task. */
+export async function askFor(body) {
+  return (await request('POST', '/api/v1/tasks', { body })).data;
+}
+
+/** Cancels a task; returns it as it is now. */
+export async function cancel(task) {
+  return (await request('POST', `/api/v1/tasks/${encodeURIComponent(task.id)}/cancel`)).data;
+}
