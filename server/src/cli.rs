@@ -157,7 +157,7 @@ enum TokenCommand {
     /// Mint a token and print it alone on stdout (it is shown only this once).
     Create {
         #[arg(long, value_enum)]
-        role: RoleArg,
+        role: Role,
         /// Who or what holds it; for a robot token, the robot id it is bound to.
         #[arg(long)]
         name: String,
@@ -181,44 +181,23 @@ enum UserCommand {
     Add {
         /// The login name: letters a-z, digits, '.', '_' and '-'.
         name: String,
-        #[arg(long, value_enum)]
-        role: UserRoleArg,
+        /// caretaker or admin.
+        #[arg(long, value_parser = user_role)]
+        role: Role,
         /// Read the password from the first line of stdin instead of prompting for it.
         #[arg(long)]
         password_stdin: bool,
     },
 }
 
-/// The roles a person can have; robots use tokens.
-#[derive(Debug, Clone, Copy, ValueEnum)]
-enum UserRoleArg {
-    Caretaker,
-    Admin,
-}
-
-impl From<UserRoleArg> for Role {
-    fn from(role: UserRoleArg) -> Self {
-        match role {
-            UserRoleArg::Caretaker => Role::Caretaker,
-            UserRoleArg::Admin => Role::Admin,
-        }
-    }
-}
-
-#[derive(Debug, Clone, Copy, ValueEnum)]
-enum RoleArg {
-    Admin,
-    Caretaker,
-    Robot,
-}
-
-impl From<RoleArg> for Role {
-    fn from(role: RoleArg) -> Self {
-        match role {
-            RoleArg::Admin => Role::Admin,
-            RoleArg::Caretaker => Role::Caretaker,
-            RoleArg::Robot => Role::Robot,
-        }
+/// A person's role: caretaker or admin; robots use tokens.
+fn user_role(text: &str) -> Result<Role, String> {
+    match Role::parse(text) {
+        Some(role @ (Role::Caretaker | Role::Admin)) => Ok(role),
+        Some(Role::Robot) => Err("people are caretakers or admins; a robot uses a token \
+             (`pps-server token create --role robot --name ROBOT-ID`)"
+            .into()),
+        None => Err(format!("{text:?} is not a role; one of caretaker, admin")),
     }
 }
 
@@ -369,7 +348,6 @@ async fn export_trials(db: &Db, args: ExportTrialsArgs) -> anyhow::Result<()> {
 async fn token(db: &Db, command: TokenCommand) -> anyhow::Result<()> {
     match command {
         TokenCommand::Create { role, name, expires_in } => {
-            let role = Role::from(role);
             if let Some(problem) = tokens::name_problem(role, &name) {
                 bail!("--name: {problem}");
             }
@@ -433,7 +411,7 @@ async fn user(db: &Db, command: UserCommand) -> anyhow::Result<()> {
         bail!("{problem}");
     }
     let hash = password::hash(&password)?;
-    match users::create(db, &name, role.into(), &hash).await {
+    match users::create(db, &name, role, &hash).await {
         Ok(user) => {
             eprintln!(
                 "user {} ({}) created; they can log in at the registry's web page",
