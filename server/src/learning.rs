@@ -12,7 +12,7 @@ use serde_json::{Value, json};
 use sqlx::SqliteConnection;
 
 use crate::store::events::{self, EventKind};
-use crate::store::learning;
+use crate::store::{learning, trials};
 
 /// A parameter a behaviour's trials measure: its learned value is the median of the
 /// measurement over the class's successful trials.
@@ -169,17 +169,13 @@ fn within_bounds(entry: &Value, pointer: &str, value: f64) -> bool {
 }
 
 async fn update_reliability(conn: &mut SqliteConnection, group: &TrialGroup) -> sqlx::Result<()> {
-    let (attempts, successes): (i64, i64) = sqlx::query_as(
-        "select count(*), coalesce(sum(success), 0) from (
-             select coalesce(confirmed, outcome = 'success') as success from trials
-             where epc = ? and action = ? and coalesce(robot_class, '') = ?
-             order by seq desc limit ?)",
+    let (attempts, successes) = trials::latest_outcomes(
+        &mut *conn,
+        &group.epc,
+        &group.action,
+        &group.robot_class,
+        RELIABILITY_WINDOW,
     )
-    .bind(&group.epc)
-    .bind(&group.action)
-    .bind(&group.robot_class)
-    .bind(RELIABILITY_WINDOW)
-    .fetch_one(&mut *conn)
     .await?;
     let reliable = is_reliable(attempts, successes);
     let before = learning::reliability(conn, &group.epc, &group.action, &group.robot_class).await?;

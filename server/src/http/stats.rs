@@ -12,7 +12,7 @@ use crate::http::extract::EpcPath;
 use crate::http::openapi::{Doc, Param, Reply};
 use crate::learning::{RELIABILITY_WINDOW, is_reliable};
 use crate::state::AppState;
-use crate::store::{learning, tags};
+use crate::store::{learning, tags, trials};
 
 /// One action as done by one robot class.
 #[derive(Debug, Serialize)]
@@ -76,18 +76,9 @@ pub async fn get(
     for (action, class, attempts, detected, confirmed, confirmed_ok, agreeing, successes, last) in
         rows
     {
-        let (recent, recent_ok): (i64, i64) = sqlx::query_as(
-            "select count(*), coalesce(sum(coalesce(confirmed, outcome = 'success')), 0) from (
-                 select confirmed, outcome from trials
-                 where epc = ? and action = ? and coalesce(robot_class, '') = ?
-                 order by seq desc limit ?)",
-        )
-        .bind(epc.as_hex())
-        .bind(&action)
-        .bind(&class)
-        .bind(RELIABILITY_WINDOW)
-        .fetch_one(pool)
-        .await?;
+        let (recent, recent_ok) =
+            trials::latest_outcomes(pool, epc.as_hex(), &action, &class, RELIABILITY_WINDOW)
+                .await?;
         // Only what the action's own behaviour uses: `close` has nothing of `pull_open`'s.
         let behavior = tag.entry.pointer(&format!("/actions/{}", escape(&action)));
         let prefix = behavior.and_then(Value::as_str).map(|b| format!("/behaviors/{}/", escape(b)));

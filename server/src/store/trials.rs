@@ -1,7 +1,31 @@
 //! Trials in the database: one row per attempt, in the order the registry received them.
 
 use serde_json::{Value, json};
-use sqlx::{SqliteConnection, SqlitePool};
+use sqlx::{SqliteConnection, SqliteExecutor, SqlitePool};
+
+/// How a group (a tag, an action, a robot class; `""` for robots without one) went lately: the
+/// attempts and successes among its latest `window` trials, a person's verdict overriding the
+/// detector's. What *reliable* is judged on.
+pub async fn latest_outcomes(
+    executor: impl SqliteExecutor<'_>,
+    epc: &str,
+    action: &str,
+    robot_class: &str,
+    window: i64,
+) -> sqlx::Result<(i64, i64)> {
+    sqlx::query_as(
+        "select count(*), coalesce(sum(success), 0) from (
+             select coalesce(confirmed, outcome = 'success') as success from trials
+             where epc = ? and action = ? and coalesce(robot_class, '') = ?
+             order by seq desc limit ?)",
+    )
+    .bind(epc)
+    .bind(action)
+    .bind(robot_class)
+    .bind(window)
+    .fetch_one(executor)
+    .await
+}
 
 /// A stored trial.
 #[derive(Debug, Clone, PartialEq, sqlx::FromRow)]
