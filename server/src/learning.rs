@@ -12,7 +12,7 @@ use serde_json::{Value, json};
 use sqlx::SqliteConnection;
 
 use crate::store::events::{self, EventKind};
-use crate::store::{learning, trials};
+use crate::store::{learning, tags, trials};
 
 /// A parameter a behaviour's trials measure: its learned value is the median of the
 /// measurement over the class's successful trials.
@@ -92,11 +92,7 @@ pub async fn update(
 }
 
 async fn update_learned(conn: &mut SqliteConnection, group: &TrialGroup) -> sqlx::Result<bool> {
-    let entry: Option<String> = sqlx::query_scalar("select entry from tags where epc = ?")
-        .bind(&group.epc)
-        .fetch_optional(&mut *conn)
-        .await?;
-    let Some(entry) = entry.and_then(|e| serde_json::from_str::<Value>(&e).ok()) else {
+    let Some(entry) = tags::entry_of(conn, &group.epc).await? else {
         return Ok(false);
     };
     let kind = entry
@@ -106,24 +102,15 @@ async fn update_learned(conn: &mut SqliteConnection, group: &TrialGroup) -> sqlx
     let mut changed = false;
     for rule in RULES.iter().filter(|rule| Some(rule.behavior) == kind) {
         let path = format!("$.measurements.{}", rule.measurement);
-        // A trial the person said failed teaches nothing, whatever the detector thought.
-        // Only numbers count; JSON has one number type, so 1 and 1.0 both are one.
-        let values: Vec<Option<f64>> = sqlx::query_scalar(
-            "select case when json_type(body, ?1) in ('integer', 'real')
-                         then cast(json_extract(body, ?1) as real) end
-             from trials
-             where epc = ?2 and coalesce(robot_class, '') = ?3 and behavior = ?4
-               and outcome = 'success' and coalesce(confirmed, 1) = 1
-             order by seq desc limit ?5",
+        let values = trials::latest_measurements(
+            conn,
+            &path,
+            &group.epc,
+            &group.robot_class,
+            &group.behavior,
+            LEARNING_WINDOW,
         )
-        .bind(&path)
-        .bind(&group.epc)
-        .bind(&group.robot_class)
-        .bind(&group.behavior)
-        .bind(LEARNING_WINDOW)
-        .fetch_all(&mut *conn)
         .await?;
-        let values: Vec<f64> = values.into_iter().flatten().collect();
         let pointer = format!("/behaviors/{}/{}", escape(&group.behavior), rule.parameter);
         let learned = median(values.clone()).map(|value| (value * 1000.0).round() / 1000.0);
         changed |= match learned.filter(|&value| within_bounds(&entry, &pointer, value)) {

@@ -159,11 +159,7 @@ async fn commit(db: &Db, batch: &[&CheckedTrial]) -> sqlx::Result<Stored> {
             tags.insert(&trial.epc, check_tag(&mut tx, &trial.epc).await?);
         }
         if !classes.contains_key(trial.robot.as_str()) {
-            let class = sqlx::query_scalar("select class from robots where id = ?")
-                .bind(&trial.robot)
-                .fetch_optional(&mut *tx)
-                .await?
-                .flatten();
+            let class = store::robots::class_of(&mut tx, &trial.robot).await?;
             classes.insert(&trial.robot, class);
         }
     }
@@ -280,11 +276,7 @@ async fn check_tag(
     conn: &mut sqlx::SqliteConnection,
     epc: &str,
 ) -> sqlx::Result<Result<(), TagProblem>> {
-    let archived: Option<bool> = sqlx::query_scalar("select archived from tags where epc = ?")
-        .bind(epc)
-        .fetch_optional(&mut *conn)
-        .await?;
-    Ok(match archived {
+    Ok(match store::tags::is_archived(conn, epc).await? {
         Some(false) => Ok(()),
         Some(true) => Err(TagProblem::Archived),
         None => match store::retired::successor(conn, epc).await? {

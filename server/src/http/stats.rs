@@ -36,8 +36,6 @@ pub struct GroupStats {
     learned: Map<String, Value>,
 }
 
-type Row = (String, String, i64, i64, i64, i64, i64, i64, Option<String>);
-
 pub const GET: Doc = Doc::new("getTagStats", "How a tag's actions have gone, per robot class")
     .describe(
         "Attempts, detected and confirmed successes, agreement between the robots' detectors \
@@ -57,20 +55,7 @@ pub async fn get(
     let Some(tag) = tags::get(pool, &epc).await? else {
         return Err(ApiError::NotFound(format!("no tag has the EPC {epc}")));
     };
-    let rows: Vec<Row> = sqlx::query_as(
-        "select action, coalesce(robot_class, ''), count(*),
-                sum(outcome = 'success'),
-                sum(confirmed is not null),
-                sum(confirmed = 1),
-                sum(confirmed is not null and confirmed = (outcome = 'success')),
-                sum(coalesce(confirmed, outcome = 'success')),
-                max(started_at)
-         from trials where epc = ? group by action, coalesce(robot_class, '')
-         order by action, coalesce(robot_class, '')",
-    )
-    .bind(epc.as_hex())
-    .fetch_all(pool)
-    .await?;
+    let rows = trials::group_counts(pool, epc.as_hex()).await?;
     let learned = learning::learned_all(pool, epc.as_hex()).await?;
     let mut groups = Vec::with_capacity(rows.len());
     for (action, class, attempts, detected, confirmed, confirmed_ok, agreeing, successes, last) in

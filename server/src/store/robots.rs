@@ -64,6 +64,15 @@ pub async fn get(pool: &SqlitePool, id: &str) -> sqlx::Result<Option<StoredRobot
 
 /// Registered robots and robots that only have a token, in id order after `after`.
 #[tracing::instrument(skip_all)]
+/// The class of the robot `id`; `None` when it has none or is not registered.
+pub async fn class_of(conn: &mut sqlx::SqliteConnection, id: &str) -> sqlx::Result<Option<String>> {
+    let class: Option<Option<String>> = sqlx::query_scalar("select class from robots where id = ?")
+        .bind(id)
+        .fetch_optional(conn)
+        .await?;
+    Ok(class.flatten())
+}
+
 pub async fn list(
     pool: &SqlitePool,
     after: Option<&str>,

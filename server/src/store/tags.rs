@@ -227,6 +227,30 @@ pub async fn archive_in(
     Ok(stored)
 }
 
+/// The stored entry of the tag with this EPC (hex), `None` when there is none or it does not
+/// parse; for the trial writer's learning, inside its transaction.
+pub async fn entry_of(
+    conn: &mut sqlx::SqliteConnection,
+    epc: &str,
+) -> sqlx::Result<Option<serde_json::Value>> {
+    let entry: Option<String> = sqlx::query_scalar("select entry from tags where epc = ?")
+        .bind(epc)
+        .fetch_optional(conn)
+        .await?;
+    Ok(entry.and_then(|e| serde_json::from_str(&e).ok()))
+}
+
+/// Whether the tag with this EPC (hex) is archived; `None` when no tag has it.
+pub async fn is_archived(
+    conn: &mut sqlx::SqliteConnection,
+    epc: &str,
+) -> sqlx::Result<Option<bool>> {
+    sqlx::query_scalar("select archived from tags where epc = ?")
+        .bind(epc)
+        .fetch_optional(conn)
+        .await
+}
+
 pub async fn current(
     tx: &mut sqlx::SqliteConnection,
     epc: &Epc,

@@ -27,6 +27,59 @@ pub async fn latest_outcomes(
     .await
 }
 
+/// One action as done by one robot class (`""` for robots without one), counted over all its
+/// trials: (action, class, attempts, detected successes, verdicts, confirmed successes, verdicts
+/// agreeing with the detector, successes by verdict else detector, last start).
+pub type GroupCounts = (String, String, i64, i64, i64, i64, i64, i64, Option<String>);
+
+/// Every action × robot class group of a tag's trials, ordered by action and class.
+pub async fn group_counts(pool: &SqlitePool, epc: &str) -> sqlx::Result<Vec<GroupCounts>> {
+    sqlx::query_as(
+        "select action, coalesce(robot_class, ''), count(*),
+                sum(outcome = 'success'),
+                sum(confirmed is not null),
+                sum(confirmed = 1),
+                sum(confirmed is not null and confirmed = (outcome = 'success')),
+                sum(coalesce(confirmed, outcome = 'success')),
+                max(started_at)
+         from trials where epc = ? group by action, coalesce(robot_class, '')
+         order by action, coalesce(robot_class, '')",
+    )
+    .bind(epc)
+    .fetch_all(pool)
+    .await
+}
+
+/// The numbers at `path` (a JSON path into the trial body, e.g. `$.measurements.displacement`)
+/// of a group's latest `window` successful trials of `behavior`, newest first. A trial the person
+/// said failed counts as none, whatever the detector thought; only numbers count, and JSON has
+/// one number type, so 1 and 1.0 both are one.
+pub async fn latest_measurements(
+    conn: &mut SqliteConnection,
+    path: &str,
+    epc: &str,
+    robot_class: &str,
+    behavior: &str,
+    window: i64,
+) -> sqlx::Result<Vec<f64>> {
+    let values: Vec<Option<f64>> = sqlx::query_scalar(
+        "select case when json_type(body, ?1) in ('integer', 'real')
+                     then cast(json_extract(body, ?1) as real) end
+         from trials
+         where epc = ?2 and coalesce(robot_class, '') = ?3 and behavior = ?4
+           and outcome = 'success' and coalesce(confirmed, 1) = 1
+         order by seq desc limit ?5",
+    )
+    .bind(path)
+    .bind(epc)
+    .bind(robot_class)
+    .bind(behavior)
+    .bind(window)
+    .fetch_all(conn)
+    .await?;
+    Ok(values.into_iter().flatten().collect())
+}
+
 /// A stored trial.
 #[derive(Debug, Clone, PartialEq, sqlx::FromRow)]
 pub struct TrialRow {
