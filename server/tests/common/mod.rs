@@ -237,3 +237,11 @@ impl SseClient {
 pub fn route_table(server: &TestServer) -> Vec<pps_server::RouteSpec> {
     pps_server::router_with_routes(AppState::new(server.db.clone())).1
 }
+
+/// Every behaviour a robot of the paper can run.
+pub const ALL: &[&str] = &["light_switch", "pull_back", "push", "pull_lamp", "drop"];
+
+/// A fresh trial id, as a robot chooses one.
+pub fn uuid() -> String {
+    uuid::Uuid::new_v4().to_string()
+}
