@@ -5,7 +5,7 @@
 //! queued up while the previous commit was being flushed and commits them together, so many
 //! robots writing at once share each fsync instead of paying one each.
 
-use std::collections::{BTreeSet, HashMap};
+use std::collections::{BTreeSet, HashMap, HashSet};
 use std::sync::Arc;
 
 use serde_json::{Value, json};
@@ -198,10 +198,11 @@ async fn commit(db: &Db, batch: &[&CheckedTrial]) -> sqlx::Result<Stored> {
     let mut results = Vec::with_capacity(batch.len());
     let mut recorded: Vec<(i64, &CheckedTrial)> = Vec::new();
     let mut groups = BTreeSet::new();
-    for (i, (trial, body)) in batch.iter().zip(bodies).enumerate() {
+    let mut seen: HashSet<&str> = HashSet::with_capacity(batch.len());
+    for (trial, body) in batch.iter().zip(bodies) {
         let robot_class = classes[trial.robot.as_str()].clone();
         // Only the first of duplicate ids in a batch was inserted; the rest are retries.
-        let first = batch[..i].iter().all(|earlier| earlier.id != trial.id);
+        let first = seen.insert(trial.id.as_str());
         let Some(&seq) = seqs.get(&trial.id).filter(|_| first) else {
             results.push(match trials::find(&mut tx, &trial.id).await? {
                 Some(existing)
