@@ -16,17 +16,14 @@ use pps_ros2::camera::camera_info;
 use pps_ros2::cloud::cloud_message;
 use pps_ros2::dds::DdsSettings;
 use pps_ros2::image::image_message;
-use pps_ros2::msg::RosMessage;
 use pps_ros2::msg::builtin::{Header, Time};
 use pps_ros2::msg::geometry::{Point, PointStamped, PoseStamped, Transform, TransformStamped};
 use pps_ros2::msg::pps::{TagEntry, TagRead, TagReads};
 use pps_ros2::msg::sensor::{CameraInfo, Image, PointCloud2};
 use pps_ros2::msg::tf::TfMessage;
 use pps_ros2::qos;
-use pps_ros2::topics::ros_name;
-use ros2_client::{
-    MessageTypeName, Node, NodeName, NodeOptions, Publisher, QosProfile, Subscription,
-};
+use pps_ros2::topics::{advertise, subscribe};
+use ros2_client::{NodeName, NodeOptions, Publisher, Subscription};
 
 /// Publishes a simulated robot's sensors over ROS 2 and prints what pps-ros2 answers.
 #[derive(Debug, Parser)]
@@ -48,26 +45,6 @@ struct Args {
     /// The only interface DDS uses, e.g. 127.0.0.1 inside the namespace.
     #[arg(long, env = "PPS_DDS_INTERFACE")]
     dds_interface: Option<std::net::IpAddr>,
-}
-
-fn advertise<M: RosMessage>(
-    node: &mut Node,
-    topic: &str,
-    qos: QosProfile,
-) -> anyhow::Result<Publisher<M>> {
-    let name = ros_name(topic).map_err(anyhow::Error::msg)?;
-    let t = node.create_topic(&name, MessageTypeName::new(M::PACKAGE, M::NAME), &qos)?;
-    Ok(node.create_publisher(&t, Some(qos))?)
-}
-
-fn subscribe<M: RosMessage>(
-    node: &mut Node,
-    topic: &str,
-    qos: QosProfile,
-) -> anyhow::Result<Subscription<M>> {
-    let name = ros_name(topic).map_err(anyhow::Error::msg)?;
-    let t = node.create_topic(&name, MessageTypeName::new(M::PACKAGE, M::NAME), &qos)?;
-    Ok(node.create_subscription(&t, Some(qos))?)
 }
 
 fn header(frame: &str) -> Header {

@@ -4,15 +4,13 @@
 
 use std::sync::{Arc, Mutex};
 
-use anyhow::Context as _;
 use pps_robot::navigation::ApproachParams;
 use pps_robot::registry::RegistryClient;
-use ros2_client::{Context, MessageTypeName, Node, NodeName, NodeOptions, Publisher, QosProfile};
+use ros2_client::{Context, NodeName, NodeOptions, Publisher};
 
 use crate::click::{SensorState, answer_click};
 use crate::cloud::point_cloud;
 use crate::input_error::InputError;
-use crate::msg::RosMessage;
 use crate::msg::geometry::{PointStamped, PoseStamped};
 use crate::msg::pps::{TagEntry, TagReads, Trial};
 use crate::msg::sensor::{CameraInfo, Image, PointCloud2};
@@ -21,7 +19,7 @@ use crate::msg::visualization::{HumbleMarkerArray, MarkerArray, MarkerLayout};
 use crate::once::LogOnce;
 use crate::qos;
 use crate::registry_bridge::{entry_for_round, hal_reads, record_trial};
-use crate::topics::{Topics, ros_name};
+use crate::topics::{Topics, advertise, subscribe};
 
 /// How the node is set up.
 #[derive(Debug, Clone)]
@@ -66,32 +64,6 @@ struct Shared {
     once: LogOnce,
     outputs: Outputs,
     registry: RegistryClient,
-}
-
-fn subscribe<M: RosMessage>(
-    node: &mut Node,
-    topic: &str,
-    qos: QosProfile,
-) -> anyhow::Result<ros2_client::Subscription<M>> {
-    let name = ros_name(topic).map_err(anyhow::Error::msg)?;
-    let topic_handle = node
-        .create_topic(&name, MessageTypeName::new(M::PACKAGE, M::NAME), &qos)
-        .with_context(|| format!("cannot create topic {topic}"))?;
-    node.create_subscription(&topic_handle, Some(qos))
-        .with_context(|| format!("cannot subscribe to {topic}"))
-}
-
-fn advertise<M: RosMessage>(
-    node: &mut Node,
-    topic: &str,
-    qos: QosProfile,
-) -> anyhow::Result<Publisher<M>> {
-    let name = ros_name(topic).map_err(anyhow::Error::msg)?;
-    let topic_handle = node
-        .create_topic(&name, MessageTypeName::new(M::PACKAGE, M::NAME), &qos)
-        .with_context(|| format!("cannot create topic {topic}"))?;
-    node.create_publisher(&topic_handle, Some(qos))
-        .with_context(|| format!("cannot publish on {topic}"))
 }
 
 /// Logs a message that could not be published; a full queue or a vanished reader is the

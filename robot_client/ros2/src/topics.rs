@@ -1,7 +1,10 @@
 //! The node's topic names (DESIGN §7) and their remapping, ROS-style `FROM:=TO`, so a robot
 //! whose camera publishes on `/head_camera/rgb/image_raw` needs no relay.
 
-use ros2_client::Name;
+use anyhow::Context as _;
+use ros2_client::{MessageTypeName, Name, Node, Publisher, QosProfile};
+
+use crate::msg::RosMessage;
 
 /// Every topic the node uses, after remapping.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -87,6 +90,34 @@ pub fn ros_name(topic: &str) -> Result<Name, String> {
     let (namespace, base) = topic.rsplit_once('/').unwrap_or(("", topic));
     let namespace = if namespace.is_empty() { "/" } else { namespace };
     Name::new(namespace, base).map_err(|e| format!("`{topic}` is not a ROS 2 topic name: {e}"))
+}
+
+/// Subscribes `node` to `topic` (a ROS name such as `/points`) with `qos`.
+pub fn subscribe<M: RosMessage>(
+    node: &mut Node,
+    topic: &str,
+    qos: QosProfile,
+) -> anyhow::Result<ros2_client::Subscription<M>> {
+    let name = ros_name(topic).map_err(anyhow::Error::msg)?;
+    let topic_handle = node
+        .create_topic(&name, MessageTypeName::new(M::PACKAGE, M::NAME), &qos)
+        .with_context(|| format!("cannot create topic {topic}"))?;
+    node.create_subscription(&topic_handle, Some(qos))
+        .with_context(|| format!("cannot subscribe to {topic}"))
+}
+
+/// Creates `node`'s publisher on `topic` (a ROS name such as `/goal_pose`) with `qos`.
+pub fn advertise<M: RosMessage>(
+    node: &mut Node,
+    topic: &str,
+    qos: QosProfile,
+) -> anyhow::Result<Publisher<M>> {
+    let name = ros_name(topic).map_err(anyhow::Error::msg)?;
+    let topic_handle = node
+        .create_topic(&name, MessageTypeName::new(M::PACKAGE, M::NAME), &qos)
+        .with_context(|| format!("cannot create topic {topic}"))?;
+    node.create_publisher(&topic_handle, Some(qos))
+        .with_context(|| format!("cannot publish on {topic}"))
 }
 
 #[cfg(test)]
