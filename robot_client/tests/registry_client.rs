@@ -150,7 +150,7 @@ async fn the_registry_is_reached_over_https_with_the_lans_own_certificate_author
     };
     let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
     let url = format!("https://localhost:{}", listener.local_addr().unwrap().port());
-    let db = Db::open(plain.db_path()).await.unwrap();
+    let db = Db::open_file(plain.db_path()).await.unwrap();
     let options = pps_server::ServeOptions { transport, ..Default::default() };
     tokio::spawn(pps_server::serve_with(
         listener,

@@ -174,7 +174,7 @@ async fn prepare(
     db_path: &Path,
     tag_count: usize,
 ) -> anyhow::Result<(Vec<String>, Vec<(String, String)>)> {
-    let db = Db::open(db_path).await?;
+    let db = Db::open_file(db_path).await?;
     let seeds = seed::seed_entries()?;
     let mut entries = Vec::with_capacity(tag_count);
     for n in 0..tag_count {

@@ -60,7 +60,7 @@ fn main() -> anyhow::Result<()> {
 
 async fn run(options: &Options) -> anyhow::Result<()> {
     let dir = tempfile::tempdir()?;
-    let db = Db::open(&dir.path().join("pps.db")).await?;
+    let db = Db::open_file(&dir.path().join("pps.db")).await?;
     seed::seed_if_empty(&db).await?;
     let admin = tokens::create(&db, Role::Admin, "bench", None).await?.token;
     let mut fleet = Vec::new();

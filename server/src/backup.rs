@@ -25,14 +25,17 @@ pub struct BackupReport {
     pub trials: i64,
 }
 
-/// Copies `db`, opened from the file `source`, to `to`; an existing `to` is replaced only when
-/// `replace` is set, and never when it is `source` itself.
-pub async fn backup(
-    db: &Db,
-    source: &Path,
-    to: &Path,
-    replace: bool,
-) -> anyhow::Result<BackupReport> {
+/// What `backup` says on a PostgreSQL registry, whose own tools take consistent copies.
+pub const NOT_ON_POSTGRES: &str = "backup copies a SQLite registry file; a PostgreSQL registry \
+    is backed up with PostgreSQL's own pg_dump (for example pg_dump --format=custom --file \
+    pps.dump DB), which takes one consistent snapshot while the replicas serve";
+
+/// Copies the SQLite file `db` was opened from to `to`; an existing `to` is replaced only when
+/// `replace` is set, and never when it is the database itself.
+pub async fn backup(db: &Db, to: &Path, replace: bool) -> anyhow::Result<BackupReport> {
+    let Some(source) = db.location().file() else {
+        bail!("{NOT_ON_POSTGRES}");
+    };
     if same_file(source, to) {
         bail!("{} is the database itself; back it up to another file", to.display());
     }
@@ -55,7 +58,7 @@ pub async fn backup(
         .with_context(|| format!("cannot create the backup {}", partial.display()))?;
     let copied = async {
         let mut conn = db.reader().acquire().await?;
-        sqlx::query("vacuum into ?")
+        sqlx::query("vacuum into $1")
             .bind(partial.to_string_lossy().as_ref())
             .execute(&mut *conn)
             .await

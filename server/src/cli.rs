@@ -8,7 +8,7 @@ use anyhow::{Context, bail};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::auth::{Role, UserName, password};
-use crate::db::Db;
+use crate::db::{Db, Location};
 use crate::export::TrialFormat;
 use crate::retention::Age;
 use crate::state::AppState;
@@ -20,9 +20,10 @@ use crate::{ServeOptions, backup, clock, export, retention, seed};
 #[derive(Debug, Parser)]
 #[command(name = "pps-server", version, about = "The PPS-tag registry for mobile robots")]
 pub struct Cli {
-    /// The SQLite database file; created and migrated when missing.
+    /// The database: a SQLite file (created and migrated when missing), or
+    /// postgres://USER[:PASSWORD]@HOST[:PORT]/DB for one shared by several replicas.
     #[arg(long, global = true, env = "PPS_DB", default_value = "pps.db")]
-    db: PathBuf,
+    db: Location,
     #[command(subcommand)]
     command: Command,
 }
@@ -228,11 +229,14 @@ fn parse_duration(text: &str) -> Result<time::Duration, String> {
 
 impl Cli {
     pub async fn run(self) -> anyhow::Result<()> {
+        if matches!(self.command, Command::Backup { .. }) && self.db.file().is_none() {
+            bail!("{}", backup::NOT_ON_POSTGRES);
+        }
         let db = Db::open(&self.db).await?;
         let result = match self.command {
             Command::Serve(args) => serve(db.clone(), args).await,
             Command::Migrate => {
-                eprintln!("database {} is migrated", self.db.display());
+                eprintln!("database {} is migrated", self.db);
                 Ok(())
             }
             Command::Seed => {
@@ -259,7 +263,7 @@ impl Cli {
                 }
             }
             Command::Import { file } => import(&db, file).await,
-            Command::Backup { to, force } => backup(&db, &self.db, &to, force).await,
+            Command::Backup { to, force } => backup(&db, &to, force).await,
             Command::ExportTrials(args) => export_trials(&db, args).await,
             Command::ThinForces { older_than } => thin_forces(&db, older_than).await,
             Command::Token(command) => token(&db, command).await,
@@ -292,8 +296,8 @@ async fn import(db: &Db, file: Option<PathBuf>) -> anyhow::Result<()> {
     Ok(())
 }
 
-async fn backup(db: &Db, source: &Path, to: &Path, force: bool) -> anyhow::Result<()> {
-    let report = backup::backup(db, source, to, force).await?;
+async fn backup(db: &Db, to: &Path, force: bool) -> anyhow::Result<()> {
+    let report = backup::backup(db, to, force).await?;
     eprintln!(
         "backed up {} tags and {} trials to {} ({} bytes, integrity ok)",
         report.tags,

@@ -7,7 +7,7 @@
 use std::io::Write;
 
 use serde_json::Value;
-use sqlx::SqlitePool;
+use sqlx::AnyPool;
 
 use crate::retention::ForceSummary;
 use crate::store::trials::{self, TrialFilter, TrialRow};
@@ -48,7 +48,7 @@ pub const CSV_COLUMNS: [&str; 16] = [
 
 /// Writes every trial `filter` selects to `out`, oldest first; returns how many.
 pub async fn export_trials(
-    pool: &SqlitePool,
+    pool: &AnyPool,
     filter: &TrialFilter,
     format: TrialFormat,
     out: impl Write,

@@ -9,7 +9,7 @@ use std::collections::BTreeSet;
 use pps_schema::BehaviorKind;
 use pps_schema::pointer::escape;
 use serde_json::{Value, json};
-use sqlx::SqliteConnection;
+use sqlx::AnyConnection;
 
 use crate::store::events::{self, EventKind};
 use crate::store::{learning, tags, trials};
@@ -76,7 +76,7 @@ pub fn teaches(measurements: Option<&Value>) -> bool {
 
 /// Recomputes what the groups' trials teach; returns the EPCs whose learned values changed.
 pub async fn update(
-    conn: &mut SqliteConnection,
+    conn: &mut AnyConnection,
     groups: &BTreeSet<TrialGroup>,
 ) -> sqlx::Result<BTreeSet<String>> {
     let mut changed = BTreeSet::new();
@@ -91,7 +91,7 @@ pub async fn update(
     Ok(changed)
 }
 
-async fn update_learned(conn: &mut SqliteConnection, group: &TrialGroup) -> sqlx::Result<bool> {
+async fn update_learned(conn: &mut AnyConnection, group: &TrialGroup) -> sqlx::Result<bool> {
     let Some(entry) = tags::entry_of(conn, &group.epc).await? else {
         return Ok(false);
     };
@@ -155,7 +155,7 @@ fn within_bounds(entry: &Value, pointer: &str, value: f64) -> bool {
     fits
 }
 
-async fn update_reliability(conn: &mut SqliteConnection, group: &TrialGroup) -> sqlx::Result<()> {
+async fn update_reliability(conn: &mut AnyConnection, group: &TrialGroup) -> sqlx::Result<()> {
     let (attempts, successes) = trials::latest_outcomes(
         &mut *conn,
         &group.epc,

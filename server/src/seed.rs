@@ -1,7 +1,9 @@
 //! The paper's five devices, embedded from `seed_tags/`, and the JSON import/export of tags.
 
 use anyhow::{Context, bail};
+use pps_schema::Epc;
 use serde_json::Value;
+use sqlx::AnyConnection;
 
 use crate::db::Db;
 use crate::entry;
@@ -37,12 +39,18 @@ pub fn seed_entries() -> anyhow::Result<Vec<Value>> {
         .collect()
 }
 
-/// Seeds the registry when it holds no tags at all; returns how many were loaded.
+/// Seeds the registry when it holds no tags at all; returns how many were loaded. The count is
+/// taken under the write lock, so of several replicas starting together on one empty database
+/// exactly one seeds it.
 pub async fn seed_if_empty(db: &Db) -> anyhow::Result<usize> {
-    if tags::count(db.reader()).await? > 0 {
+    let accepted = accept_all(seed_entries()?)?;
+    let mut tx = db.begin_write().await?;
+    if tags::count(&mut *tx).await? > 0 {
         return Ok(0);
     }
-    Ok(import(db, seed_entries()?, SEED_AUTHOR).await?.created)
+    let report = write_all(&mut tx, &accepted, SEED_AUTHOR).await?;
+    tx.commit().await?;
+    Ok(report.created)
 }
 
 /// Loads the seeds again: missing ones are created, changed ones restored to the seed.
@@ -59,6 +67,18 @@ pub async fn export(db: &Db) -> anyhow::Result<Value> {
 /// Imports entries (as exported, or plain entries): all are validated before anything is
 /// written, and all are written in one transaction, so a bad file changes nothing.
 pub async fn import(db: &Db, entries: Vec<Value>, by: &str) -> anyhow::Result<ImportReport> {
+    let accepted = accept_all(entries)?;
+    let mut tx = db.begin_write().await?;
+    let report = write_all(&mut tx, &accepted, by).await?;
+    tx.commit().await?;
+    Ok(report)
+}
+
+/// An entry checked for import: its EPC, the entry, whether it is archived.
+type Accepted = (Epc, Value, bool);
+
+/// Every entry checked, or the first invalid one's problems, listed.
+fn accept_all(entries: Vec<Value>) -> anyhow::Result<Vec<Accepted>> {
     let mut accepted = Vec::with_capacity(entries.len());
     for (index, value) in entries.into_iter().enumerate() {
         let archived = value.get("archived").and_then(Value::as_bool).unwrap_or(false);
@@ -72,10 +92,18 @@ pub async fn import(db: &Db, entries: Vec<Value>, by: &str) -> anyhow::Result<Im
             Err(other) => bail!("entry {index}: {other}"),
         }
     }
+    Ok(accepted)
+}
+
+/// Writes checked entries inside the caller's transaction, leaving unchanged ones alone.
+async fn write_all(
+    tx: &mut AnyConnection,
+    accepted: &[Accepted],
+    by: &str,
+) -> anyhow::Result<ImportReport> {
     let mut report = ImportReport::default();
-    let mut tx = db.begin_write().await?;
-    for (epc, entry, archived) in &accepted {
-        let current = tags::current(&mut tx, epc).await?;
+    for (epc, entry, archived) in accepted {
+        let current = tags::current(tx, epc).await?;
         let unchanged =
             current.as_ref().is_some_and(|tag| tag.entry == *entry && tag.archived == *archived);
         if unchanged {
@@ -84,12 +112,11 @@ pub async fn import(db: &Db, entries: Vec<Value>, by: &str) -> anyhow::Result<Im
         }
         let condition =
             if current.is_some() { WriteCondition::AnyRevision } else { WriteCondition::Absent };
-        let (_, created) = tags::put_in(&mut tx, epc, entry, &condition, by).await?;
+        let (_, created) = tags::put_in(tx, epc, entry, &condition, by).await?;
         if *archived {
-            tags::archive_in(&mut tx, epc, &WriteCondition::AnyRevision, by).await?;
+            tags::archive_in(tx, epc, &WriteCondition::AnyRevision, by).await?;
         }
         if created { report.created += 1 } else { report.replaced += 1 }
     }
-    tx.commit().await?;
     Ok(report)
 }

@@ -170,28 +170,31 @@ async fn commit(db: &Db, batch: &[&CheckedTrial]) -> sqlx::Result<Stored> {
         (0..batch.len()).filter(|&i| tags[batch[i].epc.as_str()].is_ok()).collect();
     let mut seqs: HashMap<String, i64> = HashMap::new();
     for chunk in insertable.chunks(INSERT_CHUNK) {
-        let mut insert = sqlx::QueryBuilder::<sqlx::Sqlite>::new(
-            "insert into trials (id, epc, robot, robot_class, action, behavior, outcome, \
-             confirmed, started_at, finished_at, received_at, body) ",
-        );
-        insert.push_values(chunk, |mut row, &i| {
-            let trial = batch[i];
-            row.push_bind(&trial.id)
-                .push_bind(&trial.epc)
-                .push_bind(&trial.robot)
-                .push_bind(classes[trial.robot.as_str()].as_deref())
-                .push_bind(&trial.action)
-                .push_bind(&trial.behavior)
-                .push_bind(&trial.outcome)
-                .push_bind(trial.confirmed)
-                .push_bind(&trial.started_at)
-                .push_bind(&trial.finished_at)
-                .push_bind(&received_at)
-                .push_bind(&bodies[i]);
-        });
         // A second trial with the same id in one batch meets the first: it is a retry then.
-        insert.push(" on conflict (id) do nothing returning id, seq");
-        let inserted: Vec<(String, i64)> = insert.build_query_as().fetch_all(&mut *tx).await?;
+        let statement = format!(
+            "insert into trials (id, epc, robot, robot_class, action, behavior, outcome, \
+             confirmed, started_at, finished_at, received_at, body) values {} \
+             on conflict (id) do nothing returning id, seq",
+            store::placeholders::rows(chunk.len(), 12)
+        );
+        let mut insert = sqlx::query_as(sqlx::AssertSqlSafe(statement));
+        for &i in chunk {
+            let trial = batch[i];
+            insert = insert
+                .bind(&trial.id)
+                .bind(&trial.epc)
+                .bind(&trial.robot)
+                .bind(classes[trial.robot.as_str()].as_deref())
+                .bind(&trial.action)
+                .bind(&trial.behavior)
+                .bind(&trial.outcome)
+                .bind(trial.confirmed.map(i64::from))
+                .bind(&trial.started_at)
+                .bind(&trial.finished_at)
+                .bind(&received_at)
+                .bind(&bodies[i]);
+        }
+        let inserted: Vec<(String, i64)> = insert.fetch_all(&mut *tx).await?;
         seqs.extend(inserted);
     }
 
@@ -274,7 +277,7 @@ impl TagProblem {
 
 /// A trial must name a registered, active tag.
 async fn check_tag(
-    conn: &mut sqlx::SqliteConnection,
+    conn: &mut sqlx::AnyConnection,
     epc: &str,
 ) -> sqlx::Result<Result<(), TagProblem>> {
     Ok(match store::tags::is_archived(conn, epc).await? {

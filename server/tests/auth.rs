@@ -66,7 +66,7 @@ async fn robots_read_tags_but_cannot_edit_them() {
 async fn tokens_from_another_process_work_at_once_and_revocation_bites_within_seconds() {
     let server = TestServer::start().await;
     // A second handle on the file stands in for the CLI process.
-    let cli = pps_server::Db::open(&server.db_path).await.unwrap();
+    let cli = pps_server::Db::open(&server.location).await.unwrap();
     let minted = tokens::create(&cli, Role::Caretaker, "late nurse", None).await.unwrap();
     assert_eq!(server.get("/api/v1/tags", &minted.token).await.status(), StatusCode::OK);
     assert!(tokens::revoke(&cli, &minted.record.id).await.unwrap());
@@ -95,7 +95,7 @@ async fn tokens_from_another_process_work_at_once_and_revocation_bites_within_se
 
 #[tokio::test]
 async fn only_hashes_of_tokens_are_stored() {
-    let server = TestServer::start().await;
+    let server = TestServer::start_sqlite().await;
     let token = server.token(Role::Caretaker, "nurse").await;
     server.db.close().await;
     let bytes = std::fs::read(&server.db_path).unwrap();

@@ -5,7 +5,6 @@
 mod common;
 
 use std::collections::{HashMap, HashSet};
-use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -24,8 +23,8 @@ use uuid::Uuid;
 const BIN: &str = env!("CARGO_BIN_EXE_pps-server");
 
 /// Runs the binary on `db` without blocking the runtime the in-process server runs on.
-async fn cli(db: &Path, args: &[&str]) -> Output {
-    let (db, args): (PathBuf, Vec<String>) =
+async fn cli(db: &str, args: &[&str]) -> Output {
+    let (db, args): (String, Vec<String>) =
         (db.to_owned(), args.iter().map(|a| a.to_string()).collect());
     tokio::task::spawn_blocking(move || {
         Command::new(BIN).args(&args).arg("--db").arg(&db).output().unwrap()
@@ -105,7 +104,7 @@ async fn robot_writes(
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 4)]
 async fn a_backup_taken_while_robots_write_holds_every_acknowledged_trial_and_restores() {
-    let server = Arc::new(TestServer::start().await);
+    let server = Arc::new(TestServer::start_sqlite().await);
     let acknowledged = Acknowledged { trials: Arc::default(), count: watch::Sender::new(0) };
     let (stop, stopping) = watch::channel(false);
     let mut robots = Vec::new();
@@ -127,7 +126,7 @@ async fn a_backup_taken_while_robots_write_holds_every_acknowledged_trial_and_re
     let backup = dir.path().join("pps-backup.db");
     let before = acknowledged.ids();
     let started = Instant::now();
-    let output = cli(&server.db_path, &["backup", "--to", backup.to_str().unwrap()]).await;
+    let output = cli(&server.db_arg(), &["backup", "--to", backup.to_str().unwrap()]).await;
     let took = started.elapsed();
     let (_, said) = succeeded(&output);
     let during = *acknowledged.count.borrow();
@@ -171,7 +170,7 @@ async fn a_backup_taken_while_robots_write_holds_every_acknowledged_trial_and_re
     let restored_dir = tempfile::tempdir().unwrap();
     let restored_path = restored_dir.path().join("pps.db");
     std::fs::copy(&backup, &restored_path).unwrap();
-    let restored = Db::open(&restored_path).await.unwrap();
+    let restored = Db::open_file(&restored_path).await.unwrap();
     let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
     let restored_url = format!("http://{}", listener.local_addr().unwrap());
     tokio::spawn(pps_server::serve(listener, AppState::new(restored), std::future::pending()));
@@ -196,14 +195,14 @@ async fn a_backup_taken_while_robots_write_holds_every_acknowledged_trial_and_re
         all_items(&server, &server.url, "/api/v1/tags").await
     );
 
-    let again = cli(&server.db_path, &["backup", "--to", backup.to_str().unwrap()]).await;
+    let again = cli(&server.db_arg(), &["backup", "--to", backup.to_str().unwrap()]).await;
     assert!(!again.status.success());
     assert!(String::from_utf8_lossy(&again.stderr).contains("--force"));
     succeeded(
-        &cli(&server.db_path, &["backup", "--to", backup.to_str().unwrap(), "--force"]).await,
+        &cli(&server.db_arg(), &["backup", "--to", backup.to_str().unwrap(), "--force"]).await,
     );
     let live = server.db_path.to_str().unwrap();
-    let onto_itself = cli(&server.db_path, &["backup", "--to", live, "--force"]).await;
+    let onto_itself = cli(&server.db_arg(), &["backup", "--to", live, "--force"]).await;
     assert!(!onto_itself.status.success(), "a backup never overwrites the live database");
 }
 
@@ -263,7 +262,7 @@ async fn export_trials_filters_as_the_api_does_in_json_lines_and_csv() {
             args.extend([format!("--{key}"), value.to_string()]);
         }
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
-        let (out, said) = succeeded(&cli(&server.db_path, &args).await);
+        let (out, said) = succeeded(&cli(&server.db_arg(), &args).await);
         let exported: Vec<Value> = out.lines().map(|l| serde_json::from_str(l).unwrap()).collect();
         assert_eq!(exported, expected, "export-trials {filter:?}");
         assert!(said.contains(&format!("exported {} trials", expected.len())), "{said}");
@@ -274,7 +273,7 @@ async fn export_trials_filters_as_the_api_does_in_json_lines_and_csv() {
     let file = server.db_path.with_file_name("trials.csv");
     let args =
         ["export-trials", "--format", "csv", "--robot", "el-e-1", "--out", file.to_str().unwrap()];
-    succeeded(&cli(&server.db_path, &args).await);
+    succeeded(&cli(&server.db_arg(), &args).await);
     let mut csv = csv::Reader::from_path(&file).unwrap();
     assert_eq!(csv.headers().unwrap(), &csv::StringRecord::from(CSV_COLUMNS.to_vec()));
     let rows: Vec<HashMap<String, String>> = csv.deserialize().map(Result::unwrap).collect();
@@ -294,7 +293,7 @@ async fn export_trials_filters_as_the_api_does_in_json_lines_and_csv() {
     }
 
     let bad =
-        cli(&server.db_path, &["export-trials", "--format", "csv", "--outcome", "maybe"]).await;
+        cli(&server.db_arg(), &["export-trials", "--format", "csv", "--outcome", "maybe"]).await;
     assert!(!bad.status.success());
     assert!(String::from_utf8_lossy(&bad.stderr).contains("outcome is one of"));
 }
@@ -320,7 +319,7 @@ async fn export_trials_pages_through_more_trials_than_one_query_returns() {
     for writer in writers {
         writer.await.unwrap();
     }
-    let (out, _) = succeeded(&cli(&server.db_path, &["export-trials", "--format", "jsonl"]).await);
+    let (out, _) = succeeded(&cli(&server.db_arg(), &["export-trials", "--format", "jsonl"]).await);
     let seqs: Vec<i64> = out
         .lines()
         .map(|l| serde_json::from_str::<Value>(l).unwrap()["seq"].as_i64().unwrap())
@@ -335,7 +334,7 @@ async fn backdate(db: &Db, ids: &[&str], days: i64) {
         pps_server::clock::format(time::OffsetDateTime::now_utc() - time::Duration::days(days));
     let mut tx = db.begin_write().await.unwrap();
     for id in ids {
-        sqlx::query("update trials set received_at = ? where id = ?")
+        sqlx::query("update trials set received_at = $1 where id = $2")
             .bind(&then)
             .bind(id)
             .execute(&mut *tx)
@@ -366,7 +365,7 @@ async fn thinning_keeps_every_trial_with_a_summary_and_old_trials_can_still_be_r
     backdate(&server.db, &[&old[0].0, &old[1].0], 40).await;
     let recent_before = server.get_json(&format!("/api/v1/trials/{}", recent.0)).await;
 
-    let (_, said) = succeeded(&cli(&server.db_path, &["thin-forces", "--older-than", "30"]).await);
+    let (_, said) = succeeded(&cli(&server.db_arg(), &["thin-forces", "--older-than", "30"]).await);
     assert!(said.contains("thinned 2 trials") && said.contains("600 force samples"), "{said}");
 
     assert_eq!(
@@ -402,9 +401,9 @@ async fn thinning_keeps_every_trial_with_a_summary_and_old_trials_can_still_be_r
     let conflict = server.put(&format!("/api/v1/trials/{id}"), &token, &altered, None).await;
     assert_eq!(conflict.status(), StatusCode::CONFLICT, "a different trial under the same id");
 
-    let (_, said) = succeeded(&cli(&server.db_path, &["thin-forces", "--older-than", "30"]).await);
+    let (_, said) = succeeded(&cli(&server.db_arg(), &["thin-forces", "--older-than", "30"]).await);
     assert!(said.contains("thinned 0 trials"), "thinning twice changes nothing: {said}");
-    let (csv, _) = succeeded(&cli(&server.db_path, &["export-trials", "--format", "csv"]).await);
+    let (csv, _) = succeeded(&cli(&server.db_arg(), &["export-trials", "--format", "csv"]).await);
     let mut rows = csv::Reader::from_reader(csv.as_bytes());
     let rows: Vec<HashMap<String, String>> = rows.deserialize().map(Result::unwrap).collect();
     assert!(rows.iter().all(|row| row["force_samples"] == "300" && row["peak_force_n"] == "6"));
@@ -421,7 +420,7 @@ async fn a_server_with_thinning_on_thins_old_trials_when_it_starts() {
     assert_eq!(response.status(), StatusCode::CREATED);
     backdate(&server.db, &[&id], 8).await;
 
-    let db = Db::open(&server.db_path).await.unwrap();
+    let db = Db::open(&server.location).await.unwrap();
     let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
     let options =
         ServeOptions { thin_forces_after: Some(Age { days: 7 }), ..ServeOptions::default() };

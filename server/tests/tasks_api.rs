@@ -436,7 +436,7 @@ fn registry_in_own_runtime(
     let thread = std::thread::spawn(move || {
         let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().unwrap();
         runtime.block_on(async move {
-            let db = pps_server::Db::open(&path).await.unwrap();
+            let db = pps_server::Db::open_file(&path).await.unwrap();
             let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
             url_sender.send(format!("http://{}", listener.local_addr().unwrap())).unwrap();
             let state = pps_server::AppState::new(db).with_task_lease(lease);
@@ -453,7 +453,7 @@ fn registry_in_own_runtime(
 async fn queued_and_claimed_tasks_and_their_leases_survive_a_restart() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("pps.db");
-    let db = pps_server::Db::open(&path).await.unwrap();
+    let db = pps_server::Db::open_file(&path).await.unwrap();
     pps_server::seed::seed_if_empty(&db).await.unwrap();
     let mint = |role, name: &'static str| {
         let db = db.clone();

@@ -31,7 +31,7 @@ struct Served {
 impl Served {
     async fn start(transport: Transport) -> Self {
         let dir = tempfile::tempdir().unwrap();
-        let db = Db::open(&dir.path().join("pps.db")).await.unwrap();
+        let db = Db::open_file(&dir.path().join("pps.db")).await.unwrap();
         let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
         let address = listener.local_addr().unwrap();
         let (stop, stopping) = tokio::sync::oneshot::channel::<()>();
@@ -184,7 +184,7 @@ async fn shutdown_ends_change_feed_streams_and_idle_connections_and_returns() {
 
 /// An admin token in the served registry's database.
 async fn mint_admin(served: &Served) -> String {
-    let db = Db::open(&served._dir.path().join("pps.db")).await.unwrap();
+    let db = Db::open_file(&served._dir.path().join("pps.db")).await.unwrap();
     let token =
         pps_server::store::tokens::create(&db, pps_server::auth::Role::Admin, "test admin", None)
             .await

@@ -376,7 +376,7 @@ async fn admins_manage_users_and_a_deleted_user_is_logged_out() {
 
 #[tokio::test]
 async fn passwords_and_session_secrets_are_stored_only_as_hashes() {
-    let server = TestServer::start().await;
+    let server = TestServer::start_sqlite().await;
     add_user(&server, "anna", Role::Caretaker).await;
     let response = login_response(&server, "anna", PASSWORD).await;
     let set_cookie = response.headers()[SET_COOKIE].to_str().unwrap().to_owned();
@@ -449,7 +449,7 @@ fn the_cli_adds_users_from_stdin_and_an_admin_user_counts_as_the_first_admin() {
     // The password from stdin, without its line ending, is the one that logs in.
     let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().unwrap();
     let hash = runtime.block_on(async {
-        let db = pps_server::Db::open(&db).await.unwrap();
+        let db = pps_server::Db::open_file(&db).await.unwrap();
         let found =
             users::find_with_hash(db.reader(), &UserName::parse("anna").unwrap()).await.unwrap();
         db.close().await;

@@ -167,7 +167,7 @@ async fn a_killed_registry_loses_no_acknowledged_trial_and_outboxes_deliver_the_
 
     // The database after the crash: intact, and holding every acknowledged trial.
     let integrity: String = {
-        let db = pps_server::Db::open(&db).await.unwrap();
+        let db = pps_server::Db::open_file(&db).await.unwrap();
         let check =
             sqlx::query_scalar("pragma integrity_check").fetch_one(db.reader()).await.unwrap();
         db.close().await;

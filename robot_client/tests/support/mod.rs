@@ -26,7 +26,7 @@ impl Registry {
     /// A seeded registry with `el-e-1` (class `el-e`) registered, running.
     pub async fn start(dir: &Path) -> Self {
         let db_path = dir.join("registry.db");
-        let db = Db::open(&db_path).await.unwrap();
+        let db = Db::open_file(&db_path).await.unwrap();
         pps_server::seed::seed_if_empty(&db).await.unwrap();
         let robot = json!({ "id": "el-e-1", "class": "el-e", "name": "EL-E", "capabilities": ["light_switch", "pull_back", "push", "pull_lamp", "drop"], "limits": { "max_force": 15.0 } });
         robots::put(&db, "el-e-1", &robot, "test").await.unwrap();
@@ -49,7 +49,7 @@ impl Registry {
 
     /// Starts the stopped registry again, on the same address and database.
     pub async fn restart(&mut self) {
-        let db = Db::open(&self.db_path).await.unwrap();
+        let db = Db::open_file(&self.db_path).await.unwrap();
         let listener = tokio::net::TcpListener::bind(self.address).await.unwrap();
         self.serve(listener, db);
     }
@@ -70,7 +70,7 @@ impl Registry {
         capabilities: &[&str],
         dir: &Path,
     ) -> RegistryClient {
-        let db = Db::open(&self.db_path).await.unwrap();
+        let db = Db::open_file(&self.db_path).await.unwrap();
         let robot = json!({ "id": id, "class": class, "name": id, "capabilities": capabilities });
         robots::put(&db, id, &robot, "test").await.unwrap();
         let token = tokens::create(&db, Role::Robot, id, None).await.unwrap().token;

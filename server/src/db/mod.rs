@@ -1,100 +1,209 @@
-//! Opening the registry's SQLite database: WAL, full fsync, foreign keys, migrations.
+//! Opening the registry's database, SQLite or PostgreSQL, and the one way to write to it.
 //!
-//! Reads go through a pool; writes through a single connection, so in-process writers queue
-//! on the pool instead of spinning on SQLite's busy handler. A write connection left inside a
+//! Both engines are reached through sqlx's `Any` driver, so the store's SQL is written once;
+//! [`Dialect`] names the few places where the two spell a thing differently.
+//!
+//! Reads go through a pool; writes through a single connection per process, so in-process
+//! writers queue on the pool instead of spinning on a lock. On SQLite a write transaction takes
+//! the file's write lock at its first statement (`begin immediate`); on PostgreSQL it takes one
+//! transaction-scoped advisory lock, so writes from every replica are serialised the same way.
+//! The store's read-then-write steps (revisions, idempotent trials, claims, seeding) and the
+//! change feed's gap-free event order rest on that. A write connection left inside a
 //! transaction (a commit or rollback that failed, as on a full disk) is closed rather than
 //! reused, so the next write starts on a fresh one.
 
+mod dialect;
+mod location;
 mod readiness;
 mod unwritable;
 
-use std::path::{Path, PathBuf};
-use std::str::FromStr;
+use std::path::Path;
 use std::sync::Arc;
 use std::time::Duration;
 
 use anyhow::Context;
-use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode, SqlitePoolOptions, SqliteSynchronous};
-use sqlx::{Connection, Sqlite, SqliteConnection, SqlitePool, Transaction};
+use sqlx::AnyConnection;
+use sqlx::any::AnyPoolOptions;
+use sqlx::{Any, AnyPool, Connection, Transaction};
 
+pub use dialect::Dialect;
+pub use location::Location;
 pub use readiness::NotReady;
 pub use unwritable::Unwritable;
 
-static MIGRATIONS: sqlx::migrate::Migrator = sqlx::migrate!("../migrations");
+static SQLITE_MIGRATIONS: sqlx::migrate::Migrator = sqlx::migrate!("../migrations");
+static POSTGRES_MIGRATIONS: sqlx::migrate::Migrator = sqlx::migrate!("../migrations/postgres");
 
 /// How long a write waits for a lock another process holds before it is answered 503.
 const BUSY_TIMEOUT: Duration = Duration::from_secs(10);
+/// Connections for reads, per process.
+const READERS: u32 = 8;
+/// The advisory lock every PostgreSQL write transaction holds: the registry's write lock.
+const POSTGRES_WRITE_LOCK: i64 = 0x5050_5354_4147; // "PPSTAG"
 
 /// The database handle shared by every request.
 #[derive(Debug, Clone)]
 pub struct Db {
-    read: SqlitePool,
-    write: SqlitePool,
-    path: Arc<PathBuf>,
+    read: AnyPool,
+    write: AnyPool,
+    dialect: Dialect,
+    location: Arc<Location>,
     /// Held by the one readiness probe that may wait for the write lock at a time.
     probe: Arc<tokio::sync::Mutex<()>>,
 }
 
 impl Db {
-    /// Opens (creating if missing) and migrates the database at `path`.
-    pub async fn open(path: &Path) -> anyhow::Result<Self> {
-        create_private(path)?;
-        let options = SqliteConnectOptions::from_str("sqlite:")?
-            .filename(path)
-            .create_if_missing(true)
-            .journal_mode(SqliteJournalMode::Wal)
-            // An acknowledged write must survive power loss: fsync the WAL on every commit.
-            .synchronous(SqliteSynchronous::Full)
-            .foreign_keys(true)
-            // Another process (the CLI, a backup) may hold the write lock for a moment.
-            .busy_timeout(BUSY_TIMEOUT);
-        let write = SqlitePoolOptions::new()
-            .max_connections(1)
-            .after_release(|conn, _| Box::pin(outside_transaction(conn)))
-            // A write dropped half-way (its client went away) may have left a BEGIN running.
-            .before_acquire(|conn, _| Box::pin(outside_transaction(conn)))
-            .connect_with(options.clone())
-            .await
-            .with_context(|| format!("cannot open the database {}", path.display()))?;
-        MIGRATIONS
+    /// Opens (creating a missing SQLite file) and migrates the database at `location`.
+    pub async fn open(location: &Location) -> anyhow::Result<Self> {
+        sqlx::any::install_default_drivers();
+        let (read, write, dialect) = match location {
+            Location::File(path) => open_sqlite(path).await?,
+            Location::Postgres(url) => open_postgres(url, location).await?,
+        };
+        let migrations = match dialect {
+            Dialect::Sqlite => &SQLITE_MIGRATIONS,
+            Dialect::Postgres => &POSTGRES_MIGRATIONS,
+        };
+        // On PostgreSQL the migrator holds an advisory lock of its own, so replicas starting
+        // together migrate once.
+        migrations
             .run(&write)
             .await
-            .with_context(|| format!("cannot migrate the database {}", path.display()))?;
-        let read = SqlitePoolOptions::new()
-            .max_connections(8)
-            .connect_with(options.read_only(true))
-            .await
-            .with_context(|| format!("cannot open the database {} for reading", path.display()))?;
-        Ok(Self { read, write, path: Arc::new(path.to_owned()), probe: Arc::default() })
+            .with_context(|| format!("cannot migrate the database {location}"))?;
+        Ok(Self {
+            read,
+            write,
+            dialect,
+            location: Arc::new(location.clone()),
+            probe: Arc::default(),
+        })
+    }
+
+    /// Opens the SQLite file at `path`; a shorthand for tests and tools.
+    pub async fn open_file(path: &Path) -> anyhow::Result<Self> {
+        Self::open(&Location::File(path.to_owned())).await
     }
 
     /// The pool for queries that only read.
-    pub fn reader(&self) -> &SqlitePool {
+    pub fn reader(&self) -> &AnyPool {
         &self.read
     }
 
-    /// The database file.
-    pub fn path(&self) -> &Path {
-        &self.path
+    /// Which engine this is, for the few statements the two spell differently.
+    pub fn dialect(&self) -> Dialect {
+        self.dialect
     }
 
-    /// Starts a write transaction holding SQLite's write lock from its first statement, so a
-    /// read-then-write transaction cannot fail to upgrade when another process wrote meanwhile.
-    pub async fn begin_write(&self) -> sqlx::Result<Transaction<'static, Sqlite>> {
-        self.write.begin_with("begin immediate").await
+    /// Where the database is.
+    pub fn location(&self) -> &Location {
+        &self.location
     }
 
-    /// Closes both pools, checkpointing the WAL.
+    /// Starts a write transaction holding the registry's write lock from its first statement,
+    /// so a read-then-write transaction sees every write committed before it and none during.
+    pub async fn begin_write(&self) -> sqlx::Result<Transaction<'static, Any>> {
+        match self.dialect {
+            Dialect::Sqlite => self.write.begin_with("begin immediate").await,
+            Dialect::Postgres => {
+                let mut tx = self.write.begin().await?;
+                sqlx::query("select pg_advisory_xact_lock($1)")
+                    .bind(POSTGRES_WRITE_LOCK)
+                    .execute(&mut *tx)
+                    .await?;
+                Ok(tx)
+            }
+        }
+    }
+
+    /// Closes both pools (on SQLite, checkpointing the WAL).
     pub async fn close(&self) {
         self.read.close().await;
         self.write.close().await;
     }
 }
 
+async fn open_sqlite(path: &Path) -> anyhow::Result<(AnyPool, AnyPool, Dialect)> {
+    create_private(path)?;
+    let url = sqlite_url(path)?;
+    let busy = BUSY_TIMEOUT.as_millis();
+    let write = AnyPoolOptions::new()
+        .max_connections(1)
+        .after_connect(move |conn, _| {
+            Box::pin(async move {
+                // An acknowledged write must survive power loss: fsync the WAL on every commit.
+                // Another process (the CLI, a backup) may hold the write lock for a moment.
+                let pragmas = format!(
+                    "pragma journal_mode = wal; pragma synchronous = full; \
+                     pragma foreign_keys = on; pragma busy_timeout = {busy};"
+                );
+                sqlx::raw_sql(sqlx::AssertSqlSafe(pragmas)).execute(conn).await.map(drop)
+            })
+        })
+        .after_release(|conn, _| Box::pin(outside_transaction(conn)))
+        // A write dropped half-way (its client went away) may have left a BEGIN running.
+        .before_acquire(|conn, _| Box::pin(outside_transaction(conn)))
+        .connect(&format!("{url}?mode=rwc"))
+        .await
+        .with_context(|| format!("cannot open the database {}", path.display()))?;
+    let read = AnyPoolOptions::new()
+        .max_connections(READERS)
+        .after_connect(move |conn, _| {
+            Box::pin(async move {
+                let pragmas = format!("pragma foreign_keys = on; pragma busy_timeout = {busy};");
+                sqlx::raw_sql(sqlx::AssertSqlSafe(pragmas)).execute(conn).await.map(drop)
+            })
+        })
+        .connect(&format!("{url}?mode=ro"))
+        .await
+        .with_context(|| format!("cannot open the database {} for reading", path.display()))?;
+    Ok((read, write, Dialect::Sqlite))
+}
+
+async fn open_postgres(
+    url: &str,
+    location: &Location,
+) -> anyhow::Result<(AnyPool, AnyPool, Dialect)> {
+    let write = AnyPoolOptions::new()
+        .max_connections(1)
+        .acquire_timeout(BUSY_TIMEOUT)
+        .after_release(|conn, _| Box::pin(outside_transaction(conn)))
+        .before_acquire(|conn, _| Box::pin(outside_transaction(conn)))
+        .connect(url)
+        .await
+        .with_context(|| format!("cannot connect to the database {location}"))?;
+    let read = AnyPoolOptions::new()
+        .max_connections(READERS)
+        .acquire_timeout(BUSY_TIMEOUT)
+        .connect(url)
+        .await
+        .with_context(|| format!("cannot connect to the database {location} for reading"))?;
+    Ok((read, write, Dialect::Postgres))
+}
+
+/// The `sqlite://` URL of `path`, absolute, with the characters a URL would misread escaped.
+fn sqlite_url(path: &Path) -> anyhow::Result<String> {
+    let absolute = std::path::absolute(path)
+        .with_context(|| format!("cannot resolve the database path {}", path.display()))?;
+    let text = absolute
+        .to_str()
+        .with_context(|| format!("the database path {} is not UTF-8", path.display()))?;
+    let mut escaped = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '%' => escaped.push_str("%25"),
+            '?' => escaped.push_str("%3F"),
+            '#' => escaped.push_str("%23"),
+            ' ' => escaped.push_str("%20"),
+            c => escaped.push(c),
+        }
+    }
+    Ok(format!("sqlite://{escaped}"))
+}
+
 /// Whether a write connection may be used again: not when it is stuck inside a transaction
 /// (a commit and its rollback both failed, as on a full disk), which would make every later
 /// `begin` fail. The pool then closes it and opens a fresh one.
-async fn outside_transaction(conn: &mut SqliteConnection) -> sqlx::Result<bool> {
+async fn outside_transaction(conn: &mut AnyConnection) -> sqlx::Result<bool> {
     if !conn.is_in_transaction() {
         return Ok(true);
     }

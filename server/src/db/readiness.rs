@@ -23,6 +23,8 @@ pub enum NotReady {
     DiskFull { free_bytes: u64 },
     #[error("the database stayed locked for {} s (another process holds its write lock)", LOCK_WAIT.as_secs())]
     Locked,
+    #[error("the database server cannot be reached: {0}")]
+    Unreachable(String),
     #[error("the database cannot be written: {0}")]
     Failing(String),
 }
@@ -30,12 +32,16 @@ pub enum NotReady {
 impl Db {
     /// `Ok` when a write made now should succeed.
     pub async fn readiness(&self) -> Result<(), NotReady> {
-        let directory = self.path.parent().filter(|d| !d.as_os_str().is_empty());
-        let directory = directory.unwrap_or(std::path::Path::new("."));
-        if let Ok(stats) = rustix::fs::statvfs(directory) {
-            let free_bytes = stats.f_bavail.saturating_mul(stats.f_frsize);
-            if free_bytes < MIN_FREE_BYTES {
-                return Err(NotReady::DiskFull { free_bytes });
+        // A PostgreSQL server watches its own disk; it answers a write it cannot take with
+        // disk_full, which the probe below reports.
+        if let Some(file) = self.location.file() {
+            let directory = file.parent().filter(|d| !d.as_os_str().is_empty());
+            let directory = directory.unwrap_or(std::path::Path::new("."));
+            if let Ok(stats) = rustix::fs::statvfs(directory) {
+                let free_bytes = stats.f_bavail.saturating_mul(stats.f_frsize);
+                if free_bytes < MIN_FREE_BYTES {
+                    return Err(NotReady::DiskFull { free_bytes });
+                }
             }
         }
         // Taking the write lock and letting go writes nothing. The probe runs to its end on
@@ -56,6 +62,9 @@ impl Db {
             Ok(Ok(Err(error))) => match super::Unwritable::of(&error) {
                 Some(super::Unwritable::Locked | super::Unwritable::Overloaded) => {
                     Err(NotReady::Locked)
+                }
+                Some(super::Unwritable::Unreachable) => {
+                    Err(NotReady::Unreachable(error.to_string()))
                 }
                 _ => Err(NotReady::Failing(error.to_string())),
             },

@@ -11,6 +11,8 @@ pub enum Unwritable {
     Locked,
     /// Every connection stayed busy for the pool's whole acquire timeout.
     Overloaded,
+    /// The database server cannot be reached (PostgreSQL restarting or failing over).
+    Unreachable,
 }
 
 // SQLite's primary result codes (the low byte of an extended code).
@@ -23,7 +25,12 @@ impl Unwritable {
     pub fn of(error: &sqlx::Error) -> Option<Self> {
         match error {
             sqlx::Error::PoolTimedOut => Some(Self::Overloaded),
+            // PostgreSQL went away (restarting, failing over): the next connection may work.
+            sqlx::Error::Io(_) | sqlx::Error::PoolClosed => Some(Self::Unreachable),
             sqlx::Error::Database(db) => {
+                if let Some(postgres) = db.try_downcast_ref::<sqlx::postgres::PgDatabaseError>() {
+                    return Self::of_sqlstate(postgres.code());
+                }
                 let code: i64 = db.code()?.parse().ok()?;
                 match code & 0xff {
                     SQLITE_FULL => Some(Self::DiskFull),
@@ -31,6 +38,22 @@ impl Unwritable {
                     _ => None,
                 }
             }
+            _ => None,
+        }
+    }
+
+    /// PostgreSQL's SQLSTATE classes that mean "not now".
+    fn of_sqlstate(code: &str) -> Option<Self> {
+        match code {
+            // disk_full, insufficient_resources, out_of_memory
+            "53100" | "53000" | "53200" => Some(Self::DiskFull),
+            // lock_not_available, serialization_failure, deadlock_detected
+            "55P03" | "40001" | "40P01" => Some(Self::Locked),
+            // too_many_connections
+            "53300" => Some(Self::Overloaded),
+            // admin_shutdown, crash_shutdown, cannot_connect_now, connection exceptions
+            "57P01" | "57P02" | "57P03" => Some(Self::Unreachable),
+            _ if code.starts_with("08") => Some(Self::Unreachable),
             _ => None,
         }
     }
@@ -50,6 +73,10 @@ impl Unwritable {
                 "the registry is too busy to take this request; nothing was changed, retry in \
                  a few seconds"
             }
+            Self::Unreachable => {
+                "the registry cannot reach its database right now; nothing was changed, retry \
+                 in a few seconds"
+            }
         }
     }
 
@@ -64,6 +91,9 @@ impl Unwritable {
             Self::Locked => tracing::warn!(%error, "the database stayed locked; answered 503"),
             Self::Overloaded => {
                 tracing::warn!(%error, "no database connection came free; answered 503")
+            }
+            Self::Unreachable => {
+                tracing::warn!(%error, "the database server cannot be reached; answered 503")
             }
         }
     }

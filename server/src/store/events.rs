@@ -2,9 +2,10 @@
 
 use serde::Serialize;
 use serde_json::Value;
-use sqlx::{SqliteConnection, SqlitePool};
+use sqlx::{AnyConnection, AnyPool};
 
 use crate::clock;
+use crate::store::placeholders;
 
 /// What changed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -76,9 +77,9 @@ pub struct Event {
 }
 
 /// Appends an event inside the caller's transaction.
-pub async fn append(tx: &mut SqliteConnection, kind: EventKind, data: Value) -> sqlx::Result<i64> {
+pub async fn append(tx: &mut AnyConnection, kind: EventKind, data: Value) -> sqlx::Result<i64> {
     let id = sqlx::query_scalar(
-        "insert into events (kind, data, created_at) values (?, ?, ?) returning id",
+        "insert into events (kind, data, created_at) values ($1, $2, $3) returning id",
     )
     .bind(kind.as_str())
     .bind(data.to_string())
@@ -90,27 +91,30 @@ pub async fn append(tx: &mut SqliteConnection, kind: EventKind, data: Value) -> 
 
 /// Appends one event of `kind` per item of `data`, in order, with one statement.
 pub async fn append_all(
-    tx: &mut SqliteConnection,
+    tx: &mut AnyConnection,
     kind: EventKind,
     data: &[Value],
 ) -> sqlx::Result<()> {
     let now = clock::now();
     for chunk in data.chunks(500) {
-        let mut insert =
-            sqlx::QueryBuilder::<sqlx::Sqlite>::new("insert into events (kind, data, created_at) ");
-        insert.push_values(chunk, |mut row, item| {
-            row.push_bind(kind.as_str()).push_bind(item.to_string()).push_bind(&now);
-        });
-        insert.build().execute(&mut *tx).await?;
+        let statement = format!(
+            "insert into events (kind, data, created_at) values {}",
+            placeholders::rows(chunk.len(), 3)
+        );
+        let mut insert = sqlx::query(sqlx::AssertSqlSafe(statement));
+        for item in chunk {
+            insert = insert.bind(kind.as_str()).bind(item.to_string()).bind(&now);
+        }
+        insert.execute(&mut *tx).await?;
     }
     Ok(())
 }
 
 /// Events with ids above `after`, oldest first.
 #[tracing::instrument(skip_all)]
-pub async fn after(pool: &SqlitePool, after: i64, limit: u32) -> sqlx::Result<Vec<Event>> {
+pub async fn after(pool: &AnyPool, after: i64, limit: u32) -> sqlx::Result<Vec<Event>> {
     let rows: Vec<(i64, String, String)> =
-        sqlx::query_as("select id, kind, data from events where id > ? order by id limit ?")
+        sqlx::query_as("select id, kind, data from events where id > $1 order by id limit $2")
             .bind(after)
             .bind(i64::from(limit))
             .fetch_all(pool)
@@ -133,8 +137,8 @@ pub const KEEP: i64 = 100_000;
 
 /// Drops events older than the newest [`KEEP`]; returns how many went.
 #[tracing::instrument(skip_all)]
-pub async fn prune(tx: &mut SqliteConnection) -> sqlx::Result<u64> {
-    let done = sqlx::query("delete from events where id <= (select max(id) from events) - ?")
+pub async fn prune(tx: &mut AnyConnection) -> sqlx::Result<u64> {
+    let done = sqlx::query("delete from events where id <= (select max(id) from events) - $1")
         .bind(KEEP)
         .execute(&mut *tx)
         .await?;
@@ -142,6 +146,6 @@ pub async fn prune(tx: &mut SqliteConnection) -> sqlx::Result<u64> {
 }
 
 /// The newest event's id, 0 when there are none.
-pub async fn last_id(pool: &SqlitePool) -> sqlx::Result<i64> {
+pub async fn last_id(pool: &AnyPool) -> sqlx::Result<i64> {
     sqlx::query_scalar("select coalesce(max(id), 0) from events").fetch_one(pool).await
 }

@@ -2,7 +2,9 @@
 
 use serde::Serialize;
 use serde_json::{Value, json};
-use sqlx::{SqliteConnection, SqlitePool};
+use sqlx::{AnyConnection, AnyPool};
+
+use crate::store::columns::Flag;
 
 use crate::store::events::{self, EventKind};
 
@@ -38,19 +40,20 @@ const EPCS_PER_EVENT: usize = 100;
 /// sightings of the same EPC, then drops the oldest beyond [`MAX_ENTRIES`]. One event tells of
 /// the whole flush, however many EPCs it held.
 #[tracing::instrument(skip_all, fields(n = sightings.len()))]
-pub async fn record(tx: &mut SqliteConnection, sightings: &[Sighting]) -> sqlx::Result<usize> {
+pub async fn record(tx: &mut AnyConnection, sightings: &[Sighting]) -> sqlx::Result<usize> {
     let mut recorded = Vec::new();
     for sighting in sightings {
-        let registered: bool =
-            sqlx::query_scalar("select exists (select 1 from tags where epc = ?)")
-                .bind(&sighting.epc)
-                .fetch_one(&mut *tx)
-                .await?;
-        if registered {
+        let registered: Flag = sqlx::query_scalar(
+            "select case when exists (select 1 from tags where epc = $1) then 1 else 0 end",
+        )
+        .bind(&sighting.epc)
+        .fetch_one(&mut *tx)
+        .await?;
+        if registered.into() {
             continue;
         }
         let existing: Option<(String, String, i64)> =
-            sqlx::query_as("select robots, first_seen, count from inbox where epc = ?")
+            sqlx::query_as("select robots, first_seen, count from inbox where epc = $1")
                 .bind(&sighting.epc)
                 .fetch_optional(&mut *tx)
                 .await?;
@@ -67,7 +70,7 @@ pub async fn record(tx: &mut SqliteConnection, sightings: &[Sighting]) -> sqlx::
             None => (sighting.robots.clone(), sighting.first_seen.clone(), sighting.count),
         };
         sqlx::query(
-            "insert into inbox (epc, robots, first_seen, last_seen, count) values (?, ?, ?, ?, ?)
+            "insert into inbox (epc, robots, first_seen, last_seen, count) values ($1, $2, $3, $4, $5)
              on conflict (epc) do update set robots = excluded.robots,
                  last_seen = excluded.last_seen, count = excluded.count",
         )
@@ -90,8 +93,8 @@ pub async fn record(tx: &mut SqliteConnection, sightings: &[Sighting]) -> sqlx::
     };
     events::append(tx, EventKind::InboxChanged, data).await?;
     sqlx::query(
-        "delete from inbox where epc in (
-             select epc from inbox order by last_seen desc, epc limit -1 offset ?)",
+        "delete from inbox where epc not in (
+             select epc from inbox order by last_seen desc, epc limit $1)",
     )
     .bind(MAX_ENTRIES)
     .execute(&mut *tx)
@@ -100,9 +103,9 @@ pub async fn record(tx: &mut SqliteConnection, sightings: &[Sighting]) -> sqlx::
 }
 
 /// Drops an EPC from the inbox once it is registered.
-pub async fn forget(tx: &mut SqliteConnection, epc: &str) -> sqlx::Result<()> {
+pub async fn forget(tx: &mut AnyConnection, epc: &str) -> sqlx::Result<()> {
     let removed =
-        sqlx::query("delete from inbox where epc = ?").bind(epc).execute(&mut *tx).await?;
+        sqlx::query("delete from inbox where epc = $1").bind(epc).execute(&mut *tx).await?;
     if removed.rows_affected() > 0 {
         events::append(tx, EventKind::InboxChanged, json!({ "epc": epc, "registered": true }))
             .await?;
@@ -112,14 +115,10 @@ pub async fn forget(tx: &mut SqliteConnection, epc: &str) -> sqlx::Result<()> {
 
 /// Inbox rows after the EPC `after`, most recently seen first would reorder under writes, so
 /// the list is in EPC order like every other cursor list.
-pub async fn list(
-    pool: &SqlitePool,
-    after: Option<&str>,
-    limit: u32,
-) -> sqlx::Result<Vec<InboxItem>> {
+pub async fn list(pool: &AnyPool, after: Option<&str>, limit: u32) -> sqlx::Result<Vec<InboxItem>> {
     let rows: Vec<(String, String, String, String, i64)> = sqlx::query_as(
         "select epc, robots, first_seen, last_seen, count from inbox
-         where (?1 is null or epc > ?1) order by epc limit ?2",
+         where ($1 is null or epc > $1) order by epc limit $2",
     )
     .bind(after)
     .bind(i64::from(limit))

@@ -1,19 +1,21 @@
 //! What the registry learned from trials: learned parameter values and the last reliability
 //! verdict per action and robot class.
 
-use sqlx::{SqliteConnection, SqlitePool};
+use sqlx::{AnyConnection, AnyPool};
+
+use crate::store::columns::Flag;
 
 use crate::clock;
 use crate::effective::Learned;
 
 /// Learned values for one tag and robot class (`""` for robots without a class).
 pub async fn learned_for(
-    pool: &SqlitePool,
+    pool: &AnyPool,
     epc: &str,
     robot_class: &str,
 ) -> sqlx::Result<Vec<Learned>> {
     let rows: Vec<(String, f64)> = sqlx::query_as(
-        "select pointer, value from learned_values where epc = ? and robot_class = ? order by pointer",
+        "select pointer, value from learned_values where epc = $1 and robot_class = $2 order by pointer",
     )
     .bind(epc)
     .bind(robot_class)
@@ -24,11 +26,11 @@ pub async fn learned_for(
 
 /// Every learned value of a tag: (robot class, pointer, value, trials).
 pub async fn learned_all(
-    pool: &SqlitePool,
+    pool: &AnyPool,
     epc: &str,
 ) -> sqlx::Result<Vec<(String, String, f64, i64)>> {
     sqlx::query_as(
-        "select robot_class, pointer, value, trials from learned_values where epc = ? order by robot_class, pointer",
+        "select robot_class, pointer, value, trials from learned_values where epc = $1 order by robot_class, pointer",
     )
     .bind(epc)
     .fetch_all(pool)
@@ -37,7 +39,7 @@ pub async fn learned_all(
 
 /// Stores a learned value; true when it differs from what was stored.
 pub async fn store_learned(
-    conn: &mut SqliteConnection,
+    conn: &mut AnyConnection,
     epc: &str,
     robot_class: &str,
     pointer: &str,
@@ -45,7 +47,7 @@ pub async fn store_learned(
     trials: i64,
 ) -> sqlx::Result<bool> {
     let previous: Option<f64> = sqlx::query_scalar(
-        "select value from learned_values where epc = ? and robot_class = ? and pointer = ?",
+        "select value from learned_values where epc = $1 and robot_class = $2 and pointer = $3",
     )
     .bind(epc)
     .bind(robot_class)
@@ -54,7 +56,7 @@ pub async fn store_learned(
     .await?;
     sqlx::query(
         "insert into learned_values (epc, robot_class, pointer, value, trials, updated_at)
-         values (?, ?, ?, ?, ?, ?)
+         values ($1, $2, $3, $4, $5, $6)
          on conflict (epc, robot_class, pointer) do update set value = excluded.value,
              trials = excluded.trials, updated_at = excluded.updated_at",
     )
@@ -71,46 +73,48 @@ pub async fn store_learned(
 
 /// Drops a learned value no trial supports any more; true when one was dropped.
 pub async fn forget_learned(
-    conn: &mut SqliteConnection,
+    conn: &mut AnyConnection,
     epc: &str,
     robot_class: &str,
     pointer: &str,
 ) -> sqlx::Result<bool> {
-    let done =
-        sqlx::query("delete from learned_values where epc = ? and robot_class = ? and pointer = ?")
-            .bind(epc)
-            .bind(robot_class)
-            .bind(pointer)
-            .execute(conn)
-            .await?;
+    let done = sqlx::query(
+        "delete from learned_values where epc = $1 and robot_class = $2 and pointer = $3",
+    )
+    .bind(epc)
+    .bind(robot_class)
+    .bind(pointer)
+    .execute(conn)
+    .await?;
     Ok(done.rows_affected() > 0)
 }
 
 /// The stored reliability verdict, if one was ever made.
 pub async fn reliability(
-    conn: &mut SqliteConnection,
+    conn: &mut AnyConnection,
     epc: &str,
     action: &str,
     robot_class: &str,
 ) -> sqlx::Result<Option<bool>> {
-    sqlx::query_scalar(
-        "select reliable from reliability where epc = ? and action = ? and robot_class = ?",
+    let reliable: Option<Flag> = sqlx::query_scalar(
+        "select reliable from reliability where epc = $1 and action = $2 and robot_class = $3",
     )
     .bind(epc)
     .bind(action)
     .bind(robot_class)
     .fetch_optional(conn)
-    .await
+    .await?;
+    Ok(reliable.map(bool::from))
 }
 
 /// Robot classes whose trials made `action` on `epc` reliable (the stats' reliable flag).
 pub async fn reliable_classes(
-    pool: &SqlitePool,
+    pool: &AnyPool,
     epc: &str,
     action: &str,
 ) -> sqlx::Result<Vec<String>> {
     sqlx::query_scalar(
-        "select robot_class from reliability where epc = ? and action = ? and reliable = 1",
+        "select robot_class from reliability where epc = $1 and action = $2 and reliable = 1",
     )
     .bind(epc)
     .bind(action)
@@ -119,30 +123,30 @@ pub async fn reliable_classes(
 }
 
 pub async fn store_reliability(
-    conn: &mut SqliteConnection,
+    conn: &mut AnyConnection,
     epc: &str,
     action: &str,
     robot_class: &str,
     reliable: bool,
 ) -> sqlx::Result<()> {
     sqlx::query(
-        "insert into reliability (epc, action, robot_class, reliable) values (?, ?, ?, ?)
+        "insert into reliability (epc, action, robot_class, reliable) values ($1, $2, $3, $4)
          on conflict (epc, action, robot_class) do update set reliable = excluded.reliable",
     )
     .bind(epc)
     .bind(action)
     .bind(robot_class)
-    .bind(reliable)
+    .bind(i64::from(reliable))
     .execute(conn)
     .await?;
     Ok(())
 }
 
 /// Moves learned values and verdicts of a retagged tag to its new EPC.
-pub async fn move_to(conn: &mut SqliteConnection, from: &str, to: &str) -> sqlx::Result<()> {
+pub async fn move_to(conn: &mut AnyConnection, from: &str, to: &str) -> sqlx::Result<()> {
     for statement in [
-        "update learned_values set epc = ?1 where epc = ?2",
-        "update reliability set epc = ?1 where epc = ?2",
+        "update learned_values set epc = $1 where epc = $2",
+        "update reliability set epc = $1 where epc = $2",
     ] {
         sqlx::query(statement).bind(to).bind(from).execute(&mut *conn).await?;
     }

@@ -1,8 +1,10 @@
 //! The registry's SQL, one module per resource. Nothing above this layer writes SQL.
 
+pub mod columns;
 pub mod events;
 pub mod inbox;
 pub mod learning;
+pub mod placeholders;
 pub mod retired;
 pub mod robots;
 pub mod sessions;

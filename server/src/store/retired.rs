@@ -1,17 +1,17 @@
 //! EPCs retired when a worn tag was replaced, each pointing at its successor.
 
-use sqlx::SqliteConnection;
+use sqlx::AnyConnection;
 
 use crate::clock;
 
 /// The EPC that replaced `epc`, following a chain of replacements to the current one.
-pub async fn successor(conn: &mut SqliteConnection, epc: &str) -> sqlx::Result<Option<String>> {
+pub async fn successor(conn: &mut AnyConnection, epc: &str) -> sqlx::Result<Option<String>> {
     let mut current: Option<String> = None;
     let mut next = epc.to_owned();
     // A chain longer than this would mean a cycle, which retagging never creates.
     for _ in 0..64 {
         let found: Option<String> =
-            sqlx::query_scalar("select successor from retired_epcs where epc = ?")
+            sqlx::query_scalar("select successor from retired_epcs where epc = $1")
                 .bind(&next)
                 .fetch_optional(&mut *conn)
                 .await?;
@@ -27,13 +27,13 @@ pub async fn successor(conn: &mut SqliteConnection, epc: &str) -> sqlx::Result<O
 }
 
 pub async fn retire(
-    conn: &mut SqliteConnection,
+    conn: &mut AnyConnection,
     epc: &str,
     successor: &str,
     by: &str,
 ) -> sqlx::Result<()> {
     sqlx::query(
-        "insert into retired_epcs (epc, successor, retired_at, retired_by) values (?, ?, ?, ?)",
+        "insert into retired_epcs (epc, successor, retired_at, retired_by) values ($1, $2, $3, $4)",
     )
     .bind(epc)
     .bind(successor)

@@ -1,7 +1,9 @@
 //! The robot registry: who the robots are, their class, capabilities and limits.
 
 use serde_json::{Value, json};
-use sqlx::SqlitePool;
+use sqlx::AnyPool;
+
+use crate::store::columns::Flag;
 
 use crate::clock;
 use crate::db::Db;
@@ -45,36 +47,42 @@ fn from_row((id, class, document): Row) -> StoredRobot {
 }
 
 #[tracing::instrument(skip_all)]
-pub async fn get(pool: &SqlitePool, id: &str) -> sqlx::Result<Option<StoredRobot>> {
-    let row: Option<Row> = sqlx::query_as("select id, class, document from robots where id = ?")
+pub async fn get(pool: &AnyPool, id: &str) -> sqlx::Result<Option<StoredRobot>> {
+    let row: Option<Row> = sqlx::query_as("select id, class, document from robots where id = $1")
         .bind(id)
         .fetch_optional(pool)
         .await?;
     if let Some(row) = row {
         return Ok(Some(from_row(row)));
     }
-    let has_token: bool = sqlx::query_scalar(
-        "select exists (select 1 from tokens where robot_id = ? and revoked_at is null)",
+    let has_token: Flag = sqlx::query_scalar(
+        "select case when exists (select 1 from tokens where robot_id = $1 and revoked_at is null)
+                then 1 else 0 end",
     )
     .bind(id)
     .fetch_one(pool)
     .await?;
-    Ok(has_token.then(|| StoredRobot { id: id.to_owned(), class: None, document: None }))
+    Ok(bool::from(has_token).then(|| StoredRobot {
+        id: id.to_owned(),
+        class: None,
+        document: None,
+    }))
+}
+
+/// The class of the robot `id`; `None` when it has none or is not registered.
+pub async fn class_of(conn: &mut sqlx::AnyConnection, id: &str) -> sqlx::Result<Option<String>> {
+    let class: Option<Option<String>> =
+        sqlx::query_scalar("select class from robots where id = $1")
+            .bind(id)
+            .fetch_optional(conn)
+            .await?;
+    Ok(class.flatten())
 }
 
 /// Registered robots and robots that only have a token, in id order after `after`.
 #[tracing::instrument(skip_all)]
-/// The class of the robot `id`; `None` when it has none or is not registered.
-pub async fn class_of(conn: &mut sqlx::SqliteConnection, id: &str) -> sqlx::Result<Option<String>> {
-    let class: Option<Option<String>> = sqlx::query_scalar("select class from robots where id = ?")
-        .bind(id)
-        .fetch_optional(conn)
-        .await?;
-    Ok(class.flatten())
-}
-
 pub async fn list(
-    pool: &SqlitePool,
+    pool: &AnyPool,
     after: Option<&str>,
     limit: u32,
 ) -> sqlx::Result<Vec<StoredRobot>> {
@@ -84,8 +92,8 @@ pub async fn list(
              union
              select distinct robot_id, null, null from tokens
              where robot_id is not null and revoked_at is null
-               and robot_id not in (select id from robots))
-         where (?1 is null or id > ?1) order by id limit ?2",
+               and robot_id not in (select id from robots)) as known
+         where (cast($1 as text) is null or id > $1) order by id limit $2",
     )
     .bind(after)
     .bind(i64::from(limit))
@@ -96,9 +104,9 @@ pub async fn list(
 
 /// The registered robots of one class, in id order.
 #[tracing::instrument(skip_all)]
-pub async fn of_class(pool: &SqlitePool, class: &str) -> sqlx::Result<Vec<StoredRobot>> {
+pub async fn of_class(pool: &AnyPool, class: &str) -> sqlx::Result<Vec<StoredRobot>> {
     let rows: Vec<Row> =
-        sqlx::query_as("select id, class, document from robots where class = ? order by id")
+        sqlx::query_as("select id, class, document from robots where class = $1 order by id")
             .bind(class)
             .fetch_all(pool)
             .await?;
@@ -109,7 +117,7 @@ pub async fn of_class(pool: &SqlitePool, class: &str) -> sqlx::Result<Vec<Stored
 #[tracing::instrument(skip_all, fields(robot = id))]
 pub async fn put(db: &Db, id: &str, document: &Value, by: &str) -> sqlx::Result<RobotWrite> {
     let mut tx = db.begin_write().await?;
-    let current: Option<String> = sqlx::query_scalar("select document from robots where id = ?")
+    let current: Option<String> = sqlx::query_scalar("select document from robots where id = $1")
         .bind(id)
         .fetch_optional(&mut *tx)
         .await?;
@@ -119,7 +127,7 @@ pub async fn put(db: &Db, id: &str, document: &Value, by: &str) -> sqlx::Result<
     }
     let class = document.get("class").and_then(Value::as_str);
     sqlx::query(
-        "insert into robots (id, class, document, updated_at, updated_by) values (?, ?, ?, ?, ?)
+        "insert into robots (id, class, document, updated_at, updated_by) values ($1, $2, $3, $4, $5)
          on conflict (id) do update set class = excluded.class, document = excluded.document,
              updated_at = excluded.updated_at, updated_by = excluded.updated_by",
     )
@@ -136,7 +144,7 @@ pub async fn put(db: &Db, id: &str, document: &Value, by: &str) -> sqlx::Result<
 }
 
 /// When each robot was last seen, as last flushed.
-pub async fn presence(pool: &SqlitePool) -> sqlx::Result<Vec<(String, String)>> {
+pub async fn presence(pool: &AnyPool) -> sqlx::Result<Vec<(String, String)>> {
     sqlx::query_as("select robot, last_seen from robot_presence").fetch_all(pool).await
 }
 
@@ -145,8 +153,10 @@ pub async fn record_presence(db: &Db, seen: &[(String, String)]) -> sqlx::Result
     let mut tx = db.begin_write().await?;
     for (robot, at) in seen {
         sqlx::query(
-            "insert into robot_presence (robot, last_seen) values (?, ?)
-             on conflict (robot) do update set last_seen = max(last_seen, excluded.last_seen)",
+            "insert into robot_presence (robot, last_seen) values ($1, $2)
+             on conflict (robot) do update set last_seen = case
+                 when excluded.last_seen > robot_presence.last_seen then excluded.last_seen
+                 else robot_presence.last_seen end",
         )
         .bind(robot)
         .bind(at)

@@ -2,7 +2,7 @@
 //!
 //! Reading a session writes nothing: the expiry is set at login and never extended.
 
-use sqlx::SqlitePool;
+use sqlx::AnyPool;
 
 use crate::auth::UserName;
 use crate::clock;
@@ -26,9 +26,9 @@ pub async fn create(
 ) -> sqlx::Result<()> {
     let now = clock::now();
     let mut tx = db.begin_write().await?;
-    sqlx::query("delete from sessions where expires_at <= ?").bind(&now).execute(&mut *tx).await?;
+    sqlx::query("delete from sessions where expires_at <= $1").bind(&now).execute(&mut *tx).await?;
     sqlx::query(
-        "insert into sessions (secret_hash, user_name, created_at, expires_at) values (?, ?, ?, ?)",
+        "insert into sessions (secret_hash, user_name, created_at, expires_at) values ($1, $2, $3, $4)",
     )
     .bind(secret_hash)
     .bind(user.as_str())
@@ -41,11 +41,11 @@ pub async fn create(
 
 /// The user of the unexpired session with this secret hash.
 #[tracing::instrument(skip_all)]
-pub async fn find_live(pool: &SqlitePool, secret_hash: &str) -> sqlx::Result<Option<SessionUser>> {
+pub async fn find_live(pool: &AnyPool, secret_hash: &str) -> sqlx::Result<Option<SessionUser>> {
     sqlx::query_as(
         "select users.name, users.role, sessions.expires_at
          from sessions join users on users.name = sessions.user_name
-         where sessions.secret_hash = ? and sessions.expires_at > ?",
+         where sessions.secret_hash = $1 and sessions.expires_at > $2",
     )
     .bind(secret_hash)
     .bind(clock::now())
@@ -57,7 +57,7 @@ pub async fn find_live(pool: &SqlitePool, secret_hash: &str) -> sqlx::Result<Opt
 #[tracing::instrument(skip_all)]
 pub async fn delete(db: &Db, secret_hash: &str) -> sqlx::Result<bool> {
     let mut tx = db.begin_write().await?;
-    let deleted = sqlx::query("delete from sessions where secret_hash = ?")
+    let deleted = sqlx::query("delete from sessions where secret_hash = $1")
         .bind(secret_hash)
         .execute(&mut *tx)
         .await?
@@ -72,7 +72,7 @@ pub async fn delete(db: &Db, secret_hash: &str) -> sqlx::Result<bool> {
 pub async fn delete_for_user(db: &Db, user: &UserName, keep: Option<&str>) -> sqlx::Result<u64> {
     let mut tx = db.begin_write().await?;
     let deleted = sqlx::query(
-        "delete from sessions where user_name = ? and (?2 is null or secret_hash != ?2)",
+        "delete from sessions where user_name = $1 and ($2 is null or secret_hash != $2)",
     )
     .bind(user.as_str())
     .bind(keep)

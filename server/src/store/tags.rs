@@ -5,11 +5,12 @@
 
 use pps_schema::Epc;
 use serde_json::{Map, Value, json};
-use sqlx::SqlitePool;
+use sqlx::AnyPool;
 
 use super::WriteCondition;
 use crate::clock;
 use crate::db::Db;
+use crate::store::columns::{Flag, JsonText};
 use crate::store::events::{self, EventKind};
 use crate::store::{inbox, retired};
 
@@ -47,6 +48,7 @@ struct TagRow {
     epc: String,
     entry: String,
     revision: i64,
+    #[sqlx(try_from = "Flag")]
     archived: bool,
     updated_at: String,
     updated_by: String,
@@ -90,14 +92,14 @@ pub struct TagFilter {
 }
 
 #[tracing::instrument(skip_all)]
-pub async fn get(pool: &SqlitePool, epc: &Epc) -> sqlx::Result<Option<StoredTag>> {
+pub async fn get(pool: &AnyPool, epc: &Epc) -> sqlx::Result<Option<StoredTag>> {
     current(&mut *pool.acquire().await?, epc).await
 }
 
 /// Up to `limit` tags after the EPC `after`, in EPC order.
 #[tracing::instrument(skip_all)]
 pub async fn list(
-    pool: &SqlitePool,
+    pool: &AnyPool,
     filter: &TagFilter,
     after: Option<&str>,
     limit: u32,
@@ -105,14 +107,14 @@ pub async fn list(
     let pattern = filter.name_contains.as_deref().map(like_pattern);
     let rows: Vec<TagRow> = sqlx::query_as(
         "select epc, entry, revision, archived, updated_at, updated_by from tags
-         where archived = ?
-           and (?2 is null or kind = ?2)
-           and (?3 is null or name like ?3 escape '\\')
-           and (?4 is null or epc > ?4)
+         where archived = $1
+           and (cast($2 as text) is null or kind = $2)
+           and (cast($3 as text) is null or lower(name) like $3 escape '\\')
+           and (cast($4 as text) is null or epc > $4)
          order by epc
-         limit ?5",
+         limit $5",
     )
-    .bind(filter.archived)
+    .bind(i64::from(filter.archived))
     .bind(&filter.kind)
     .bind(&pattern)
     .bind(after)
@@ -122,8 +124,11 @@ pub async fn list(
     rows.into_iter().map(StoredTag::try_from).collect()
 }
 
-/// A case-insensitive substring pattern for LIKE, with the user's `%` and `_` taken literally.
+/// A case-insensitive substring pattern for LIKE over `lower(name)`, with the user's `%` and
+/// `_` taken literally. Lower-cased here and in the statement, since SQLite's LIKE ignores
+/// ASCII case and PostgreSQL's does not.
 fn like_pattern(text: &str) -> String {
+    let text = text.to_ascii_lowercase();
     let escaped = text.replace('\\', "\\\\").replace('%', "\\%").replace('_', "\\_");
     format!("%{escaped}%")
 }
@@ -145,7 +150,7 @@ pub async fn put(
 
 /// [`put`] inside the caller's transaction; true when the tag was created.
 pub async fn put_in(
-    tx: &mut sqlx::SqliteConnection,
+    tx: &mut sqlx::AnyConnection,
     epc: &Epc,
     entry: &Value,
     condition: &WriteCondition,
@@ -199,7 +204,7 @@ pub async fn archive(
 
 /// [`archive`] inside the caller's transaction.
 pub async fn archive_in(
-    tx: &mut sqlx::SqliteConnection,
+    tx: &mut sqlx::AnyConnection,
     epc: &Epc,
     condition: &WriteCondition,
     by: &str,
@@ -230,10 +235,10 @@ pub async fn archive_in(
 /// The stored entry of the tag with this EPC (hex), `None` when there is none or it does not
 /// parse; for the trial writer's learning, inside its transaction.
 pub async fn entry_of(
-    conn: &mut sqlx::SqliteConnection,
+    conn: &mut sqlx::AnyConnection,
     epc: &str,
 ) -> sqlx::Result<Option<serde_json::Value>> {
-    let entry: Option<String> = sqlx::query_scalar("select entry from tags where epc = ?")
+    let entry: Option<String> = sqlx::query_scalar("select entry from tags where epc = $1")
         .bind(epc)
         .fetch_optional(conn)
         .await?;
@@ -241,22 +246,17 @@ pub async fn entry_of(
 }
 
 /// Whether the tag with this EPC (hex) is archived; `None` when no tag has it.
-pub async fn is_archived(
-    conn: &mut sqlx::SqliteConnection,
-    epc: &str,
-) -> sqlx::Result<Option<bool>> {
-    sqlx::query_scalar("select archived from tags where epc = ?")
+pub async fn is_archived(conn: &mut sqlx::AnyConnection, epc: &str) -> sqlx::Result<Option<bool>> {
+    let archived: Option<Flag> = sqlx::query_scalar("select archived from tags where epc = $1")
         .bind(epc)
         .fetch_optional(conn)
-        .await
+        .await?;
+    Ok(archived.map(bool::from))
 }
 
-pub async fn current(
-    tx: &mut sqlx::SqliteConnection,
-    epc: &Epc,
-) -> sqlx::Result<Option<StoredTag>> {
+pub async fn current(tx: &mut sqlx::AnyConnection, epc: &Epc) -> sqlx::Result<Option<StoredTag>> {
     let row: Option<TagRow> = sqlx::query_as(
-        "select epc, entry, revision, archived, updated_at, updated_by from tags where epc = ?",
+        "select epc, entry, revision, archived, updated_at, updated_by from tags where epc = $1",
     )
     .bind(epc.as_hex())
     .fetch_optional(&mut *tx)
@@ -264,7 +264,7 @@ pub async fn current(
     row.map(StoredTag::try_from).transpose()
 }
 
-async fn write(tx: &mut sqlx::SqliteConnection, tag: &StoredTag, change: &str) -> sqlx::Result<()> {
+async fn write(tx: &mut sqlx::AnyConnection, tag: &StoredTag, change: &str) -> sqlx::Result<()> {
     let entry = tag.entry.to_string();
     let properties = tag.entry.get("properties");
     let text = |key: &str| {
@@ -272,7 +272,7 @@ async fn write(tx: &mut sqlx::SqliteConnection, tag: &StoredTag, change: &str) -
     };
     sqlx::query(
         "insert into tags (epc, entry, kind, name, revision, archived, updated_at, updated_by)
-         values (?, ?, ?, ?, ?, ?, ?, ?)
+         values ($1, $2, $3, $4, $5, $6, $7, $8)
          on conflict (epc) do update set entry = excluded.entry, kind = excluded.kind,
              name = excluded.name, revision = excluded.revision, archived = excluded.archived,
              updated_at = excluded.updated_at, updated_by = excluded.updated_by",
@@ -282,20 +282,20 @@ async fn write(tx: &mut sqlx::SqliteConnection, tag: &StoredTag, change: &str) -
     .bind(text("type"))
     .bind(text("name"))
     .bind(tag.revision)
-    .bind(tag.archived)
+    .bind(i64::from(tag.archived))
     .bind(&tag.updated_at)
     .bind(&tag.updated_by)
     .execute(&mut *tx)
     .await?;
     sqlx::query(
         "insert into tag_revisions (epc, revision, change, entry, archived, changed_at, changed_by)
-         values (?, ?, ?, ?, ?, ?, ?)",
+         values ($1, $2, $3, $4, $5, $6, $7)",
     )
     .bind(&tag.epc)
     .bind(tag.revision)
     .bind(change)
     .bind(&entry)
-    .bind(tag.archived)
+    .bind(i64::from(tag.archived))
     .bind(&tag.updated_at)
     .bind(&tag.updated_by)
     .execute(&mut *tx)
@@ -314,24 +314,25 @@ async fn write(tx: &mut sqlx::SqliteConnection, tag: &StoredTag, change: &str) -
 pub struct Revision {
     pub revision: i64,
     pub change: String,
+    #[sqlx(try_from = "Flag")]
     pub archived: bool,
     pub changed_at: String,
     pub changed_by: String,
-    #[sqlx(json)]
+    #[sqlx(try_from = "JsonText")]
     pub entry: Value,
 }
 
 /// Revisions of a tag, oldest first, after revision `after`.
 #[tracing::instrument(skip_all)]
 pub async fn revisions(
-    pool: &SqlitePool,
+    pool: &AnyPool,
     epc: &Epc,
     after: i64,
     limit: u32,
 ) -> sqlx::Result<Vec<Revision>> {
     sqlx::query_as(
         "select revision, change, archived, changed_at, changed_by, entry from tag_revisions
-         where epc = ? and revision > ? order by revision limit ?",
+         where epc = $1 and revision > $2 order by revision limit $3",
     )
     .bind(epc.as_hex())
     .bind(after)
@@ -341,12 +342,12 @@ pub async fn revisions(
 }
 
 /// How many tags the registry holds, archived ones included.
-pub async fn count(pool: &SqlitePool) -> sqlx::Result<i64> {
-    sqlx::query_scalar("select count(*) from tags").fetch_one(pool).await
+pub async fn count(executor: impl sqlx::AnyExecutor<'_>) -> sqlx::Result<i64> {
+    sqlx::query_scalar("select count(*) from tags").fetch_one(executor).await
 }
 
 /// Every tag, archived ones included, in EPC order (for export).
-pub async fn all(pool: &SqlitePool) -> sqlx::Result<Vec<StoredTag>> {
+pub async fn all(pool: &AnyPool) -> sqlx::Result<Vec<StoredTag>> {
     let rows: Vec<TagRow> = sqlx::query_as(
         "select epc, entry, revision, archived, updated_at, updated_by from tags order by epc",
     )
@@ -357,17 +358,17 @@ pub async fn all(pool: &SqlitePool) -> sqlx::Result<Vec<StoredTag>> {
 
 /// Moves a tag and its whole history to a new EPC (a worn tag replaced), as a new revision.
 pub async fn move_to(
-    tx: &mut sqlx::SqliteConnection,
+    tx: &mut sqlx::AnyConnection,
     current: &StoredTag,
     new: &Epc,
     by: &str,
 ) -> sqlx::Result<StoredTag> {
-    sqlx::query("update tag_revisions set epc = ? where epc = ?")
+    sqlx::query("update tag_revisions set epc = $1 where epc = $2")
         .bind(new.as_hex())
         .bind(&current.epc)
         .execute(&mut *tx)
         .await?;
-    sqlx::query("delete from tags where epc = ?").bind(&current.epc).execute(&mut *tx).await?;
+    sqlx::query("delete from tags where epc = $1").bind(&current.epc).execute(&mut *tx).await?;
     let mut entry = current.entry.clone();
     if let Some(object) = entry.as_object_mut() {
         object.insert("epc".into(), new.as_hex().into());

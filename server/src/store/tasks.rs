@@ -6,7 +6,10 @@
 //! cannot both get it.
 
 use serde_json::{Value, json};
-use sqlx::{SqliteConnection, SqlitePool};
+use sqlx::{AnyConnection, AnyPool};
+
+use crate::db::Dialect;
+use crate::store::columns::Flag;
 
 use crate::clock;
 use crate::store::events::{self, EventKind};
@@ -100,16 +103,13 @@ pub struct NewTask {
     pub created_by: String,
 }
 
-async fn announce(tx: &mut SqliteConnection, rows: &[TaskRow]) -> sqlx::Result<()> {
+async fn announce(tx: &mut AnyConnection, rows: &[TaskRow]) -> sqlx::Result<()> {
     let data: Vec<Value> = rows.iter().map(TaskRow::announcement).collect();
     events::append_all(tx, EventKind::TaskChanged, &data).await
 }
 
 /// Announces the task a statement changed, if it changed one.
-async fn announced(
-    tx: &mut SqliteConnection,
-    row: Option<TaskRow>,
-) -> sqlx::Result<Option<TaskRow>> {
+async fn announced(tx: &mut AnyConnection, row: Option<TaskRow>) -> sqlx::Result<Option<TaskRow>> {
     if let Some(row) = &row {
         announce(tx, std::slice::from_ref(row)).await?;
     }
@@ -117,11 +117,11 @@ async fn announced(
 }
 
 #[tracing::instrument(skip_all)]
-pub async fn create(tx: &mut SqliteConnection, task: &NewTask) -> sqlx::Result<TaskRow> {
+pub async fn create(tx: &mut AnyConnection, task: &NewTask) -> sqlx::Result<TaskRow> {
     let now = clock::now();
     let row: TaskRow = sqlx::query_as(concat!(
         "insert into tasks (id, epc, action, robot, class, note, state, created_by, created_at, \
-         updated_at) values (?, ?, ?, ?, ?, ?, 'queued', ?, ?, ?) returning ",
+         updated_at) values ($1, $2, $3, $4, $5, $6, 'queued', $7, $8, $9) returning ",
         columns!()
     ))
     .bind(&task.id)
@@ -140,8 +140,8 @@ pub async fn create(tx: &mut SqliteConnection, task: &NewTask) -> sqlx::Result<T
 }
 
 #[tracing::instrument(skip_all)]
-pub async fn get(pool: &SqlitePool, id: &str) -> sqlx::Result<Option<TaskRow>> {
-    sqlx::query_as(concat!("select ", columns!(), " from tasks where id = ?"))
+pub async fn get(pool: &AnyPool, id: &str) -> sqlx::Result<Option<TaskRow>> {
+    sqlx::query_as(concat!("select ", columns!(), " from tasks where id = $1"))
         .bind(id)
         .fetch_optional(pool)
         .await
@@ -162,45 +162,58 @@ pub struct TaskFilter {
 /// Up to `limit` tasks before `before` (a `seq`; 0 for the newest), newest first.
 #[tracing::instrument(skip_all)]
 pub async fn list(
-    pool: &SqlitePool,
+    pool: &AnyPool,
     filter: &TaskFilter,
     before: i64,
     limit: u32,
 ) -> sqlx::Result<Vec<TaskRow>> {
-    let mut query = sqlx::QueryBuilder::<sqlx::Sqlite>::new(concat!(
-        "select ",
-        columns!(),
-        " from tasks where 1"
-    ));
-    if before > 0 {
-        query.push(" and seq < ").push_bind(before);
+    // A filter left out is a null parameter, so the statement stays one static text.
+    macro_rules! list_where_held {
+        ($held:literal) => {
+            concat!(
+                "select ",
+                columns!(),
+                " from tasks
+                 where ($1 = 0 or seq < $1)
+                   and (cast($2 as text) is null or state = $2)
+                   and (cast($3 as text) is null or epc = $3)
+                   and (cast($4 as text) is null or claimed_by = $4 or robot = $4)
+                   and (cast($5 as text) is null or claimed_by = $5 or ",
+                $held,
+                "      or (state = 'queued' and (robot is null or robot = $5)
+                           and (class is null or class = $6)))
+                 order by seq desc limit $7"
+            )
+        };
     }
-    if let Some(state) = &filter.state {
-        query.push(" and state = ").push_bind(state.clone());
-    }
-    if let Some(epc) = &filter.epc {
-        query.push(" and epc = ").push_bind(epc.clone());
-    }
-    if let Some(robot) = &filter.robot {
-        query.push(" and (claimed_by = ").push_bind(robot.clone());
-        query.push(" or robot = ").push_bind(robot.clone()).push(")");
-    }
-    if let Some((robot, class)) = &filter.visible_to {
-        query.push(" and (claimed_by = ").push_bind(robot.clone());
-        query.push(" or exists (select 1 from json_each(holders) where value = ");
-        query.push_bind(robot.clone()).push(")");
-        query.push(" or (state = 'queued' and (robot is null or robot = ").push_bind(robot.clone());
-        query.push(") and (class is null or class = ").push_bind(class.clone()).push(")))");
-    }
-    query.push(" order by seq desc limit ").push_bind(i64::from(limit));
-    query.build_query_as().fetch_all(pool).await
+    let statement = Dialect::of_pool(pool).pick(
+        list_where_held!("exists (select 1 from json_each(holders) where value = $5)"),
+        list_where_held!(
+            "exists (select 1 from jsonb_array_elements_text(holders::jsonb) as held(value) \
+             where held.value = $5)"
+        ),
+    );
+    let (visible_robot, visible_class) = match &filter.visible_to {
+        Some((robot, class)) => (Some(robot.as_str()), class.as_deref()),
+        None => (None, None),
+    };
+    sqlx::query_as(statement)
+        .bind(before)
+        .bind(filter.state.as_deref())
+        .bind(filter.epc.as_deref())
+        .bind(filter.robot.as_deref())
+        .bind(visible_robot)
+        .bind(visible_class)
+        .bind(i64::from(limit))
+        .fetch_all(pool)
+        .await
 }
 
 /// Tasks `robot` (of `class`) could claim now, oldest first: queued ones, and claimed ones whose
 /// lease ran out but that have attempts left, that target it, its class or anyone.
 #[tracing::instrument(skip_all)]
 pub async fn claimable(
-    pool: &SqlitePool,
+    pool: &AnyPool,
     robot: &str,
     class: Option<&str>,
     now: &str,
@@ -210,9 +223,9 @@ pub async fn claimable(
         "select ",
         columns!(),
         " from tasks
-         where (state = 'queued' or (state = 'claimed' and lease_until <= ?1 and attempts < ?2))
-           and (robot is null or robot = ?3) and (class is null or class = ?4)
-         order by seq limit ?5"
+         where (state = 'queued' or (state = 'claimed' and lease_until <= $1 and attempts < $2))
+           and (robot is null or robot = $3) and (class is null or class = $4)
+         order by seq limit $5"
     ))
     .bind(now)
     .bind(MAX_ATTEMPTS)
@@ -225,58 +238,71 @@ pub async fn claimable(
 
 /// Whether any task could be claimed now by some robot: queued, or its lease ran out with
 /// attempts left.
-pub async fn any_claimable(pool: &SqlitePool, now: &str) -> sqlx::Result<bool> {
-    sqlx::query_scalar(
-        "select exists (select 1 from tasks where state = 'queued')
+pub async fn any_claimable(pool: &AnyPool, now: &str) -> sqlx::Result<bool> {
+    let found: Flag = sqlx::query_scalar(
+        "select case when exists (select 1 from tasks where state = 'queued')
              or exists (select 1 from tasks
-                        where state = 'claimed' and lease_until <= ?1 and attempts < ?2)",
+                        where state = 'claimed' and lease_until <= $1 and attempts < $2)
+             then 1 else 0 end",
     )
     .bind(now)
     .bind(MAX_ATTEMPTS)
     .fetch_one(pool)
-    .await
+    .await?;
+    Ok(found.into())
 }
 
 /// Gives the task to `robot` until `lease_until`, if it is still there for the taking (queued,
 /// or its holder's lease ran out with attempts left); `None` when another robot was faster.
 #[tracing::instrument(skip_all)]
 pub async fn claim(
-    tx: &mut SqliteConnection,
+    tx: &mut AnyConnection,
     id: &str,
     robot: &str,
     lease_until: &str,
 ) -> sqlx::Result<Option<TaskRow>> {
     let now = clock::now();
-    let row: Option<TaskRow> = sqlx::query_as(concat!(
-        "update tasks set state = 'claimed', claimed_by = ?1, lease_until = ?2,
-             attempts = attempts + 1, holders = json_insert(holders, '$[#]', ?1), updated_at = ?3
-         where id = ?4
-           and (state = 'queued' or (state = 'claimed' and lease_until <= ?3 and attempts < ?5))
-         returning ",
-        columns!()
-    ))
-    .bind(robot)
-    .bind(lease_until)
-    .bind(&now)
-    .bind(id)
-    .bind(MAX_ATTEMPTS)
-    .fetch_optional(&mut *tx)
-    .await?;
+    macro_rules! claim_appending {
+        ($holders:literal) => {
+            concat!(
+                "update tasks set state = 'claimed', claimed_by = $1, lease_until = $2,
+                     attempts = attempts + 1, holders = ",
+                $holders,
+                ", updated_at = $3
+                 where id = $4
+                   and (state = 'queued' or (state = 'claimed' and lease_until <= $3 and attempts < $5))
+                 returning ",
+                columns!()
+            )
+        };
+    }
+    let statement = Dialect::of(tx).pick(
+        claim_appending!("json_insert(holders, '$[#]', $1)"),
+        claim_appending!("(holders::jsonb || jsonb_build_array($1::text))::text"),
+    );
+    let row: Option<TaskRow> = sqlx::query_as(statement)
+        .bind(robot)
+        .bind(lease_until)
+        .bind(&now)
+        .bind(id)
+        .bind(MAX_ATTEMPTS)
+        .fetch_optional(&mut *tx)
+        .await?;
     announced(tx, row).await
 }
 
 /// Extends `robot`'s lease on a task it holds and whose lease has not run out.
 #[tracing::instrument(skip_all)]
 pub async fn extend_lease(
-    tx: &mut SqliteConnection,
+    tx: &mut AnyConnection,
     id: &str,
     robot: &str,
     lease_until: &str,
 ) -> sqlx::Result<Option<TaskRow>> {
     // Not announced: only the lease moved, and every holder's heartbeat would flood the feed.
     sqlx::query_as(concat!(
-        "update tasks set lease_until = ?1
-         where id = ?2 and state = 'claimed' and claimed_by = ?3 and lease_until > ?4
+        "update tasks set lease_until = $1
+         where id = $2 and state = 'claimed' and claimed_by = $3 and lease_until > $4
          returning ",
         columns!()
     ))
@@ -291,7 +317,7 @@ pub async fn extend_lease(
 /// Ends a task `robot` holds under a live lease with `trial`: `done` or `failed`.
 #[tracing::instrument(skip_all)]
 pub async fn finish(
-    tx: &mut SqliteConnection,
+    tx: &mut AnyConnection,
     id: &str,
     robot: &str,
     trial: &str,
@@ -300,8 +326,8 @@ pub async fn finish(
 ) -> sqlx::Result<Option<TaskRow>> {
     let now = clock::now();
     let row: Option<TaskRow> = sqlx::query_as(concat!(
-        "update tasks set state = ?1, trial = ?2, reason = ?3, lease_until = null, updated_at = ?4
-         where id = ?5 and state = 'claimed' and claimed_by = ?6 and lease_until > ?4
+        "update tasks set state = $1, trial = $2, reason = $3, lease_until = null, updated_at = $4
+         where id = $5 and state = 'claimed' and claimed_by = $6 and lease_until > $4
          returning ",
         columns!()
     ))
@@ -319,7 +345,7 @@ pub async fn finish(
 /// Cancels a queued or claimed task; `None` when it had ended already.
 #[tracing::instrument(skip_all)]
 pub async fn cancel(
-    tx: &mut SqliteConnection,
+    tx: &mut AnyConnection,
     id: &str,
     reason: &str,
 ) -> sqlx::Result<Option<TaskRow>> {
@@ -330,7 +356,7 @@ pub async fn cancel(
 /// Cancels every open task on a tag (it was archived: no robot may record a trial on it).
 #[tracing::instrument(skip_all)]
 pub async fn cancel_on_tag(
-    tx: &mut SqliteConnection,
+    tx: &mut AnyConnection,
     epc: &str,
     reason: &str,
 ) -> sqlx::Result<Vec<TaskRow>> {
@@ -339,7 +365,7 @@ pub async fn cancel_on_tag(
 
 /// Cancels the open tasks with this id (`by_tag` false) or on this tag (`by_tag` true).
 async fn cancel_where(
-    tx: &mut SqliteConnection,
+    tx: &mut AnyConnection,
     by_tag: bool,
     key: &str,
     reason: &str,
@@ -347,10 +373,10 @@ async fn cancel_where(
     macro_rules! cancel_by {
         ($column:literal) => {
             concat!(
-                "update tasks set state = 'cancelled', reason = ?1, lease_until = null, \
-                 updated_at = ?3 where ",
+                "update tasks set state = 'cancelled', reason = $1, lease_until = null, \
+                 updated_at = $3 where ",
                 $column,
-                " = ?2 and state in ('queued', 'claimed') returning ",
+                " = $2 and state in ('queued', 'claimed') returning ",
                 columns!()
             )
         };
@@ -369,23 +395,32 @@ async fn cancel_where(
 /// Tasks whose holder's lease ran out by `now`: back in the queue, or `failed` once
 /// [`MAX_ATTEMPTS`] leases have run out. Returns what changed.
 #[tracing::instrument(skip_all)]
-pub async fn expire_leases(tx: &mut SqliteConnection, now: &str) -> sqlx::Result<Vec<TaskRow>> {
-    let mut changed: Vec<TaskRow> = sqlx::query_as(concat!(
-        "update tasks set state = 'failed', lease_until = null, updated_at = ?1,
-             reason = 'the lease ran out ' || attempts || ' times (held by ' ||
-                 (select group_concat(value, ', ') from json_each(holders)) ||
-                 '); no robot finished it'
-         where state = 'claimed' and lease_until <= ?1 and attempts >= ?2
-         returning ",
-        columns!()
-    ))
-    .bind(now)
-    .bind(MAX_ATTEMPTS)
-    .fetch_all(&mut *tx)
-    .await?;
+pub async fn expire_leases(tx: &mut AnyConnection, now: &str) -> sqlx::Result<Vec<TaskRow>> {
+    macro_rules! fail_naming {
+        ($holders:literal) => {
+            concat!(
+                "update tasks set state = 'failed', lease_until = null, updated_at = $1,
+                     reason = 'the lease ran out ' || attempts || ' times (held by ' || ",
+                $holders,
+                " || '); no robot finished it'
+                 where state = 'claimed' and lease_until <= $1 and attempts >= $2
+                 returning ",
+                columns!()
+            )
+        };
+    }
+    let statement = Dialect::of(tx).pick(
+        fail_naming!("(select group_concat(value, ', ') from json_each(holders))"),
+        fail_naming!(
+            "(select string_agg(held.value, ', ') \
+              from jsonb_array_elements_text(holders::jsonb) as held(value))"
+        ),
+    );
+    let mut changed: Vec<TaskRow> =
+        sqlx::query_as(statement).bind(now).bind(MAX_ATTEMPTS).fetch_all(&mut *tx).await?;
     let requeued: Vec<TaskRow> = sqlx::query_as(concat!(
-        "update tasks set state = 'queued', claimed_by = null, lease_until = null, updated_at = ?1
-         where state = 'claimed' and lease_until <= ?1
+        "update tasks set state = 'queued', claimed_by = null, lease_until = null, updated_at = $1
+         where state = 'claimed' and lease_until <= $1
          returning ",
         columns!()
     ))
@@ -398,18 +433,20 @@ pub async fn expire_leases(tx: &mut SqliteConnection, now: &str) -> sqlx::Result
 }
 
 /// Whether any claimed task's lease runs out by `now` (the sweep's cheap look before it writes).
-pub async fn any_lease_expired(pool: &SqlitePool, now: &str) -> sqlx::Result<bool> {
-    sqlx::query_scalar(
-        "select exists (select 1 from tasks where state = 'claimed' and lease_until <= ?)",
+pub async fn any_lease_expired(pool: &AnyPool, now: &str) -> sqlx::Result<bool> {
+    let found: Flag = sqlx::query_scalar(
+        "select case when exists (select 1 from tasks where state = 'claimed' and lease_until <= $1)
+             then 1 else 0 end",
     )
     .bind(now)
     .fetch_one(pool)
-    .await
+    .await?;
+    Ok(found.into())
 }
 
 /// Moves a tag's tasks to its new EPC (a worn tag replaced); returns how many moved.
-pub async fn move_to(conn: &mut SqliteConnection, from: &str, to: &str) -> sqlx::Result<u64> {
-    let done = sqlx::query("update tasks set epc = ? where epc = ?")
+pub async fn move_to(conn: &mut AnyConnection, from: &str, to: &str) -> sqlx::Result<u64> {
+    let done = sqlx::query("update tasks set epc = $1 where epc = $2")
         .bind(to)
         .bind(from)
         .execute(&mut *conn)

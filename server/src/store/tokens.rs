@@ -1,7 +1,9 @@
 //! API tokens in the database: only their SHA-256 is ever stored.
 
 use serde::Serialize;
-use sqlx::SqlitePool;
+use sqlx::AnyPool;
+
+use crate::store::columns::Flag;
 
 use crate::auth::{Role, secret};
 use crate::clock;
@@ -66,7 +68,7 @@ pub async fn create(
     let mut tx = db.begin_write().await?;
     sqlx::query(
         "insert into tokens (id, name, role, robot_id, secret_hash, created_at, expires_at)
-         values (?, ?, ?, ?, ?, ?, ?)",
+         values ($1, $2, $3, $4, $5, $6, $7)",
     )
     .bind(&record.id)
     .bind(&record.name)
@@ -82,7 +84,7 @@ pub async fn create(
 }
 
 #[tracing::instrument(skip_all)]
-pub async fn list(pool: &SqlitePool) -> sqlx::Result<Vec<TokenRecord>> {
+pub async fn list(pool: &AnyPool) -> sqlx::Result<Vec<TokenRecord>> {
     sqlx::query_as(
         "select id, name, role, robot_id, created_at, expires_at, revoked_at
          from tokens order by created_at, id",
@@ -95,24 +97,25 @@ pub async fn list(pool: &SqlitePool) -> sqlx::Result<Vec<TokenRecord>> {
 #[tracing::instrument(skip_all)]
 pub async fn revoke(db: &Db, id: &str) -> sqlx::Result<bool> {
     let mut tx = db.begin_write().await?;
-    let done = sqlx::query("update tokens set revoked_at = ? where id = ? and revoked_at is null")
-        .bind(clock::now())
-        .bind(id)
-        .execute(&mut *tx)
-        .await?
-        .rows_affected()
-        == 1;
+    let done =
+        sqlx::query("update tokens set revoked_at = $1 where id = $2 and revoked_at is null")
+            .bind(clock::now())
+            .bind(id)
+            .execute(&mut *tx)
+            .await?
+            .rows_affected()
+            == 1;
     tx.commit().await?;
     Ok(done)
 }
 
 /// The live (not revoked, not expired) token with this secret hash.
 #[tracing::instrument(skip_all)]
-pub async fn find_live(pool: &SqlitePool, secret_hash: &str) -> sqlx::Result<Option<TokenRecord>> {
+pub async fn find_live(pool: &AnyPool, secret_hash: &str) -> sqlx::Result<Option<TokenRecord>> {
     sqlx::query_as(
         "select id, name, role, robot_id, created_at, expires_at, revoked_at
          from tokens
-         where secret_hash = ? and revoked_at is null and (expires_at is null or expires_at > ?)",
+         where secret_hash = $1 and revoked_at is null and (expires_at is null or expires_at > $2)",
     )
     .bind(secret_hash)
     .bind(clock::now())
@@ -121,12 +124,14 @@ pub async fn find_live(pool: &SqlitePool, secret_hash: &str) -> sqlx::Result<Opt
 }
 
 /// Whether any admin credential that still works exists.
-pub async fn live_admin_exists(pool: &SqlitePool) -> sqlx::Result<bool> {
-    sqlx::query_scalar(
-        "select exists (select 1 from tokens where role = 'admin' and revoked_at is null
-                        and (expires_at is null or expires_at > ?))",
+pub async fn live_admin_exists(pool: &AnyPool) -> sqlx::Result<bool> {
+    let found: Flag = sqlx::query_scalar(
+        "select case when exists (select 1 from tokens where role = 'admin' and revoked_at is null
+                                  and (expires_at is null or expires_at > $1))
+                then 1 else 0 end",
     )
     .bind(clock::now())
     .fetch_one(pool)
-    .await
+    .await?;
+    Ok(found.into())
 }

@@ -1,13 +1,16 @@
 //! Trials in the database: one row per attempt, in the order the registry received them.
 
 use serde_json::{Value, json};
-use sqlx::{SqliteConnection, SqliteExecutor, SqlitePool};
+use sqlx::{AnyConnection, AnyExecutor, AnyPool};
+
+use crate::db::Dialect;
+use crate::store::columns::MaybeFlag;
 
 /// How a group (a tag, an action, a robot class; `""` for robots without one) went lately: the
 /// attempts and successes among its latest `window` trials, a person's verdict overriding the
 /// detector's. What *reliable* is judged on.
 pub async fn latest_outcomes(
-    executor: impl SqliteExecutor<'_>,
+    executor: impl AnyExecutor<'_>,
     epc: &str,
     action: &str,
     robot_class: &str,
@@ -15,9 +18,11 @@ pub async fn latest_outcomes(
 ) -> sqlx::Result<(i64, i64)> {
     sqlx::query_as(
         "select count(*), coalesce(sum(success), 0) from (
-             select coalesce(confirmed, outcome = 'success') as success from trials
-             where epc = ? and action = ? and coalesce(robot_class, '') = ?
-             order by seq desc limit ?)",
+             select case when confirmed = 1 or (confirmed is null and outcome = 'success')
+                         then 1 else 0 end as success
+             from trials
+             where epc = $1 and action = $2 and coalesce(robot_class, '') = $3
+             order by seq desc limit $4) as latest",
     )
     .bind(epc)
     .bind(action)
@@ -33,16 +38,18 @@ pub async fn latest_outcomes(
 pub type GroupCounts = (String, String, i64, i64, i64, i64, i64, i64, Option<String>);
 
 /// Every action × robot class group of a tag's trials, ordered by action and class.
-pub async fn group_counts(pool: &SqlitePool, epc: &str) -> sqlx::Result<Vec<GroupCounts>> {
+pub async fn group_counts(pool: &AnyPool, epc: &str) -> sqlx::Result<Vec<GroupCounts>> {
     sqlx::query_as(
         "select action, coalesce(robot_class, ''), count(*),
-                sum(outcome = 'success'),
-                sum(confirmed is not null),
-                sum(confirmed = 1),
-                sum(confirmed is not null and confirmed = (outcome = 'success')),
-                sum(coalesce(confirmed, outcome = 'success')),
+                sum(case when outcome = 'success' then 1 else 0 end),
+                sum(case when confirmed is not null then 1 else 0 end),
+                sum(case when confirmed = 1 then 1 else 0 end),
+                sum(case when confirmed = (case when outcome = 'success' then 1 else 0 end)
+                         then 1 else 0 end),
+                sum(case when confirmed = 1 or (confirmed is null and outcome = 'success')
+                         then 1 else 0 end),
                 max(started_at)
-         from trials where epc = ? group by action, coalesce(robot_class, '')
+         from trials where epc = $1 group by action, coalesce(robot_class, '')
          order by action, coalesce(robot_class, '')",
     )
     .bind(epc)
@@ -55,21 +62,28 @@ pub async fn group_counts(pool: &SqlitePool, epc: &str) -> sqlx::Result<Vec<Grou
 /// said failed counts as none, whatever the detector thought; only numbers count, and JSON has
 /// one number type, so 1 and 1.0 both are one.
 pub async fn latest_measurements(
-    conn: &mut SqliteConnection,
+    conn: &mut AnyConnection,
     path: &str,
     epc: &str,
     robot_class: &str,
     behavior: &str,
     window: i64,
 ) -> sqlx::Result<Vec<f64>> {
-    let values: Vec<Option<f64>> = sqlx::query_scalar(
-        "select case when json_type(body, ?1) in ('integer', 'real')
-                     then cast(json_extract(body, ?1) as real) end
+    let dialect = Dialect::of(conn);
+    let values: Vec<Option<f64>> = sqlx::query_scalar(dialect.pick(
+        "select case when json_type(body, $1) in ('integer', 'real')
+                     then cast(json_extract(body, $1) as real) end
          from trials
-         where epc = ?2 and coalesce(robot_class, '') = ?3 and behavior = ?4
+         where epc = $2 and coalesce(robot_class, '') = $3 and behavior = $4
            and outcome = 'success' and coalesce(confirmed, 1) = 1
-         order by seq desc limit ?5",
-    )
+         order by seq desc limit $5",
+        "select case when jsonb_typeof(jsonb_path_query_first(body::jsonb, $1::jsonpath)) = 'number'
+                     then jsonb_path_query_first(body::jsonb, $1::jsonpath)::double precision end
+         from trials
+         where epc = $2 and coalesce(robot_class, '') = $3 and behavior = $4
+           and outcome = 'success' and coalesce(confirmed, 1) = 1
+         order by seq desc limit $5",
+    ))
     .bind(path)
     .bind(epc)
     .bind(robot_class)
@@ -90,6 +104,7 @@ pub struct TrialRow {
     pub robot_class: Option<String>,
     pub action: String,
     pub outcome: String,
+    #[sqlx(try_from = "MaybeFlag")]
     pub confirmed: Option<bool>,
     pub received_at: String,
     pub body: String,
@@ -125,10 +140,10 @@ pub struct TrialFilter {
     pub since: Option<String>,
 }
 
-pub async fn find(conn: &mut SqliteConnection, id: &str) -> sqlx::Result<Option<TrialRow>> {
+pub async fn find(conn: &mut AnyConnection, id: &str) -> sqlx::Result<Option<TrialRow>> {
     sqlx::query_as(
         "select seq, id, epc, robot, robot_class, action, outcome, confirmed, received_at, body
-         from trials where id = ?",
+         from trials where id = $1",
     )
     .bind(id)
     .fetch_optional(conn)
@@ -136,7 +151,7 @@ pub async fn find(conn: &mut SqliteConnection, id: &str) -> sqlx::Result<Option<
 }
 
 #[tracing::instrument(skip_all)]
-pub async fn get(pool: &SqlitePool, id: &str) -> sqlx::Result<Option<TrialRow>> {
+pub async fn get(pool: &AnyPool, id: &str) -> sqlx::Result<Option<TrialRow>> {
     let mut conn = pool.acquire().await?;
     find(&mut conn, id).await
 }
@@ -158,24 +173,35 @@ pub struct Window {
 /// are held; the flag says the byte bound (not the limit or the end) stopped the read.
 #[tracing::instrument(skip_all)]
 pub async fn list(
-    pool: &SqlitePool,
+    pool: &AnyPool,
     filter: &TrialFilter,
     window: Window,
 ) -> sqlx::Result<(Vec<TrialRow>, bool)> {
     use futures_util::TryStreamExt;
-    let mut rows = sqlx::query_as::<_, TrialRow>(
+    let mut rows = sqlx::query_as::<_, TrialRow>(Dialect::of_pool(pool).pick(
         "select seq, id, epc, robot, robot_class, action, outcome, confirmed, received_at,
-                case when ?8 then body else json_remove(body, '$.forces') end as body
+                case when $8 then body else json_remove(body, '$.forces') end as body
          from trials
-         where seq > ?1
-           and (?2 is null or epc = ?2)
-           and (?3 is null or robot = ?3)
-           and (?4 is null or action = ?4)
-           and (?5 is null or outcome = ?5)
-           and (?6 is null or started_at >= ?6)
+         where seq > $1
+           and ($2 is null or epc = $2)
+           and ($3 is null or robot = $3)
+           and ($4 is null or action = $4)
+           and ($5 is null or outcome = $5)
+           and ($6 is null or started_at >= $6)
          order by seq
-         limit ?7",
-    )
+         limit $7",
+        "select seq, id, epc, robot, robot_class, action, outcome, confirmed, received_at,
+                case when $8 then body else (body::jsonb - 'forces')::text end as body
+         from trials
+         where seq > $1
+           and ($2::text is null or epc = $2)
+           and ($3::text is null or robot = $3)
+           and ($4::text is null or action = $4)
+           and ($5::text is null or outcome = $5)
+           and ($6::text is null or started_at >= $6)
+         order by seq
+         limit $7",
+    ))
     .bind(window.after)
     .bind(&filter.epc)
     .bind(&filter.robot)
@@ -198,12 +224,12 @@ pub async fn list(
 
 /// Sets the person's verdict; false when no trial has this id.
 pub async fn set_confirmed(
-    conn: &mut SqliteConnection,
+    conn: &mut AnyConnection,
     id: &str,
     confirmed: Option<bool>,
 ) -> sqlx::Result<bool> {
-    let done = sqlx::query("update trials set confirmed = ? where id = ?")
-        .bind(confirmed)
+    let done = sqlx::query("update trials set confirmed = $1 where id = $2")
+        .bind(confirmed.map(i64::from))
         .bind(id)
         .execute(conn)
         .await?;
@@ -211,8 +237,8 @@ pub async fn set_confirmed(
 }
 
 /// Moves every trial of a retagged tag to its new EPC.
-pub async fn move_to(conn: &mut SqliteConnection, from: &str, to: &str) -> sqlx::Result<u64> {
-    Ok(sqlx::query("update trials set epc = ? where epc = ?")
+pub async fn move_to(conn: &mut AnyConnection, from: &str, to: &str) -> sqlx::Result<u64> {
+    Ok(sqlx::query("update trials set epc = $1 where epc = $2")
         .bind(to)
         .bind(from)
         .execute(conn)
@@ -261,17 +287,23 @@ impl TrialFilter {
 /// `after`, oldest first: `(seq, body)`.
 #[tracing::instrument(skip_all)]
 pub async fn with_forces_received_before(
-    pool: &SqlitePool,
+    pool: &AnyPool,
     cutoff: &str,
     after: i64,
     limit: u32,
 ) -> sqlx::Result<Vec<(i64, String)>> {
-    sqlx::query_as(
+    sqlx::query_as(Dialect::of_pool(pool).pick(
         "select seq, body from trials
-         where seq > ? and received_at < ? and json_array_length(body, '$.forces') > 0
+         where seq > $1 and received_at < $2 and json_array_length(body, '$.forces') > 0
          order by seq
-         limit ?",
-    )
+         limit $3",
+        "select seq, body from trials
+         where seq > $1 and received_at < $2
+           and jsonb_typeof(body::jsonb -> 'forces') = 'array'
+           and body::jsonb -> 'forces' != '[]'::jsonb
+         order by seq
+         limit $3",
+    ))
     .bind(after)
     .bind(cutoff)
     .bind(i64::from(limit))
@@ -282,12 +314,12 @@ pub async fn with_forces_received_before(
 /// Replaces a trial's stored body, unless it changed since it was read as `old` (another
 /// process thinning at the same time); false then.
 pub async fn replace_body(
-    conn: &mut SqliteConnection,
+    conn: &mut AnyConnection,
     seq: i64,
     old: &str,
     new: &str,
 ) -> sqlx::Result<bool> {
-    let done = sqlx::query("update trials set body = ? where seq = ? and body = ?")
+    let done = sqlx::query("update trials set body = $1 where seq = $2 and body = $3")
         .bind(new)
         .bind(seq)
         .bind(old)

@@ -1,7 +1,9 @@
 //! Logins for the web UI. Only the argon2id hash of a password is stored, never the password.
 
 use serde::Serialize;
-use sqlx::SqlitePool;
+use sqlx::AnyPool;
+
+use crate::store::columns::Flag;
 
 use crate::auth::{Role, UserName};
 use crate::clock;
@@ -34,7 +36,7 @@ pub async fn create(
     let mut tx = db.begin_write().await?;
     sqlx::query(
         "insert into users (name, role, password_hash, created_at, password_changed_at)
-         values (?, ?, ?, ?, ?)",
+         values ($1, $2, $3, $4, $5)",
     )
     .bind(&record.name)
     .bind(&record.role)
@@ -50,13 +52,13 @@ pub async fn create(
 /// Up to `limit` users after the name `after`, in name order.
 #[tracing::instrument(skip_all)]
 pub async fn list(
-    pool: &SqlitePool,
+    pool: &AnyPool,
     after: Option<&str>,
     limit: u32,
 ) -> sqlx::Result<Vec<UserRecord>> {
     sqlx::query_as(
         "select name, role, created_at, password_changed_at from users
-         where (?1 is null or name > ?1) order by name limit ?2",
+         where ($1 is null or name > $1) order by name limit $2",
     )
     .bind(after)
     .bind(i64::from(limit))
@@ -67,12 +69,12 @@ pub async fn list(
 /// A user and their password hash, for checking a password.
 #[tracing::instrument(skip_all)]
 pub async fn find_with_hash(
-    pool: &SqlitePool,
+    pool: &AnyPool,
     name: &UserName,
 ) -> sqlx::Result<Option<(UserRecord, String)>> {
     let row: Option<(String, String, String, String, String)> = sqlx::query_as(
         "select name, role, created_at, password_changed_at, password_hash from users
-         where name = ?",
+         where name = $1",
     )
     .bind(name.as_str())
     .fetch_optional(pool)
@@ -86,15 +88,16 @@ pub async fn find_with_hash(
 #[tracing::instrument(skip_all, fields(name = %name))]
 pub async fn set_password(db: &Db, name: &UserName, password_hash: &str) -> sqlx::Result<bool> {
     let mut tx = db.begin_write().await?;
-    let changed =
-        sqlx::query("update users set password_hash = ?, password_changed_at = ? where name = ?")
-            .bind(password_hash)
-            .bind(clock::now())
-            .bind(name.as_str())
-            .execute(&mut *tx)
-            .await?
-            .rows_affected()
-            == 1;
+    let changed = sqlx::query(
+        "update users set password_hash = $1, password_changed_at = $2 where name = $3",
+    )
+    .bind(password_hash)
+    .bind(clock::now())
+    .bind(name.as_str())
+    .execute(&mut *tx)
+    .await?
+    .rows_affected()
+        == 1;
     tx.commit().await?;
     Ok(changed)
 }
@@ -103,7 +106,7 @@ pub async fn set_password(db: &Db, name: &UserName, password_hash: &str) -> sqlx
 #[tracing::instrument(skip_all, fields(name = %name))]
 pub async fn delete(db: &Db, name: &UserName) -> sqlx::Result<bool> {
     let mut tx = db.begin_write().await?;
-    let deleted = sqlx::query("delete from users where name = ?")
+    let deleted = sqlx::query("delete from users where name = $1")
         .bind(name.as_str())
         .execute(&mut *tx)
         .await?
@@ -115,8 +118,11 @@ pub async fn delete(db: &Db, name: &UserName) -> sqlx::Result<bool> {
 
 /// Whether an admin login exists: the first start makes an admin token only when neither an
 /// admin token nor an admin user does.
-pub async fn admin_exists(pool: &SqlitePool) -> sqlx::Result<bool> {
-    sqlx::query_scalar("select exists (select 1 from users where role = 'admin')")
-        .fetch_one(pool)
-        .await
+pub async fn admin_exists(pool: &AnyPool) -> sqlx::Result<bool> {
+    let found: Flag = sqlx::query_scalar(
+        "select case when exists (select 1 from users where role = 'admin') then 1 else 0 end",
+    )
+    .fetch_one(pool)
+    .await?;
+    Ok(found.into())
 }

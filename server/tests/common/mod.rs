@@ -1,9 +1,17 @@
-//! A real registry on `127.0.0.1:0` with a fresh database file, for tests that speak HTTP.
+//! A real registry on `127.0.0.1:0` with a fresh database, for tests that speak HTTP.
+//!
+//! The suite runs on SQLite, or on PostgreSQL when `PPS_TEST_STORE=postgres` (the test command
+//! runs it both ways): each test then gets a database of its own in the cluster
+//! `PPS_TEST_POSTGRES` names. Tests of what only a file has (backups, the bytes on disk) ask
+//! for SQLite by name.
 #![allow(dead_code)] // each test binary uses its own part of the harness
+
+pub mod postgres;
 
 use std::path::PathBuf;
 
 use pps_server::auth::Role;
+use pps_server::db::Location;
 use pps_server::store::tokens;
 use pps_server::{AppState, Db};
 use reqwest::{Method, RequestBuilder, Response, StatusCode};
@@ -16,6 +24,9 @@ pub const DRAWER: &str = "355AB1C60000004000000001";
 pub struct TestServer {
     pub url: String,
     pub db: Db,
+    /// The database, as `--db` takes it.
+    pub location: Location,
+    /// Where the SQLite file is or would be (tests of files use [`TestServer::start_sqlite`]).
     pub db_path: PathBuf,
     pub admin: String,
     /// How long a claim on a task lasts.
@@ -33,13 +44,37 @@ impl TestServer {
     /// [`Self::start`] with claims on tasks lasting `lease`.
     pub async fn start_with_lease(lease: std::time::Duration) -> Self {
         let dir = tempfile::tempdir().unwrap();
+        let location = match store_under_test() {
+            Store::Sqlite => Location::File(dir.path().join("pps.db")),
+            Store::Postgres => postgres::fresh_database().await,
+        };
+        Self::start_on(dir, location, lease).await
+    }
+
+    /// A seeded registry on a SQLite file, whichever store the suite runs on.
+    pub async fn start_sqlite() -> Self {
+        let dir = tempfile::tempdir().unwrap();
+        let location = Location::File(dir.path().join("pps.db"));
+        Self::start_on(dir, location, pps_server::task_board::DEFAULT_LEASE).await
+    }
+
+    async fn start_on(dir: TempDir, location: Location, lease: std::time::Duration) -> Self {
         let db_path = dir.path().join("pps.db");
-        let db = Db::open(&db_path).await.unwrap();
+        let db = Db::open(&location).await.unwrap();
         pps_server::seed::seed_if_empty(&db).await.unwrap();
         let admin = tokens::create(&db, Role::Admin, "test admin", None).await.unwrap().token;
         let (url, shutdown) = Self::serve(db.clone(), lease).await;
         std::mem::forget(shutdown);
-        Self { url, db, db_path, admin, lease, client: reqwest::Client::new(), _dir: dir }
+        let client = reqwest::Client::new();
+        Self { url, db, location, db_path, admin, lease, client, _dir: dir }
+    }
+
+    /// The database as the command line's `--db` takes it.
+    pub fn db_arg(&self) -> String {
+        match &self.location {
+            Location::File(path) => path.display().to_string(),
+            Location::Postgres(url) => url.clone(),
+        }
     }
 
     /// Serves `db` on a new port until the returned sender is dropped.
@@ -62,7 +97,7 @@ impl TestServer {
 
     /// A second server on the same database file, as after a restart; stops when dropped.
     pub async fn restarted(&self) -> (String, tokio::sync::oneshot::Sender<()>) {
-        let db = Db::open(&self.db_path).await.unwrap();
+        let db = Db::open(&self.location).await.unwrap();
         Self::serve(db, self.lease).await
     }
 
@@ -102,6 +137,22 @@ impl TestServer {
             request = request.header(name, value);
         }
         request.send().await.unwrap()
+    }
+}
+
+/// The store the suite runs on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Store {
+    Sqlite,
+    Postgres,
+}
+
+/// `PPS_TEST_STORE`: `postgres`, or SQLite when unset.
+pub fn store_under_test() -> Store {
+    match std::env::var("PPS_TEST_STORE").as_deref() {
+        Ok("postgres") => Store::Postgres,
+        Ok("sqlite") | Err(_) => Store::Sqlite,
+        Ok(other) => panic!("PPS_TEST_STORE is sqlite or postgres, not {other:?}"),
     }
 }
 
