@@ -480,11 +480,7 @@ async fn serve(db: Db, args: ServeArgs) -> anyhow::Result<()> {
         .with_context(|| format!("cannot listen on {}", args.listen))?;
     let address = listener.local_addr()?;
     let url = format!("{}://{address}/", transport.scheme());
-    // An admin login for the web UI counts as an admin credential, as an admin token does.
-    let admin_exists =
-        tokens::live_admin_exists(db.reader()).await? || users::admin_exists(db.reader()).await?;
-    if !admin_exists {
-        let minted = tokens::create(&db, Role::Admin, "first admin", None).await?;
+    if let Some(minted) = tokens::create_first_admin(&db).await? {
         print_first_admin_banner(&url, &minted.token);
     }
     tracing::info!(%url, "serving the PPS-tag registry");

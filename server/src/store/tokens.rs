@@ -8,6 +8,7 @@ use crate::store::columns::Flag;
 use crate::auth::{Role, secret};
 use crate::clock;
 use crate::db::Db;
+use crate::store::users;
 
 /// A token as listed: everything but the secret, which is shown once at creation.
 #[derive(Debug, Clone, Serialize, sqlx::FromRow)]
@@ -55,6 +56,31 @@ pub async fn create(
     name: &str,
     expires_at: Option<String>,
 ) -> sqlx::Result<MintedToken> {
+    let mut tx = db.begin_write().await?;
+    let minted = insert(&mut tx, role, name, expires_at).await?;
+    tx.commit().await?;
+    Ok(minted)
+}
+
+/// Mints the first admin token, unless an admin credential exists (a live admin token, or an
+/// admin user of the web UI). Looked for and minted under the write lock, so of several
+/// replicas starting together on one new database exactly one mints it.
+pub async fn create_first_admin(db: &Db) -> sqlx::Result<Option<MintedToken>> {
+    let mut tx = db.begin_write().await?;
+    if live_admin_exists(&mut *tx).await? || users::admin_exists(&mut *tx).await? {
+        return Ok(None);
+    }
+    let minted = insert(&mut tx, Role::Admin, "first admin", None).await?;
+    tx.commit().await?;
+    Ok(Some(minted))
+}
+
+async fn insert(
+    tx: &mut sqlx::AnyConnection,
+    role: Role,
+    name: &str,
+    expires_at: Option<String>,
+) -> sqlx::Result<MintedToken> {
     let token = secret::mint_token();
     let record = TokenRecord {
         id: secret::mint_id(),
@@ -65,7 +91,6 @@ pub async fn create(
         expires_at,
         revoked_at: None,
     };
-    let mut tx = db.begin_write().await?;
     sqlx::query(
         "insert into tokens (id, name, role, robot_id, secret_hash, created_at, expires_at)
          values ($1, $2, $3, $4, $5, $6, $7)",
@@ -79,7 +104,6 @@ pub async fn create(
     .bind(&record.expires_at)
     .execute(&mut *tx)
     .await?;
-    tx.commit().await?;
     Ok(MintedToken { record, token })
 }
 
@@ -124,14 +148,14 @@ pub async fn find_live(pool: &AnyPool, secret_hash: &str) -> sqlx::Result<Option
 }
 
 /// Whether any admin credential that still works exists.
-pub async fn live_admin_exists(pool: &AnyPool) -> sqlx::Result<bool> {
+pub async fn live_admin_exists(executor: impl sqlx::AnyExecutor<'_>) -> sqlx::Result<bool> {
     let found: Flag = sqlx::query_scalar(
         "select case when exists (select 1 from tokens where role = 'admin' and revoked_at is null
                                   and (expires_at is null or expires_at > $1))
                 then 1 else 0 end",
     )
     .bind(clock::now())
-    .fetch_one(pool)
+    .fetch_one(executor)
     .await?;
     Ok(found.into())
 }

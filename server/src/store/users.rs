@@ -118,11 +118,11 @@ pub async fn delete(db: &Db, name: &UserName) -> sqlx::Result<bool> {
 
 /// Whether an admin login exists: the first start makes an admin token only when neither an
 /// admin token nor an admin user does.
-pub async fn admin_exists(pool: &AnyPool) -> sqlx::Result<bool> {
+pub async fn admin_exists(executor: impl sqlx::AnyExecutor<'_>) -> sqlx::Result<bool> {
     let found: Flag = sqlx::query_scalar(
         "select case when exists (select 1 from users where role = 'admin') then 1 else 0 end",
     )
-    .fetch_one(pool)
+    .fetch_one(executor)
     .await?;
     Ok(found.into())
 }

@@ -233,7 +233,17 @@ pub struct SseEvent {
 
 impl SseClient {
     pub async fn connect(server: &TestServer, token: &str, last_event_id: Option<i64>) -> Self {
-        let mut request = server.request(Method::GET, "/api/v1/events", Some(token));
+        Self::open(&server.client, &server.url, token, last_event_id).await
+    }
+
+    /// The feed of the registry at `url` (any replica).
+    pub async fn open(
+        client: &reqwest::Client,
+        url: &str,
+        token: &str,
+        last_event_id: Option<i64>,
+    ) -> Self {
+        let mut request = client.get(format!("{url}/api/v1/events")).bearer_auth(token);
         if let Some(id) = last_event_id {
             request = request.header("last-event-id", id.to_string());
         }
