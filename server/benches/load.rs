@@ -3,25 +3,30 @@
 //! ```sh
 //! cargo bench -p pps-server --bench load                      # 10 s per phase, 64 connections
 //! cargo bench -p pps-server --bench load -- --seconds 5 --connections 32 --tags 10,100000
+//! cargo bench -p pps-server --bench load -- --postgres postgres://pps@127.0.0.1:5432/postgres
 //! ```
 //!
 //! For each registry size it measures effective-entry reads (plain and revalidated with
 //! `If-None-Match`, answered 304) and durable trial writes, and prints req/s, p50 and p99 per
-//! operation and the server's resident memory. When `nginx` is installed, the same generator
-//! also fetches the same JSON as a static file from nginx, so the two are compared in one run.
+//! operation and the server's resident memory. With `--postgres CLUSTER` (or
+//! `PPS_TEST_POSTGRES`, as the test command sets it), each size runs again on a new database in
+//! that PostgreSQL cluster, served by two replicas the connections are spread over. When `nginx`
+//! is installed, the same generator also fetches the same JSON as a static file from nginx, so
+//! the two are compared in one run.
 //! The generator shares the machine's cores with the server, as a robot fleet's LAN would not;
 //! compare ratios measured in one run, not absolute figures across machines.
 
 use std::net::TcpListener;
-use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use pps_server::auth::Role;
+use pps_server::db::Location;
 use pps_server::store::{robots, tokens};
 use pps_server::{Db, seed};
 use serde_json::{Value, json};
+use sqlx::Connection;
 
 const BIN: &str = env!("CARGO_BIN_EXE_pps-server");
 
@@ -35,10 +40,17 @@ struct Options {
     seconds: u64,
     connections: usize,
     tag_counts: Vec<usize>,
+    /// A PostgreSQL cluster to run every size on as well.
+    postgres: Option<String>,
 }
 
 fn options() -> Options {
-    let mut options = Options { seconds: 10, connections: 64, tag_counts: vec![10, 100_000] };
+    let mut options = Options {
+        seconds: 10,
+        connections: 64,
+        tag_counts: vec![10, 100_000],
+        postgres: std::env::var("PPS_TEST_POSTGRES").ok(),
+    };
     let args: Vec<String> = std::env::args().skip(1).collect();
     let mut i = 0;
     while i < args.len() {
@@ -46,6 +58,7 @@ fn options() -> Options {
         match args[i].as_str() {
             "--seconds" => options.seconds = value.parse().expect("--seconds N"),
             "--connections" => options.connections = value.parse().expect("--connections N"),
+            "--postgres" => options.postgres = Some(value),
             "--tags" => {
                 options.tag_counts =
                     value.split(',').map(|n| n.parse().expect("--tags N,M")).collect()
@@ -98,8 +111,19 @@ enum Operation {
     Static { url: String },
 }
 
+/// The registry under load: one SQLite server, or replicas on one PostgreSQL database.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Store {
+    Sqlite,
+    Postgres,
+}
+
+/// Replicas served on PostgreSQL.
+const REPLICAS: usize = 2;
+
 struct Fleet {
-    url: String,
+    /// The replicas; connection `i` talks to `urls[i % urls.len()]`.
+    urls: Vec<String>,
     tokens: Vec<(String, String)>,
     epcs: Vec<String>,
     etags: std::collections::HashMap<(String, String), String>,
@@ -113,42 +137,68 @@ fn main() -> anyhow::Result<()> {
         "PPS-tag registry load benchmark: {} connections, {} s per phase, server {}",
         options.connections, options.seconds, BIN
     );
+    let mut stores = vec![Store::Sqlite];
+    if options.postgres.is_some() {
+        stores.push(Store::Postgres);
+    }
     for &tags in &options.tag_counts {
-        runtime.block_on(run(&options, tags))?;
+        for &store in &stores {
+            runtime.block_on(run(&options, tags, store))?;
+        }
     }
     Ok(())
 }
 
-async fn run(options: &Options, tag_count: usize) -> anyhow::Result<()> {
+async fn run(options: &Options, tag_count: usize, store: Store) -> anyhow::Result<()> {
     let dir = tempfile::tempdir()?;
-    let db_path = dir.path().join("bench.db");
+    let (location, replicas) = match (store, &options.postgres) {
+        (Store::Postgres, Some(cluster)) => (fresh_database(cluster).await?, REPLICAS),
+        _ => (Location::File(dir.path().join("bench.db")), 1),
+    };
     let prepared = Instant::now();
-    let (epcs, tokens) = prepare(&db_path, tag_count).await?;
-    let port = free_port()?;
-    let mut server = Command::new(BIN)
-        .args(["serve", "--listen", &format!("127.0.0.1:{port}"), "--db"])
-        .arg(&db_path)
-        .env("RUST_LOG", "warn")
-        .stderr(Stdio::null())
-        .spawn()?;
-    let url = format!("http://127.0.0.1:{port}");
+    let (epcs, tokens) = prepare(&location, tag_count).await?;
     let client = client(options.connections)?;
-    wait_until_up(&client, &url).await?;
-    println!("\n{tag_count} tags (prepared in {:.1} s)", prepared.elapsed().as_secs_f64());
+    let mut servers = Vec::new();
+    let mut urls = Vec::new();
+    for _ in 0..replicas {
+        let port = free_port()?;
+        servers.push(
+            Command::new(BIN)
+                .args(["serve", "--listen", &format!("127.0.0.1:{port}"), "--db"])
+                .arg(location.as_db_arg())
+                .env("RUST_LOG", "warn")
+                .stderr(Stdio::null())
+                .spawn()?,
+        );
+        let url = format!("http://127.0.0.1:{port}");
+        wait_until_up(&client, &url).await?;
+        urls.push(url);
+    }
+    let engine = match store {
+        Store::Sqlite => "SQLite, one server".to_owned(),
+        Store::Postgres => format!("PostgreSQL, {replicas} replicas"),
+    };
+    println!(
+        "\n{tag_count} tags on {engine} (prepared in {:.1} s)",
+        prepared.elapsed().as_secs_f64()
+    );
 
     let working: Vec<String> =
         epcs.iter().step_by((epcs.len() / WORKING_SET).max(1)).cloned().collect();
-    let mut fleet = Fleet { url: url.clone(), tokens, epcs: working, etags: Default::default() };
-    // Warm the cache and learn each entry's ETag, as robots that read the tag before would.
-    for (robot, token) in &fleet.tokens {
-        for epc in &fleet.epcs {
-            let response = client
-                .get(format!("{url}/api/v1/robots/{robot}/tags/{epc}"))
-                .bearer_auth(token)
-                .send()
-                .await?;
-            let etag = response.headers()["etag"].to_str()?.to_owned();
-            fleet.etags.insert((robot.clone(), epc.clone()), etag);
+    let mut fleet = Fleet { urls: urls.clone(), tokens, epcs: working, etags: Default::default() };
+    // Warm every replica's cache and learn each entry's ETag, as robots that read the tag
+    // before would; the ETag is the content's hash, the same from every replica.
+    for url in &urls {
+        for (robot, token) in &fleet.tokens {
+            for epc in &fleet.epcs {
+                let response = client
+                    .get(format!("{url}/api/v1/robots/{robot}/tags/{epc}"))
+                    .bearer_auth(token)
+                    .send()
+                    .await?;
+                let etag = response.headers()["etag"].to_str()?.to_owned();
+                fleet.etags.insert((robot.clone(), epc.clone()), etag);
+            }
         }
     }
     let fleet = Arc::new(fleet);
@@ -161,20 +211,40 @@ async fn run(options: &Options, tag_count: usize) -> anyhow::Result<()> {
         let measured = measure(&client, &fleet, operation, options.connections, duration).await;
         measured.print(name);
     }
-    println!("  server resident memory: {}", memory(&server).unwrap_or_else(|| "unknown".into()));
-    if tag_count == *options.tag_counts.first().unwrap_or(&0) {
+    for server in &servers {
+        println!(
+            "  server resident memory: {}",
+            memory(server).unwrap_or_else(|| "unknown".into())
+        );
+    }
+    if store == Store::Sqlite && tag_count == *options.tag_counts.first().unwrap_or(&0) {
         compare_with_nginx(&client, &fleet, options, duration).await?;
     }
-    stop(&mut server);
+    for server in &mut servers {
+        stop(server);
+    }
     Ok(())
+}
+
+/// A new database in the PostgreSQL cluster at `cluster`.
+async fn fresh_database(cluster: &str) -> anyhow::Result<Location> {
+    let name = format!("bench_{}", uuid::Uuid::new_v4().simple());
+    let mut admin = sqlx::PgConnection::connect(cluster).await?;
+    sqlx::raw_sql(sqlx::AssertSqlSafe(format!("create database {name}")))
+        .execute(&mut admin)
+        .await?;
+    admin.close().await?;
+    let mut url = url::Url::parse(cluster)?;
+    url.set_path(&name);
+    Ok(Location::Postgres(url.to_string()))
 }
 
 /// A database with `tag_count` tags, the robots registered and their tokens minted.
 async fn prepare(
-    db_path: &Path,
+    location: &Location,
     tag_count: usize,
 ) -> anyhow::Result<(Vec<String>, Vec<(String, String)>)> {
-    let db = Db::open_file(db_path).await?;
+    let db = Db::open(location).await?;
     let seeds = seed::seed_entries()?;
     let mut entries = Vec::with_capacity(tag_count);
     for n in 0..tag_count {
@@ -211,6 +281,7 @@ async fn measure(
         let (client, fleet, operation) = (client.clone(), fleet.clone(), operation.clone());
         tasks.spawn(async move {
             let (robot, token) = &fleet.tokens[connection % fleet.tokens.len()];
+            let url = &fleet.urls[connection % fleet.urls.len()];
             let mut latencies = Vec::with_capacity(50_000);
             let mut failures = 0;
             let mut n = connection;
@@ -221,7 +292,7 @@ async fn measure(
                 let ok = match &operation {
                     Operation::Read { revalidate } => {
                         let mut request = client
-                            .get(format!("{}/api/v1/robots/{robot}/tags/{epc}", fleet.url))
+                            .get(format!("{url}/api/v1/robots/{robot}/tags/{epc}"))
                             .bearer_auth(token);
                         if *revalidate {
                             request = request.header(
@@ -242,7 +313,7 @@ async fn measure(
                         let id = uuid::Uuid::new_v4().to_string();
                         let body = trial(&id, epc, robot);
                         match client
-                            .put(format!("{}/api/v1/trials/{id}", fleet.url))
+                            .put(format!("{url}/api/v1/trials/{id}"))
                             .bearer_auth(token)
                             .json(&body)
                             .send()
@@ -304,7 +375,7 @@ async fn compare_with_nginx(
     let (robot, token) = &fleet.tokens[0];
     let epc = &fleet.epcs[0];
     let body = client
-        .get(format!("{}/api/v1/robots/{robot}/tags/{epc}", fleet.url))
+        .get(format!("{}/api/v1/robots/{robot}/tags/{epc}", fleet.urls[0]))
         .bearer_auth(token)
         .send()
         .await?

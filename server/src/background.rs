@@ -51,7 +51,8 @@ pub async fn flush(state: &AppState) {
     flush_presence(state).await;
 }
 
-/// Keeps caches right when the change came from another process (the CLI) as well.
+/// Keeps caches right when the change came from another process (the CLI, another replica)
+/// as well, and wakes robots waiting here for a task another replica queued.
 fn invalidate(state: &AppState, event: &Event) {
     let epc = |key: &str| event.data.get(key).and_then(Value::as_str).map(str::to_owned);
     match event.kind {
@@ -64,6 +65,11 @@ fn invalidate(state: &AppState, event: &Event) {
             }
         }
         EventKind::RobotChanged => state.effective.clear(),
+        // A task asked for or requeued anywhere; this process's own writers woke them already,
+        // and one more look by the robot first in line costs a read.
+        EventKind::TaskChanged if event.data.get("state") == Some(&Value::from("queued")) => {
+            state.tasks.changed()
+        }
         _ => {}
     }
 }

@@ -375,3 +375,45 @@ async fn backup_on_postgresql_points_to_pg_dump_and_touches_nothing() {
     .unwrap();
     assert_eq!(tables, 0, "refusing, it did not even migrate the database");
 }
+
+#[tokio::test(flavor = "multi_thread")]
+async fn a_robot_waiting_on_one_replica_gets_a_task_asked_on_the_other_at_once() {
+    let (a, b, admin, _) = two_replicas().await;
+    let client = reqwest::Client::new();
+    let robot = serde_json::json!({
+        "id": "el-e-1", "class": "el-e", "name": "EL-E-1",
+        "capabilities": ["light_switch", "pull_back", "push", "pull_lamp", "drop"],
+        "limits": { "max_force": 40.0 }
+    });
+    let registered =
+        client.put(format!("{}/api/v1/robots/el-e-1", a.url)).bearer_auth(&admin).json(&robot);
+    assert!(registered.send().await.unwrap().status().is_success());
+    let token =
+        mint(&client, &a, &admin, "robot", "el-e-1").await["token"].as_str().unwrap().to_owned();
+    let waiting = {
+        let (client, url) = (client.clone(), b.url.clone());
+        tokio::spawn(async move {
+            let claim = format!("{url}/api/v1/robots/el-e-1/tasks/claim?wait=20");
+            let response = client.post(claim).bearer_auth(token).send().await.unwrap();
+            (Instant::now(), response.status(), response.json::<Value>().await.unwrap())
+        })
+    };
+    // The robot is in line on B before the task is asked for on A.
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    let asked = Instant::now();
+    let task = client
+        .post(format!("{}/api/v1/tasks", a.url))
+        .bearer_auth(&admin)
+        .json(&json!({ "epc": ADA_SWITCH, "action": "on" }))
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(task.status(), StatusCode::CREATED);
+    let task: Value = task.json().await.unwrap();
+    let (answered, status, claimed) = waiting.await.unwrap();
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(claimed["id"], task["id"]);
+    let took = answered - asked;
+    eprintln!("asked on A, handed out on B after {took:.2?}");
+    assert!(took < Duration::from_secs(5), "B's robot waited {took:.2?}, not woken by A's task");
+}

@@ -15,6 +15,14 @@ pub enum Location {
 }
 
 impl Location {
+    /// The location as `--db` takes it, password included (for starting a process on it).
+    pub fn as_db_arg(&self) -> String {
+        match self {
+            Self::File(path) => path.display().to_string(),
+            Self::Postgres(url) => url.clone(),
+        }
+    }
+
     /// The SQLite file, if the database is one.
     pub fn file(&self) -> Option<&Path> {
         match self {

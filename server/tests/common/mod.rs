@@ -71,10 +71,7 @@ impl TestServer {
 
     /// The database as the command line's `--db` takes it.
     pub fn db_arg(&self) -> String {
-        match &self.location {
-            Location::File(path) => path.display().to_string(),
-            Location::Postgres(url) => url.clone(),
-        }
+        self.location.as_db_arg()
     }
 
     /// Serves `db` on a new port until the returned sender is dropped.
