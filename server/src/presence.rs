@@ -1,51 +1,115 @@
 //! When each robot was last seen: noted in memory on every robot request, flushed to the
 //! database now and then, so a read never writes.
+//!
+//! Noting runs on the robots' hot path, on every core at once, so it is a shared read lock and,
+//! at most once a second per robot, one atomic store: nothing is formatted and no lock is taken
+//! for writing except when a robot is seen for the first time. A last-seen time is therefore
+//! the first request of its second.
 
 use std::collections::HashMap;
-use std::sync::Mutex;
+use std::sync::RwLock;
+use std::sync::atomic::{AtomicBool, AtomicI64, Ordering};
+
+use time::OffsetDateTime;
 
 use crate::clock;
 
+/// How finely a robot's last-seen time is kept.
+const RESOLUTION_MS: i64 = 1000;
+
+#[derive(Debug, Default)]
+struct Seen {
+    /// Unix time in milliseconds.
+    at_ms: AtomicI64,
+    /// Whether `at_ms` changed since the last flush.
+    unflushed: AtomicBool,
+}
+
+impl Seen {
+    fn note(&self, now_ms: i64) {
+        if now_ms - self.at_ms.load(Ordering::Relaxed) >= RESOLUTION_MS {
+            self.at_ms.store(now_ms, Ordering::Relaxed);
+            self.unflushed.store(true, Ordering::Release);
+        }
+    }
+
+    fn formatted(&self) -> String {
+        let at = OffsetDateTime::from_unix_timestamp_nanos(
+            i128::from(self.at_ms.load(Ordering::Relaxed)) * 1_000_000,
+        );
+        at.map(clock::format).unwrap_or_default()
+    }
+}
+
 #[derive(Debug, Default)]
 pub struct Presence {
-    /// Robot id → last seen, and whether that is not yet flushed.
-    seen: Mutex<HashMap<String, (String, bool)>>,
+    /// Robot id → when it was last seen.
+    seen: RwLock<HashMap<String, Seen>>,
 }
 
 impl Presence {
     pub fn saw(&self, robot: &str) {
-        let now = clock::now();
-        let mut seen = self.seen.lock().unwrap_or_else(|e| e.into_inner());
-        match seen.get_mut(robot) {
-            Some(entry) => *entry = (now, true),
-            None => {
-                seen.insert(robot.to_owned(), (now, true));
-            }
+        let now_ms = (OffsetDateTime::now_utc().unix_timestamp_nanos() / 1_000_000) as i64;
+        if let Some(seen) = self.seen.read().unwrap_or_else(|e| e.into_inner()).get(robot) {
+            seen.note(now_ms);
+            return;
         }
+        let mut seen = self.seen.write().unwrap_or_else(|e| e.into_inner());
+        seen.entry(robot.to_owned()).or_default().note(now_ms);
     }
 
     /// Seeds the memory with what the database holds, at start.
     pub fn load(&self, stored: Vec<(String, String)>) {
-        let mut seen = self.seen.lock().unwrap_or_else(|e| e.into_inner());
+        let mut seen = self.seen.write().unwrap_or_else(|e| e.into_inner());
         for (robot, at) in stored {
-            seen.entry(robot).or_insert((at, false));
+            let Some(at) = clock::parse(&at) else { continue };
+            let at_ms = (at.unix_timestamp_nanos() / 1_000_000) as i64;
+            seen.entry(robot).or_insert_with(|| Seen {
+                at_ms: AtomicI64::new(at_ms),
+                unflushed: AtomicBool::new(false),
+            });
         }
     }
 
     pub fn last_seen(&self, robot: &str) -> Option<String> {
-        let seen = self.seen.lock().unwrap_or_else(|e| e.into_inner());
-        seen.get(robot).map(|(at, _)| at.clone())
+        let seen = self.seen.read().unwrap_or_else(|e| e.into_inner());
+        seen.get(robot).map(Seen::formatted)
     }
 
     /// The sightings not yet flushed, marking them flushed.
     pub fn take_unflushed(&self) -> Vec<(String, String)> {
-        let mut seen = self.seen.lock().unwrap_or_else(|e| e.into_inner());
-        seen.iter_mut()
-            .filter(|(_, (_, dirty))| *dirty)
-            .map(|(robot, (at, dirty))| {
-                *dirty = false;
-                (robot.clone(), at.clone())
-            })
+        let seen = self.seen.read().unwrap_or_else(|e| e.into_inner());
+        seen.iter()
+            .filter(|(_, seen)| seen.unflushed.swap(false, Ordering::Acquire))
+            .map(|(robot, seen)| (robot.clone(), seen.formatted()))
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_robot_seen_is_flushed_once_until_seen_again() {
+        let presence = Presence::default();
+        assert!(presence.take_unflushed().is_empty());
+        presence.saw("el-e-1");
+        let flushed = presence.take_unflushed();
+        assert_eq!(flushed.len(), 1);
+        assert_eq!(flushed[0].0, "el-e-1");
+        assert!(clock::parse(&flushed[0].1).is_some(), "{}", flushed[0].1);
+        assert!(presence.take_unflushed().is_empty(), "nothing new to flush");
+        assert_eq!(presence.last_seen("el-e-1"), Some(flushed[0].1.clone()));
+    }
+
+    #[test]
+    fn stored_times_are_known_but_not_flushed_again() {
+        let presence = Presence::default();
+        presence.load(vec![("pr2-1".into(), "2026-11-22T10:00:00.000Z".into())]);
+        assert_eq!(presence.last_seen("pr2-1").as_deref(), Some("2026-11-22T10:00:00.000Z"));
+        assert!(presence.take_unflushed().is_empty());
+        presence.saw("pr2-1");
+        assert_eq!(presence.take_unflushed().len(), 1, "seen now, a second and more later");
     }
 }

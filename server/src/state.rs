@@ -13,9 +13,14 @@ use crate::sightings::Sightings;
 use crate::task_board::TaskBoard;
 use crate::trial_writer::TrialWriter;
 
-/// Cheap to clone: everything inside is shared.
+/// The shared state, behind one `Arc`: every request clones it (the router hands each handler
+/// and middleware its own copy), and one reference count bumped per clone is far cheaper on
+/// the hot path, with every core at it, than one per field.
 #[derive(Debug, Clone)]
-pub struct AppState {
+pub struct AppState(Arc<Shared>);
+
+#[derive(Debug)]
+pub struct Shared {
     pub db: Db,
     pub tokens: Arc<TokenCache>,
     /// Recent failed password logins, to slow down guessing.
@@ -32,13 +37,21 @@ pub struct AppState {
     pub metrics: Arc<Metrics>,
 }
 
+impl std::ops::Deref for AppState {
+    type Target = Shared;
+
+    fn deref(&self) -> &Shared {
+        &self.0
+    }
+}
+
 impl AppState {
     /// The state for a registry on `db`; starts the trial writer, so it needs a Tokio runtime.
     pub fn new(db: Db) -> Self {
         let feed = Arc::new(ChangeFeed::default());
         let effective = Arc::new(EffectiveCache::default());
         let trials = TrialWriter::start(db.clone(), feed.clone(), effective.clone());
-        Self {
+        Self(Arc::new(Shared {
             db,
             tokens: Arc::default(),
             login_throttle: Arc::default(),
@@ -49,13 +62,14 @@ impl AppState {
             trials,
             tasks: Arc::default(),
             metrics: Arc::default(),
-        }
+        }))
     }
 
     /// The state with claims holding a task for `lease` (DESIGN leaves the lease to the
-    /// registry; tests of dead robots use a short one).
+    /// registry; tests of dead robots use a short one). Set before the state is shared.
     pub fn with_task_lease(mut self, lease: std::time::Duration) -> Self {
-        self.tasks = Arc::new(TaskBoard::new(lease));
+        let shared = Arc::get_mut(&mut self.0).expect("the task lease is set before serving");
+        shared.tasks = Arc::new(TaskBoard::new(lease));
         self
     }
 }
