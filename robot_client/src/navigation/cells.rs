@@ -3,6 +3,8 @@
 
 use nalgebra::Point3;
 
+use crate::perception::voxel_coords::cube_of;
+
 /// The points of a cloud ordered by the cubic cell they fall in.
 #[derive(Debug, Clone)]
 pub struct CellIndex {
@@ -18,8 +20,7 @@ impl CellIndex {
     /// Groups `points` into cubes of `size` metres.
     pub fn new(points: &[Point3<f32>], size: f32) -> Self {
         let key = |p: &Point3<f32>| {
-            let c =
-                [p.x, p.y, p.z].map(|v| ((v / size).floor() as i64 + (1 << 20)) as u64 & 0x1F_FFFF);
+            let c = cube_of(p, size).map(|v| (v + (1 << 20)) as u64 & 0x1F_FFFF);
             c[0] << 42 | c[1] << 21 | c[2]
         };
         let mut keyed: Vec<(u64, u32)> =

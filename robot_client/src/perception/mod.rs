@@ -18,6 +18,7 @@ mod occupancy;
 mod projection;
 mod tag;
 mod tag_colours;
+pub(crate) mod voxel_coords;
 
 pub use blobs::Blobs;
 pub use brightness::{BrightnessChange, LightChange, brightness_change};
