@@ -58,7 +58,8 @@ impl Mask {
         &mut self.words[y * self.words_per_row..(y + 1) * self.words_per_row]
     }
 
-    fn row(&self, y: usize) -> &[u64] {
+    /// Row `y` as words, for readers that take a row 64 pixels at a time.
+    pub(crate) fn row(&self, y: usize) -> &[u64] {
         &self.words[y * self.words_per_row..(y + 1) * self.words_per_row]
     }
 

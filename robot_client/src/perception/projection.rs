@@ -37,41 +37,102 @@ pub fn points_on_mask(
     calibration: &CameraCalibration,
     occlusion: &OcclusionTest,
 ) -> Vec<Point3<f32>> {
-    let camera_from_base = calibration.base_from_camera.inverse();
-    let rotation: Matrix3<f32> = camera_from_base.rotation.to_rotation_matrix().matrix().cast();
-    let translation: Vector3<f32> = camera_from_base.translation.vector.cast();
-    let k = &calibration.intrinsics;
-    let (fx, fy, cx, cy) = (k.fx as f32, k.fy as f32, k.cx as f32, k.cy as f32);
-    let (width, height) = (mask.width(), mask.height());
-    let cell = ((k.fx.max(k.fy) * occlusion.cell_angle).round() as usize).max(1);
-    let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
-    let mut nearest = vec![f32::INFINITY; cols * rows];
-    // (index into cloud, depth, cell) of the points that land on red.
-    let mut on_red: Vec<(u32, f32, u32)> = Vec::new();
-    for (i, p) in cloud.iter().enumerate() {
-        let c = rotation * p.coords + translation;
-        if c.z <= 0.05 {
-            continue;
+    ProjectedCloud::new(cloud, calibration, occlusion).on_mask(cloud, mask, occlusion)
+}
+
+/// The cloud as the camera sees it: where each point lands in the image and how deep, and the
+/// nearest depth of every depth cell. Projected once, before the image is segmented, so that
+/// the segmentation can start from the pixels the laser saw.
+#[derive(Debug, Clone)]
+pub struct ProjectedCloud {
+    width: usize,
+    height: usize,
+    /// Side of a depth cell, pixels, and how many cells make a row of them.
+    cell: usize,
+    cols: usize,
+    /// For each point of the cloud, its pixel `y * width + x`, or `OUTSIDE`.
+    pixel: Vec<u32>,
+    /// For each point, its depth along the optical axis, metres.
+    depth: Vec<f32>,
+    nearest: Vec<f32>,
+    /// The pixels some point lands on.
+    seen: Mask,
+}
+
+/// The pixel of a point that does not land in the image (behind the camera or beside it).
+const OUTSIDE: u32 = u32::MAX;
+
+impl ProjectedCloud {
+    /// Projects `cloud` (base frame) into the camera of `calibration`.
+    pub fn new(
+        cloud: &[Point3<f32>],
+        calibration: &CameraCalibration,
+        occlusion: &OcclusionTest,
+    ) -> Self {
+        let camera_from_base = calibration.base_from_camera.inverse();
+        let rotation: Matrix3<f32> = camera_from_base.rotation.to_rotation_matrix().matrix().cast();
+        let translation: Vector3<f32> = camera_from_base.translation.vector.cast();
+        let k = &calibration.intrinsics;
+        let (fx, fy, cx, cy) = (k.fx as f32, k.fy as f32, k.cx as f32, k.cy as f32);
+        let (width, height) = (k.width as usize, k.height as usize);
+        let cell = ((k.fx.max(k.fy) * occlusion.cell_angle).round() as usize).max(1);
+        let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
+        let mut nearest = vec![f32::INFINITY; cols * rows];
+        let mut pixel = Vec::with_capacity(cloud.len());
+        let mut depth = Vec::with_capacity(cloud.len());
+        let mut seen = Mask::new(width, height);
+        for p in cloud {
+            let c = rotation * p.coords + translation;
+            depth.push(c.z);
+            let u = fx * c.x / c.z + cx;
+            let v = fy * c.y / c.z + cy;
+            if c.z <= 0.05
+                || !(u >= 0.0 && v >= 0.0 && (u as usize) < width && (v as usize) < height)
+            {
+                pixel.push(OUTSIDE);
+                continue;
+            }
+            let (x, y) = (u as usize, v as usize);
+            let at = (y / cell) * cols + x / cell;
+            if c.z < nearest[at] {
+                nearest[at] = c.z;
+            }
+            pixel.push((y * width + x) as u32);
+            seen.set(x, y, true);
         }
-        let u = fx * c.x / c.z + cx;
-        let v = fy * c.y / c.z + cy;
-        if !(u >= 0.0 && v >= 0.0 && (u as usize) < width && (v as usize) < height) {
-            continue;
-        }
-        let (x, y) = (u as usize, v as usize);
-        let at = (y / cell) * cols + x / cell;
-        if c.z < nearest[at] {
-            nearest[at] = c.z;
-        }
-        if mask.get(x, y) {
-            on_red.push((i as u32, c.z, at as u32));
-        }
+        Self { width, height, cell, cols, pixel, depth, nearest, seen }
     }
-    on_red
-        .into_iter()
-        .filter(|&(_, depth, at)| depth <= nearest[at as usize] + occlusion.tolerance)
-        .map(|(i, _, _)| cloud[i as usize])
-        .collect()
+
+    /// The pixels some point of the cloud lands on.
+    pub fn seen(&self) -> &Mask {
+        &self.seen
+    }
+
+    /// The points of `cloud` (the cloud this was projected from) that land on set pixels of
+    /// `mask` and are not hidden from the camera by nearer points.
+    pub fn on_mask(
+        &self,
+        cloud: &[Point3<f32>],
+        mask: &Mask,
+        occlusion: &OcclusionTest,
+    ) -> Vec<Point3<f32>> {
+        assert_eq!((mask.width(), mask.height()), (self.width, self.height), "mask and camera");
+        let mut kept = Vec::new();
+        for (i, &at) in self.pixel.iter().enumerate() {
+            if at == OUTSIDE {
+                continue;
+            }
+            let (x, y) = (at as usize % self.width, at as usize / self.width);
+            if !mask.get(x, y) {
+                continue;
+            }
+            let nearest = self.nearest[(y / self.cell) * self.cols + x / self.cell];
+            if self.depth[i] <= nearest + occlusion.tolerance {
+                kept.push(cloud[i]);
+            }
+        }
+        kept
+    }
 }
 
 #[cfg(test)]
