@@ -47,19 +47,24 @@ pub fn points_on_mask(
 pub struct ProjectedCloud {
     width: usize,
     height: usize,
-    /// Side of a depth cell, pixels, and how many cells make a row of them.
-    cell: usize,
-    cols: usize,
-    /// For each point of the cloud, its pixel `y * width + x`, or `OUTSIDE`.
-    pixel: Vec<u32>,
-    /// For each point, its depth along the optical axis, metres.
-    depth: Vec<f32>,
+    /// For each point of the cloud, where it lands; `x` is `OUTSIDE` for a point that does not.
+    landings: Vec<Landing>,
     nearest: Vec<f32>,
     /// The pixels some point lands on.
     seen: Mask,
 }
 
-/// The pixel of a point that does not land in the image (behind the camera or beside it).
+/// Where a point lands: its pixel, the depth cell of that pixel, and its depth along the
+/// optical axis (metres).
+#[derive(Debug, Clone, Copy)]
+struct Landing {
+    x: u32,
+    y: u32,
+    cell: u32,
+    depth: f32,
+}
+
+/// The `x` of a point that does not land in the image (behind the camera or beside it).
 const OUTSIDE: u32 = u32::MAX;
 
 impl ProjectedCloud {
@@ -77,30 +82,30 @@ impl ProjectedCloud {
         let (width, height) = (k.width as usize, k.height as usize);
         let cell = ((k.fx.max(k.fy) * occlusion.cell_angle).round() as usize).max(1);
         let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
+        // A pixel's depth cell by table, column plus row: no division per point.
+        let cell_column: Vec<u32> = (0..width).map(|x| (x / cell) as u32).collect();
+        let cell_row: Vec<u32> = (0..height).map(|y| ((y / cell) * cols) as u32).collect();
         let mut nearest = vec![f32::INFINITY; cols * rows];
-        let mut pixel = Vec::with_capacity(cloud.len());
-        let mut depth = Vec::with_capacity(cloud.len());
         let mut seen = Mask::new(width, height);
-        for p in cloud {
-            let c = rotation * p.coords + translation;
-            depth.push(c.z);
-            let u = fx * c.x / c.z + cx;
-            let v = fy * c.y / c.z + cy;
-            if c.z <= 0.05
-                || !(u >= 0.0 && v >= 0.0 && (u as usize) < width && (v as usize) < height)
-            {
-                pixel.push(OUTSIDE);
-                continue;
-            }
-            let (x, y) = (u as usize, v as usize);
-            let at = (y / cell) * cols + x / cell;
-            if c.z < nearest[at] {
-                nearest[at] = c.z;
-            }
-            pixel.push((y * width + x) as u32);
-            seen.set(x, y, true);
-        }
-        Self { width, height, cell, cols, pixel, depth, nearest, seen }
+        let landings = cloud
+            .iter()
+            .map(|p| {
+                let c = rotation * p.coords + translation;
+                let u = fx * c.x / c.z + cx;
+                let v = fy * c.y / c.z + cy;
+                let inside = u >= 0.0 && v >= 0.0 && (u as usize) < width && (v as usize) < height;
+                if c.z <= 0.05 || !inside {
+                    return Landing { x: OUTSIDE, y: 0, cell: 0, depth: c.z };
+                }
+                let (x, y) = (u as usize, v as usize);
+                let at = cell_row[y] + cell_column[x];
+                let near = &mut nearest[at as usize];
+                *near = near.min(c.z);
+                seen.set(x, y, true);
+                Landing { x: x as u32, y: y as u32, cell: at, depth: c.z }
+            })
+            .collect();
+        Self { width, height, landings, nearest, seen }
     }
 
     /// The pixels some point of the cloud lands on.
@@ -110,6 +115,10 @@ impl ProjectedCloud {
 
     /// The points of `cloud` (the cloud this was projected from) that land on set pixels of
     /// `mask` and are not hidden from the camera by nearer points.
+    ///
+    /// # Panics
+    ///
+    /// When `mask` is not the camera's size.
     pub fn on_mask(
         &self,
         cloud: &[Point3<f32>],
@@ -117,21 +126,16 @@ impl ProjectedCloud {
         occlusion: &OcclusionTest,
     ) -> Vec<Point3<f32>> {
         assert_eq!((mask.width(), mask.height()), (self.width, self.height), "mask and camera");
-        let mut kept = Vec::new();
-        for (i, &at) in self.pixel.iter().enumerate() {
-            if at == OUTSIDE {
-                continue;
-            }
-            let (x, y) = (at as usize % self.width, at as usize / self.width);
-            if !mask.get(x, y) {
-                continue;
-            }
-            let nearest = self.nearest[(y / self.cell) * self.cols + x / self.cell];
-            if self.depth[i] <= nearest + occlusion.tolerance {
-                kept.push(cloud[i]);
-            }
-        }
-        kept
+        self.landings
+            .iter()
+            .zip(cloud)
+            .filter(|(l, _)| {
+                l.x != OUTSIDE
+                    && mask.get(l.x as usize, l.y as usize)
+                    && l.depth <= self.nearest[l.cell as usize] + occlusion.tolerance
+            })
+            .map(|(_, p)| *p)
+            .collect()
     }
 }
 
