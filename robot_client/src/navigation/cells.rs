@@ -1,7 +1,10 @@
-//! Points grouped by cubic cell: which points lie close together, found by one sort. The plane
-//! search draws each sample's points from one cell.
+//! Points grouped by cubic cell: which points lie close together, found by counting them into
+//! cells (or, for a cloud spread over a vast box, by one sort). The plane search draws each
+//! sample's points from one cell.
 
 use nalgebra::Point3;
+
+use crate::perception::voxel_coords::cube_of;
 
 /// The points of a cloud ordered by the cubic cell they fall in.
 #[derive(Debug, Clone)]
@@ -17,24 +20,25 @@ pub struct CellIndex {
 impl CellIndex {
     /// Groups `points` into cubes of `size` metres.
     pub fn new(points: &[Point3<f32>], size: f32) -> Self {
-        let key = |p: &Point3<f32>| {
-            let c =
-                [p.x, p.y, p.z].map(|v| ((v / size).floor() as i64 + (1 << 20)) as u64 & 0x1F_FFFF);
-            c[0] << 42 | c[1] << 21 | c[2]
+        let cubes: Vec<[i64; 3]> = points.iter().map(|p| cube_of(p, size)).collect();
+        let order = match DenseBox::around(&cubes) {
+            Some(dense) => dense.order(&cubes),
+            None => {
+                let mut order: Vec<u32> = (0..cubes.len() as u32).collect();
+                order.sort_unstable_by_key(|&i| (cubes[i as usize], i));
+                order
+            }
         };
-        let mut keyed: Vec<(u64, u32)> =
-            points.iter().enumerate().map(|(i, p)| (key(p), i as u32)).collect();
-        keyed.sort_unstable();
         let mut starts = Vec::new();
         let mut cell_of = vec![0; points.len()];
-        for (at, &(k, i)) in keyed.iter().enumerate() {
-            if at == 0 || keyed[at - 1].0 != k {
+        for (at, &i) in order.iter().enumerate() {
+            if at == 0 || cubes[order[at - 1] as usize] != cubes[i as usize] {
                 starts.push(at as u32);
             }
             cell_of[i as usize] = starts.len() as u32 - 1;
         }
-        starts.push(keyed.len() as u32);
-        Self { order: keyed.into_iter().map(|(_, i)| i).collect(), starts, cell_of }
+        starts.push(order.len() as u32);
+        Self { order, starts, cell_of }
     }
 
     /// The indices of the points sharing point `i`'s cell, itself included.
@@ -44,6 +48,56 @@ impl CellIndex {
 
     fn cell(&self, c: usize) -> &[u32] {
         &self.order[self.starts[c] as usize..self.starts[c + 1] as usize]
+    }
+}
+
+/// The box of cubes a cloud spans, when it is small enough to count points into: a volume of
+/// interest is about a thousand 10 cm cubes, and counting is linear where sorting its tens of
+/// thousands of points was most of the plane search's set-up.
+struct DenseBox {
+    lo: [i64; 3],
+    dims: [i64; 3],
+}
+
+impl DenseBox {
+    /// `None` when the cubes span far more cells than there are points.
+    fn around(cubes: &[[i64; 3]]) -> Option<Self> {
+        let first = cubes.first()?;
+        let (mut lo, mut hi) = (*first, *first);
+        for c in cubes {
+            for axis in 0..3 {
+                lo[axis] = lo[axis].min(c[axis]);
+                hi[axis] = hi[axis].max(c[axis]);
+            }
+        }
+        let dims = [0, 1, 2].map(|axis| hi[axis].saturating_sub(lo[axis]).saturating_add(1));
+        let volume = dims.iter().try_fold(1i64, |v, &d| v.checked_mul(d))?;
+        (volume <= 8 * cubes.len().max(1024) as i64).then_some(Self { lo, dims })
+    }
+
+    /// Cubes numbered in the order of x, then y, then z, as sorting them would order them.
+    fn index(&self, c: &[i64; 3]) -> usize {
+        let [x, y, z] = [0, 1, 2].map(|axis| c[axis] - self.lo[axis]);
+        ((x * self.dims[1] + y) * self.dims[2] + z) as usize
+    }
+
+    /// Point indices ordered by cube, ascending within each: a counting sort.
+    fn order(&self, cubes: &[[i64; 3]]) -> Vec<u32> {
+        let volume = self.dims.iter().product::<i64>() as usize;
+        let mut next = vec![0u32; volume + 1];
+        for c in cubes {
+            next[self.index(c) + 1] += 1;
+        }
+        for i in 1..next.len() {
+            next[i] += next[i - 1];
+        }
+        let mut order = vec![0; cubes.len()];
+        for (i, c) in cubes.iter().enumerate() {
+            let slot = &mut next[self.index(c)];
+            order[*slot as usize] = i as u32;
+            *slot += 1;
+        }
+        order
     }
 }
 
@@ -65,5 +119,22 @@ mod tests {
         assert_eq!(first, [0, 2]);
         assert_eq!(cells.cell_of(3), [3], "negative coordinates fall in their own cube");
         assert_eq!(cells.cell_of(1), [1]);
+    }
+
+    #[test]
+    fn a_vast_cloud_is_grouped_alike() {
+        // 2 km across at 10 cm: too many cells to count into, so they are sorted.
+        let points = [
+            Point3::new(1000.0, 0.01, 0.0),
+            Point3::new(-1000.0, 0.0, 0.0),
+            Point3::new(1000.05, 0.02, 0.01),
+            Point3::new(-1000.0, 0.05, 0.02),
+            Point3::new(3.0, 0.0, 0.0),
+        ];
+        let cells = CellIndex::new(&points, 0.1);
+        assert_eq!(cells.cell_of(0), [0, 2]);
+        assert_eq!(cells.cell_of(3), [1, 3]);
+        assert_eq!(cells.cell_of(4), [4]);
+        assert_eq!(cells.order, [1, 3, 4, 0, 2], "cells in the order of their coordinates");
     }
 }

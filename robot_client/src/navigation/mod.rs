@@ -17,6 +17,7 @@ mod cells;
 mod plane;
 mod plane_evidence;
 mod ransac;
+mod refit;
 mod rejection;
 mod rfid_choice;
 mod tag_centre;

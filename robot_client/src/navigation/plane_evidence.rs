@@ -271,7 +271,10 @@ fn measure(
     rule: &PlaneEvidenceRule,
 ) -> PlanarPatch {
     // Over the patch's cells and their neighbours, where its edge noise falls, compare bands.
-    let beside_patch = |cell: usize| raster.around(cell).any(|n| patch.holds(n));
+    // Asked once a cell rather than once a point: a band holds thousands of points.
+    let beside_patch: Vec<bool> = (0..raster.near_count.len())
+        .map(|cell| raster.around(cell).any(|n| patch.holds(n)))
+        .collect();
     let mut inliers = Vec::new();
     let mut wide = Vec::new();
     let (mut sum, mut outer) = (Vector2::zeros(), Matrix2::zeros());
@@ -288,7 +291,7 @@ fn measure(
             cell_sums[cell].1 += d;
             cell_sums[cell].2 += d * d;
         }
-        if beside_patch(cell) {
+        if beside_patch[cell] {
             wide.push(p.index);
         }
     }

@@ -5,7 +5,9 @@
 //! Speed comes from three choices: the second and third sample points are drawn from the first
 //! one's 10 cm cell, so a sample lies on one surface far more often than three points drawn from
 //! the whole volume; hypotheses are scored on a fixed random subset; and the iteration count
-//! adapts to the best support found so far (the usual RANSAC stopping rule).
+//! adapts to the best support found so far (the usual RANSAC stopping rule). The refits that
+//! follow read only the points near the hypothesis while that is provably enough
+//! ([`super::refit`]).
 //!
 //! The band hypotheses are scored in is fixed; the band a plane is finally judged and kept in is
 //! measured from the plane's own noise (see [`super::plane_evidence`]).
@@ -16,6 +18,7 @@ use rand::Rng;
 use super::cells::CellIndex;
 use super::plane::Plane;
 use super::plane_evidence::{PlaneEvidenceRule, assess_plane};
+use super::refit::{Refit, bounds};
 use super::rejection::RejectedPlane;
 
 /// The knobs of the plane search.
@@ -90,6 +93,7 @@ pub fn find_planes(
         return search;
     }
     let cells = CellIndex::new(points, params.sample_cell);
+    let bounds = bounds(points);
     let t = params.inlier_distance;
     let PlaneSearch { planes, rejected } = &mut search;
     let subset: Vec<u32> = if n <= params.score_sample {
@@ -139,16 +143,8 @@ pub fn find_planes(
         }
         // Refit to the inliers, narrowing the band, so that a sample straddling a surface and
         // something just proud of it (a towel on a drawer) settles on the surface; then judge it.
-        let mut refined = hypothesis;
-        for band in [t, 0.6 * t, 0.6 * t] {
-            let inliers = alive_indices
-                .iter()
-                .map(|&i| points[i as usize].cast())
-                .filter(|p| refined.signed_distance(p).abs() < band);
-            if let Some((plane, _)) = Plane::fit(inliers) {
-                refined = plane;
-            }
-        }
+        let refit = Refit::around(points, &alive_indices, hypothesis, 2.0 * t, &bounds);
+        let refined = refit.refine(&[t, 0.6 * t, 0.6 * t]);
         match assess_plane(points, &alive, &refined, &params.evidence) {
             Ok(patch) => {
                 rejections = 0;
@@ -172,11 +168,9 @@ pub fn find_planes(
             Err(why) => {
                 rejections += 1;
                 let mut within = 0;
-                for &i in &alive_indices {
-                    if refined.signed_distance(&points[i as usize].cast()).abs() < t {
-                        seedable[i as usize] = false;
-                        within += 1;
-                    }
+                for i in refit.within(&refined, t) {
+                    seedable[i as usize] = false;
+                    within += 1;
                 }
                 let plane = refined.facing(viewpoint);
                 rejected.push(RejectedPlane {

@@ -84,7 +84,17 @@ pub fn check_clearance(
     let f = footprint;
     let mut hits = 0;
     let mut nearest: Option<(f64, Point3<f64>)> = None;
+    // No box reaches further from the waypoint than this, so the square around it that this
+    // spans (a centimetre wider, far beyond rounding) holds every point that can hit: the rest
+    // of the room is passed over in single precision, without turning it into the robot's frame.
+    let reach = (f.base_half_length.hypot(f.base_half_width))
+        .max(f.arm_reach.max(f.base_half_length).hypot(f.arm_half_width)) as f32
+        + 0.01;
+    let (cx, cy) = (wx as f32, wy as f32);
     for p in cloud {
+        if (p.x - cx).abs() > reach || (p.y - cy).abs() > reach {
+            continue;
+        }
         let p: Point3<f64> = p.cast();
         if p.z < f.floor_clearance || p.z > f.height {
             continue;

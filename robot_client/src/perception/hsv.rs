@@ -79,6 +79,21 @@ impl HsvThresholds {
         }
         self.contains_hue(hue_deg([r, g, b], max, chroma))
     }
+
+    /// Word `i` of row `y` of the segmented image: bit `k` for pixel `64 i + k` passing.
+    #[inline]
+    pub(crate) fn word_of(&self, image: &ColorImage, i: usize, y: usize) -> u64 {
+        let width = image.width as usize;
+        let row = &image.rgb[y * width * 3..(y + 1) * width * 3];
+        let chunk = &row[i * 64 * 3..((i + 1) * 64 * 3).min(row.len())];
+        let mut bits = 0u64;
+        for (k, px) in chunk.chunks_exact(3).enumerate() {
+            if self.contains([px[0], px[1], px[2]]) {
+                bits |= 1 << k;
+            }
+        }
+        bits
+    }
 }
 
 impl Default for HsvThresholds {
@@ -108,17 +123,8 @@ pub fn segment_color(image: &ColorImage, thresholds: &HsvThresholds) -> Mask {
     let (width, height) = (image.width as usize, image.height as usize);
     let mut mask = Mask::new(width, height);
     for y in 0..height {
-        let pixels = &image.rgb[y * width * 3..(y + 1) * width * 3];
-        let row = mask.row_mut(y);
-        for (i, word) in row.iter_mut().enumerate() {
-            let mut bits = 0u64;
-            let chunk = &pixels[i * 64 * 3..((i + 1) * 64 * 3).min(pixels.len())];
-            for (k, px) in chunk.chunks_exact(3).enumerate() {
-                if thresholds.contains([px[0], px[1], px[2]]) {
-                    bits |= 1 << k;
-                }
-            }
-            *word = bits;
+        for (i, word) in mask.row_mut(y).iter_mut().enumerate() {
+            *word = thresholds.word_of(image, i, y);
         }
     }
     mask

@@ -4,7 +4,9 @@
 //! The steps, in the paper's order: [`segment_color`] (HSV thresholds with hue wrap-around),
 //! [`Mask::fill_holes`], [`Mask::close`], [`Mask::open`], [`points_on_mask`] (project the cloud
 //! into the segmented image), [`OccupancyGrid`] (1 cm³), its connected components, and the one
-//! closest to the target; [`locate_tag`] runs them all.
+//! closest to the target; [`locate_tag`] runs them all. It projects the cloud first
+//! ([`ProjectedCloud`]) and segments only the red regions laser points fall on
+//! ([`segment_seeded`]): the mask is only ever read where a point lands.
 //!
 //! Perception works on data, never on devices: it takes images and clouds, not traits, and it
 //! never touches the simulator, so recorded data from a real robot runs through the same code.
@@ -16,15 +18,18 @@ mod hsv;
 mod mask;
 mod occupancy;
 mod projection;
+mod seeded_segmentation;
 mod tag;
 mod tag_colours;
+pub(crate) mod voxel_coords;
 
 pub use blobs::Blobs;
 pub use brightness::{BrightnessChange, LightChange, brightness_change};
 pub use hsv::{HsvThresholds, ThresholdError, segment_color};
 pub use mask::Mask;
 pub use occupancy::{Component, OccupancyGrid};
-pub use projection::{OcclusionTest, points_on_mask};
+pub use projection::{OcclusionTest, ProjectedCloud, points_on_mask};
+pub use seeded_segmentation::segment_seeded;
 pub use tag::{
     PerceptionError, TagDetection, TagSearchParams, TagSighting, choose_tag, locate_tag,
 };

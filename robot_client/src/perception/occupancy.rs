@@ -6,6 +6,7 @@
 use nalgebra::Point3;
 
 use super::flood_fill::flood_fill;
+use super::voxel_coords::cube_of;
 
 /// One connected lump of occupied voxels: a tag candidate.
 #[derive(Debug, Clone, PartialEq)]
@@ -52,6 +53,9 @@ pub struct OccupancyGrid {
     keys: Vec<u64>,
     ranges: Vec<(u32, u32)>,
     points: Vec<Point3<f32>>,
+    /// Least and greatest voxel coordinates occupied on each axis: most points asked about
+    /// (the volume of interest against the tag's few voxels) fall outside them.
+    bounds: [[i64; 3]; 2],
 }
 
 const BITS: u32 = 21;
@@ -79,13 +83,8 @@ impl OccupancyGrid {
     /// Bins `points` into cubic voxels of `resolution` metres (the paper uses 0.01). Points too far
     /// from the origin to index (beyond ±10 km at 1 cm) are left out.
     pub fn new(points: &[Point3<f32>], resolution: f32) -> Self {
-        let mut keyed: Vec<(u64, Point3<f32>)> = points
-            .iter()
-            .filter_map(|p| {
-                let v = [p.x, p.y, p.z].map(|c| (c / resolution).floor() as i64);
-                key_of(v).map(|k| (k, *p))
-            })
-            .collect();
+        let mut keyed: Vec<(u64, Point3<f32>)> =
+            points.iter().filter_map(|p| key_of(cube_of(p, resolution)).map(|k| (k, *p))).collect();
         keyed.sort_unstable_by_key(|&(k, _)| k);
         let mut keys = Vec::new();
         let mut ranges = Vec::new();
@@ -97,8 +96,16 @@ impl OccupancyGrid {
                 last.1 = i as u32 + 1;
             }
         }
+        let mut bounds = [[i64::MAX; 3], [i64::MIN; 3]];
+        for &k in &keys {
+            let v = coords_of(k);
+            for axis in 0..3 {
+                bounds[0][axis] = bounds[0][axis].min(v[axis]);
+                bounds[1][axis] = bounds[1][axis].max(v[axis]);
+            }
+        }
         let points = keyed.into_iter().map(|(_, p)| p).collect();
-        Self { resolution, keys, ranges, points }
+        Self { resolution, keys, ranges, points, bounds }
     }
 
     pub fn resolution(&self) -> f32 {
@@ -107,8 +114,10 @@ impl OccupancyGrid {
 
     /// Whether `p` falls in an occupied voxel.
     pub fn contains(&self, p: &Point3<f32>) -> bool {
-        let v = [p.x, p.y, p.z].map(|c| (c / self.resolution).floor() as i64);
-        key_of(v).is_some_and(|k| self.keys.binary_search(&k).is_ok())
+        let v = cube_of(p, self.resolution);
+        let [lo, hi] = &self.bounds;
+        (0..3).all(|axis| (lo[axis]..=hi[axis]).contains(&v[axis]))
+            && key_of(v).is_some_and(|k| self.keys.binary_search(&k).is_ok())
     }
 
     /// How many voxels are occupied.

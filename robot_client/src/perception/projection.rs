@@ -37,41 +37,106 @@ pub fn points_on_mask(
     calibration: &CameraCalibration,
     occlusion: &OcclusionTest,
 ) -> Vec<Point3<f32>> {
-    let camera_from_base = calibration.base_from_camera.inverse();
-    let rotation: Matrix3<f32> = camera_from_base.rotation.to_rotation_matrix().matrix().cast();
-    let translation: Vector3<f32> = camera_from_base.translation.vector.cast();
-    let k = &calibration.intrinsics;
-    let (fx, fy, cx, cy) = (k.fx as f32, k.fy as f32, k.cx as f32, k.cy as f32);
-    let (width, height) = (mask.width(), mask.height());
-    let cell = ((k.fx.max(k.fy) * occlusion.cell_angle).round() as usize).max(1);
-    let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
-    let mut nearest = vec![f32::INFINITY; cols * rows];
-    // (index into cloud, depth, cell) of the points that land on red.
-    let mut on_red: Vec<(u32, f32, u32)> = Vec::new();
-    for (i, p) in cloud.iter().enumerate() {
-        let c = rotation * p.coords + translation;
-        if c.z <= 0.05 {
-            continue;
-        }
-        let u = fx * c.x / c.z + cx;
-        let v = fy * c.y / c.z + cy;
-        if !(u >= 0.0 && v >= 0.0 && (u as usize) < width && (v as usize) < height) {
-            continue;
-        }
-        let (x, y) = (u as usize, v as usize);
-        let at = (y / cell) * cols + x / cell;
-        if c.z < nearest[at] {
-            nearest[at] = c.z;
-        }
-        if mask.get(x, y) {
-            on_red.push((i as u32, c.z, at as u32));
-        }
+    ProjectedCloud::new(cloud, calibration, occlusion).on_mask(cloud, mask, occlusion)
+}
+
+/// The cloud as the camera sees it: where each point lands in the image and how deep, and the
+/// nearest depth of every depth cell. Projected once, before the image is segmented, so that
+/// the segmentation can start from the pixels the laser saw.
+#[derive(Debug, Clone)]
+pub struct ProjectedCloud {
+    width: usize,
+    height: usize,
+    /// For each point of the cloud, where it lands; `x` is `OUTSIDE` for a point that does not.
+    landings: Vec<Landing>,
+    nearest: Vec<f32>,
+    /// The pixels some point lands on.
+    seen: Mask,
+}
+
+/// Where a point lands: its pixel, the depth cell of that pixel, and its depth along the
+/// optical axis (metres).
+#[derive(Debug, Clone, Copy)]
+struct Landing {
+    x: u32,
+    y: u32,
+    cell: u32,
+    depth: f32,
+}
+
+/// The `x` of a point that does not land in the image (behind the camera or beside it).
+const OUTSIDE: u32 = u32::MAX;
+
+impl ProjectedCloud {
+    /// Projects `cloud` (base frame) into the camera of `calibration`.
+    pub fn new(
+        cloud: &[Point3<f32>],
+        calibration: &CameraCalibration,
+        occlusion: &OcclusionTest,
+    ) -> Self {
+        let camera_from_base = calibration.base_from_camera.inverse();
+        let rotation: Matrix3<f32> = camera_from_base.rotation.to_rotation_matrix().matrix().cast();
+        let translation: Vector3<f32> = camera_from_base.translation.vector.cast();
+        let k = &calibration.intrinsics;
+        let (fx, fy, cx, cy) = (k.fx as f32, k.fy as f32, k.cx as f32, k.cy as f32);
+        let (width, height) = (k.width as usize, k.height as usize);
+        let cell = ((k.fx.max(k.fy) * occlusion.cell_angle).round() as usize).max(1);
+        let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
+        // A pixel's depth cell by table, column plus row: no division per point.
+        let cell_column: Vec<u32> = (0..width).map(|x| (x / cell) as u32).collect();
+        let cell_row: Vec<u32> = (0..height).map(|y| ((y / cell) * cols) as u32).collect();
+        let mut nearest = vec![f32::INFINITY; cols * rows];
+        let mut seen = Mask::new(width, height);
+        let landings = cloud
+            .iter()
+            .map(|p| {
+                let c = rotation * p.coords + translation;
+                let u = fx * c.x / c.z + cx;
+                let v = fy * c.y / c.z + cy;
+                let inside = u >= 0.0 && v >= 0.0 && (u as usize) < width && (v as usize) < height;
+                if c.z <= 0.05 || !inside {
+                    return Landing { x: OUTSIDE, y: 0, cell: 0, depth: c.z };
+                }
+                let (x, y) = (u as usize, v as usize);
+                let at = cell_row[y] + cell_column[x];
+                let near = &mut nearest[at as usize];
+                *near = near.min(c.z);
+                seen.set(x, y, true);
+                Landing { x: x as u32, y: y as u32, cell: at, depth: c.z }
+            })
+            .collect();
+        Self { width, height, landings, nearest, seen }
     }
-    on_red
-        .into_iter()
-        .filter(|&(_, depth, at)| depth <= nearest[at as usize] + occlusion.tolerance)
-        .map(|(i, _, _)| cloud[i as usize])
-        .collect()
+
+    /// The pixels some point of the cloud lands on.
+    pub fn seen(&self) -> &Mask {
+        &self.seen
+    }
+
+    /// The points of `cloud` (the cloud this was projected from) that land on set pixels of
+    /// `mask` and are not hidden from the camera by nearer points.
+    ///
+    /// # Panics
+    ///
+    /// When `mask` is not the camera's size.
+    pub fn on_mask(
+        &self,
+        cloud: &[Point3<f32>],
+        mask: &Mask,
+        occlusion: &OcclusionTest,
+    ) -> Vec<Point3<f32>> {
+        assert_eq!((mask.width(), mask.height()), (self.width, self.height), "mask and camera");
+        self.landings
+            .iter()
+            .zip(cloud)
+            .filter(|(l, _)| {
+                l.x != OUTSIDE
+                    && mask.get(l.x as usize, l.y as usize)
+                    && l.depth <= self.nearest[l.cell as usize] + occlusion.tolerance
+            })
+            .map(|(_, p)| *p)
+            .collect()
+    }
 }
 
 #[cfg(test)]

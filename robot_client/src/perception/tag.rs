@@ -5,9 +5,10 @@ use std::collections::{BTreeMap, BTreeSet, HashSet};
 use nalgebra::Point3;
 
 use super::blobs::Blobs;
-use super::hsv::{HsvThresholds, segment_color};
+use super::hsv::HsvThresholds;
 use super::occupancy::{Component, OccupancyGrid};
-use super::projection::{OcclusionTest, points_on_mask};
+use super::projection::{OcclusionTest, ProjectedCloud};
+use super::seeded_segmentation::segment_seeded;
 use crate::hal::{CameraCalibration, ColorImage, PointCloud};
 use crate::timings::StepTimings;
 
@@ -138,15 +139,19 @@ pub fn locate_tag(
             camera: (k.width, k.height),
         });
     }
-    // 1. 2D segmentation of red by minimum and maximum HSV thresholds.
-    let raw = timings.time("segment", || segment_color(image, &params.thresholds));
+    // The cloud in the image first: the segmentation starts from where its points land.
+    let view = timings
+        .time("project", || ProjectedCloud::new(&cloud.points, calibration, &params.occlusion));
+    // 1. 2D segmentation of red by minimum and maximum HSV thresholds, of the regions the laser
+    //    saw.
+    let raw = timings.time("segment", || segment_seeded(image, &params.thresholds, view.seen()));
     // 2. Morphology on the raw segmentation: hole filling, closing, then opening.
     let red = timings.time("morphology", || {
         raw.fill_holes().close(params.close_radius_px).open(params.open_radius_px)
     });
-    // 3. Project the cloud into the segmented image; keep points that land on red.
-    let red_points = timings
-        .time("project", || points_on_mask(&cloud.points, &red, calibration, &params.occlusion));
+    // 3. Keep the points that land on red, unless nearer points hide them from the camera.
+    let red_points =
+        timings.time("project", || view.on_mask(&cloud.points, &red, &params.occlusion));
     // 4. A 1 cm³ occupancy grid of the red points.
     let grid =
         timings.time("occupancy_grid", || OccupancyGrid::new(&red_points, params.voxel_size));
