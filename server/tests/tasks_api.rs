@@ -369,7 +369,7 @@ async fn a_lease_that_runs_out_requeues_the_task_and_the_third_fails_it() {
 
 #[tokio::test]
 async fn a_robot_whose_token_is_revoked_mid_task_loses_it_to_another() {
-    let server = TestServer::start_with_lease(Duration::from_millis(800)).await;
+    let server = TestServer::start_with_lease(Duration::from_millis(1500)).await;
     register_robot(&server, "el-e-1", "el-e", &["light_switch"], 15.0).await;
     let minted =
         pps_server::store::tokens::create(&server.db, Role::Robot, "el-e-1", None).await.unwrap();
