@@ -26,7 +26,10 @@ use pps_server::db::Location;
 use pps_server::store::{robots, tokens};
 use pps_server::{Db, seed};
 use serde_json::{Value, json};
-use sqlx::Connection;
+
+// The test harness's databases in a PostgreSQL cluster, shared rather than copied.
+#[path = "../tests/common/postgres.rs"]
+mod postgres;
 
 const BIN: &str = env!("CARGO_BIN_EXE_pps-server");
 
@@ -152,7 +155,7 @@ fn main() -> anyhow::Result<()> {
 async fn run(options: &Options, tag_count: usize, store: Store) -> anyhow::Result<()> {
     let dir = tempfile::tempdir()?;
     let (location, replicas) = match (store, &options.postgres) {
-        (Store::Postgres, Some(cluster)) => (fresh_database(cluster).await?, REPLICAS),
+        (Store::Postgres, Some(cluster)) => (postgres::fresh_database_in(cluster).await?, REPLICAS),
         _ => (Location::File(dir.path().join("bench.db")), 1),
     };
     let prepared = Instant::now();
@@ -224,19 +227,6 @@ async fn run(options: &Options, tag_count: usize, store: Store) -> anyhow::Resul
         stop(server);
     }
     Ok(())
-}
-
-/// A new database in the PostgreSQL cluster at `cluster`.
-async fn fresh_database(cluster: &str) -> anyhow::Result<Location> {
-    let name = format!("bench_{}", uuid::Uuid::new_v4().simple());
-    let mut admin = sqlx::PgConnection::connect(cluster).await?;
-    sqlx::raw_sql(sqlx::AssertSqlSafe(format!("create database {name}")))
-        .execute(&mut admin)
-        .await?;
-    admin.close().await?;
-    let mut url = url::Url::parse(cluster)?;
-    url.set_path(&name);
-    Ok(Location::Postgres(url.to_string()))
 }
 
 /// A database with `tag_count` tags, the robots registered and their tokens minted.

@@ -33,6 +33,10 @@ impl Seen {
         }
     }
 
+    fn at(at_ms: i64) -> Self {
+        Self { at_ms: AtomicI64::new(at_ms), unflushed: AtomicBool::new(false) }
+    }
+
     fn formatted(&self) -> String {
         let at = OffsetDateTime::from_unix_timestamp_nanos(
             i128::from(self.at_ms.load(Ordering::Relaxed)) * 1_000_000,
@@ -49,7 +53,7 @@ pub struct Presence {
 
 impl Presence {
     pub fn saw(&self, robot: &str) {
-        let now_ms = (OffsetDateTime::now_utc().unix_timestamp_nanos() / 1_000_000) as i64;
+        let now_ms = unix_ms(OffsetDateTime::now_utc());
         if let Some(seen) = self.seen.read().unwrap_or_else(|e| e.into_inner()).get(robot) {
             seen.note(now_ms);
             return;
@@ -63,11 +67,7 @@ impl Presence {
         let mut seen = self.seen.write().unwrap_or_else(|e| e.into_inner());
         for (robot, at) in stored {
             let Some(at) = clock::parse(&at) else { continue };
-            let at_ms = (at.unix_timestamp_nanos() / 1_000_000) as i64;
-            seen.entry(robot).or_insert_with(|| Seen {
-                at_ms: AtomicI64::new(at_ms),
-                unflushed: AtomicBool::new(false),
-            });
+            seen.entry(robot).or_insert_with(|| Seen::at(unix_ms(at)));
         }
     }
 
@@ -84,6 +84,10 @@ impl Presence {
             .map(|(robot, seen)| (robot.clone(), seen.formatted()))
             .collect()
     }
+}
+
+fn unix_ms(at: OffsetDateTime) -> i64 {
+    (at.unix_timestamp_nanos() / 1_000_000) as i64
 }
 
 #[cfg(test)]

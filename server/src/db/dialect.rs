@@ -20,8 +20,12 @@ impl Dialect {
 
     /// The dialect of a pool's connections.
     pub fn of_pool(pool: &AnyPool) -> Self {
-        let scheme = pool.connect_options().database_url.scheme().to_owned();
-        if scheme.starts_with("postgres") { Self::Postgres } else { Self::Sqlite }
+        let options = pool.connect_options();
+        if options.database_url.scheme().starts_with("postgres") {
+            Self::Postgres
+        } else {
+            Self::Sqlite
+        }
     }
 
     fn named(backend: &str) -> Self {

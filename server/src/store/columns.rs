@@ -11,6 +11,21 @@ use sqlx::error::BoxDynError;
 use sqlx::types::Type;
 use sqlx::{Any, ValueRef};
 
+/// The column type a decoded type is stored as.
+macro_rules! stored_as {
+    ($decoded:ty, $stored:ty) => {
+        impl Type<Any> for $decoded {
+            fn type_info() -> sqlx::any::AnyTypeInfo {
+                <$stored as Type<Any>>::type_info()
+            }
+
+            fn compatible(ty: &sqlx::any::AnyTypeInfo) -> bool {
+                <$stored as Type<Any>>::compatible(ty)
+            }
+        }
+    };
+}
+
 /// A non-null flag column.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Flag(pub bool);
@@ -19,15 +34,7 @@ pub struct Flag(pub bool);
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct MaybeFlag(pub Option<bool>);
 
-impl Type<Any> for Flag {
-    fn type_info() -> sqlx::any::AnyTypeInfo {
-        <i64 as Type<Any>>::type_info()
-    }
-
-    fn compatible(ty: &sqlx::any::AnyTypeInfo) -> bool {
-        <i64 as Type<Any>>::compatible(ty)
-    }
-}
+stored_as!(Flag, i64);
 
 impl<'r> Decode<'r, Any> for Flag {
     fn decode(value: AnyValueRef<'r>) -> Result<Self, BoxDynError> {
@@ -35,15 +42,7 @@ impl<'r> Decode<'r, Any> for Flag {
     }
 }
 
-impl Type<Any> for MaybeFlag {
-    fn type_info() -> sqlx::any::AnyTypeInfo {
-        <i64 as Type<Any>>::type_info()
-    }
-
-    fn compatible(ty: &sqlx::any::AnyTypeInfo) -> bool {
-        <i64 as Type<Any>>::compatible(ty)
-    }
-}
+stored_as!(MaybeFlag, i64);
 
 impl<'r> Decode<'r, Any> for MaybeFlag {
     fn decode(value: AnyValueRef<'r>) -> Result<Self, BoxDynError> {
@@ -70,15 +69,7 @@ impl From<MaybeFlag> for Option<bool> {
 #[derive(Debug, Clone, PartialEq)]
 pub struct JsonText(pub serde_json::Value);
 
-impl Type<Any> for JsonText {
-    fn type_info() -> sqlx::any::AnyTypeInfo {
-        <String as Type<Any>>::type_info()
-    }
-
-    fn compatible(ty: &sqlx::any::AnyTypeInfo) -> bool {
-        <String as Type<Any>>::compatible(ty)
-    }
-}
+stored_as!(JsonText, String);
 
 impl<'r> Decode<'r, Any> for JsonText {
     fn decode(value: AnyValueRef<'r>) -> Result<Self, BoxDynError> {

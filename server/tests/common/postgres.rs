@@ -1,5 +1,6 @@
 //! Databases in the throwaway PostgreSQL cluster the test command starts
-//! (`tests/postgres/start`), named by `PPS_TEST_POSTGRES`.
+//! (`tests/postgres/start`), named by `PPS_TEST_POSTGRES`. The load benchmark uses it too.
+#![allow(dead_code)] // the benchmark names its cluster itself
 
 use pps_server::db::Location;
 use sqlx::Connection;
@@ -16,15 +17,18 @@ pub fn cluster() -> String {
 
 /// A new, empty database in the cluster, for one test.
 pub async fn fresh_database() -> Location {
-    let cluster = cluster();
+    fresh_database_in(&cluster()).await.unwrap()
+}
+
+/// A new, empty database in the cluster at `cluster`.
+pub async fn fresh_database_in(cluster: &str) -> anyhow::Result<Location> {
     let name = format!("test_{}", uuid::Uuid::new_v4().simple());
-    let mut admin = sqlx::PgConnection::connect(&cluster).await.unwrap();
+    let mut admin = sqlx::PgConnection::connect(cluster).await?;
     sqlx::raw_sql(sqlx::AssertSqlSafe(format!("create database {name}")))
         .execute(&mut admin)
-        .await
-        .unwrap();
-    admin.close().await.unwrap();
-    let mut url = url::Url::parse(&cluster).unwrap();
+        .await?;
+    admin.close().await?;
+    let mut url = url::Url::parse(cluster)?;
     url.set_path(&name);
-    Location::Postgres(url.to_string())
+    Ok(Location::Postgres(url.to_string()))
 }
