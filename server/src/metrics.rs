@@ -7,24 +7,35 @@ use std::collections::HashMap;
 use std::fmt::Write;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, RwLock};
-use std::time::Instant;
 
-use axum::extract::{MatchedPath, Request, State};
 use axum::http::Method;
-use axum::middleware::Next;
-use axum::response::Response;
 
 /// Upper bounds of the latency buckets, in seconds.
 const BUCKETS: [f64; 12] =
     [0.0005, 0.001, 0.0025, 0.005, 0.01, 0.025, 0.05, 0.1, 0.25, 0.5, 1.0, 2.5];
 
+/// One route's counters, looked up once per request and counted into when it is answered.
 #[derive(Debug)]
-struct RouteMetrics {
+pub struct RouteMetrics {
     /// Responses by status code, indexed by `status - 100`.
     statuses: Vec<AtomicU64>,
     buckets: [AtomicU64; BUCKETS.len()],
     count: AtomicU64,
     sum_micros: AtomicU64,
+}
+
+impl RouteMetrics {
+    /// Counts one response.
+    pub fn observe(&self, status: u16, seconds: f64) {
+        if let Some(counter) = self.statuses.get(usize::from(status).saturating_sub(100)) {
+            counter.fetch_add(1, Ordering::Relaxed);
+        }
+        if let Some(bucket) = BUCKETS.iter().position(|bound| seconds <= *bound) {
+            self.buckets[bucket].fetch_add(1, Ordering::Relaxed);
+        }
+        self.count.fetch_add(1, Ordering::Relaxed);
+        self.sum_micros.fetch_add((seconds * 1e6) as u64, Ordering::Relaxed);
+    }
 }
 
 impl Default for RouteMetrics {
@@ -51,7 +62,9 @@ impl Metrics {
         self.trials_recorded.fetch_add(1, Ordering::Relaxed);
     }
 
-    fn route(&self, route: &str, method: &'static str) -> Arc<RouteMetrics> {
+    /// The counters of a matched route (or `unmatched`) and method.
+    pub fn route(&self, route: &str, method: &Method) -> Arc<RouteMetrics> {
+        let method = method_label(method);
         if let Some(found) = self
             .routes
             .read()
@@ -63,18 +76,6 @@ impl Metrics {
         }
         let mut routes = self.routes.write().unwrap_or_else(|e| e.into_inner());
         routes.entry(route.to_owned()).or_default().entry(method).or_default().clone()
-    }
-
-    fn observe(&self, route: &str, method: &Method, status: u16, seconds: f64) {
-        let metrics = self.route(route, method_label(method));
-        if let Some(counter) = metrics.statuses.get(usize::from(status).saturating_sub(100)) {
-            counter.fetch_add(1, Ordering::Relaxed);
-        }
-        if let Some(bucket) = BUCKETS.iter().position(|bound| seconds <= *bound) {
-            metrics.buckets[bucket].fetch_add(1, Ordering::Relaxed);
-        }
-        metrics.count.fetch_add(1, Ordering::Relaxed);
-        metrics.sum_micros.fetch_add((seconds * 1e6) as u64, Ordering::Relaxed);
     }
 
     /// The Prometheus text exposition.
@@ -153,17 +154,6 @@ fn method_label(method: &Method) -> &'static str {
     STANDARD.iter().find(|standard| *standard == method).map_or("other", Method::as_str)
 }
 
-/// Middleware counting every response by its matched route.
-pub async fn track(State(metrics): State<Arc<Metrics>>, request: Request, next: Next) -> Response {
-    let started = Instant::now();
-    let method = request.method().clone();
-    let route = request.extensions().get::<MatchedPath>().cloned();
-    let response = next.run(request).await;
-    let route = route.as_ref().map_or("unmatched", MatchedPath::as_str);
-    metrics.observe(route, &method, response.status().as_u16(), started.elapsed().as_secs_f64());
-    response
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -171,9 +161,9 @@ mod tests {
     #[test]
     fn renders_counters_and_cumulative_buckets() {
         let metrics = Metrics::default();
-        metrics.observe("/api/v1/tags", &Method::GET, 200, 0.0007);
-        metrics.observe("/api/v1/tags", &Method::GET, 200, 0.02);
-        metrics.observe("/api/v1/tags", &Method::GET, 401, 0.0001);
+        metrics.route("/api/v1/tags", &Method::GET).observe(200, 0.0007);
+        metrics.route("/api/v1/tags", &Method::GET).observe(200, 0.02);
+        metrics.route("/api/v1/tags", &Method::GET).observe(401, 0.0001);
         metrics.trial_recorded();
         let text = metrics.render(2);
         assert!(text.contains(
@@ -191,7 +181,7 @@ mod tests {
         let metrics = Metrics::default();
         for n in 0..100 {
             let method = Method::from_bytes(format!("X{n}").as_bytes()).unwrap();
-            metrics.observe("unmatched", &method, 405, 0.0001);
+            metrics.route("unmatched", &method).observe(405, 0.0001);
         }
         let text = metrics.render(0);
         assert!(text.contains("method=\"other\",status=\"405\"} 100"), "{text}");

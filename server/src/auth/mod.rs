@@ -25,34 +25,68 @@ use crate::store;
 
 /// Checks the request's credential.
 pub async fn authenticate(state: &AppState, headers: &HeaderMap) -> Result<Principal, ApiError> {
+    check_in_memory(state, headers).finish(state).await
+}
+
+/// How far a credential could be checked without the database.
+#[derive(Debug)]
+pub enum Check {
+    /// Decided: a recently confirmed token, or a credential refused on sight.
+    Done(Result<Principal, ApiError>),
+    /// A well-formed token not confirmed recently, by its hash.
+    Token(String),
+    /// A browser session, by its secret.
+    Session(String),
+}
+
+impl Check {
+    /// Decides, reading the database if memory could not.
+    pub async fn finish(self, state: &AppState) -> Result<Principal, ApiError> {
+        match self {
+            Self::Done(decided) => decided,
+            Self::Token(hash) => look_up_token(state, hash).await,
+            Self::Session(secret) => session::authenticate(state, &secret).await,
+        }
+    }
+}
+
+/// Checks the credential as far as memory can: on the robots' hot path, all the way.
+pub fn check_in_memory(state: &AppState, headers: &HeaderMap) -> Check {
     let Some(value) = headers.get(AUTHORIZATION) else {
         // A browser authenticates with its session cookie; unsafe methods are additionally
         // checked for forgery by `http::csrf` before any handler runs.
         if let Some(session_secret) = session::cookie_secret(headers) {
-            return session::authenticate(state, &session_secret).await;
+            return Check::Session(session_secret);
         }
-        return Err(ApiError::Unauthorized(
+        return Check::Done(Err(ApiError::Unauthorized(
             "this needs a credential: send `Authorization: Bearer <token>` (an admin makes \
              tokens with `pps-server token create`), or log in at /"
                 .into(),
-        ));
+        )));
     };
     let token = value
         .to_str()
         .ok()
         .and_then(|v| v.strip_prefix("Bearer ").or_else(|| v.strip_prefix("bearer ")))
-        .map(str::trim)
-        .ok_or_else(|| {
-            ApiError::Unauthorized("the Authorization header must be `Bearer <token>`".into())
-        })?;
+        .map(str::trim);
+    let Some(token) = token else {
+        return Check::Done(Err(ApiError::Unauthorized(
+            "the Authorization header must be `Bearer <token>`".into(),
+        )));
+    };
     if !secret::looks_like_token(token) {
-        return Err(invalid_token());
+        return Check::Done(Err(invalid_token()));
     }
     let hash = secret::hash(token);
     let now = time::OffsetDateTime::now_utc().unix_timestamp();
-    if let Some(principal) = state.tokens.get(&hash, now) {
-        return Ok(principal);
+    match state.tokens.get(&hash, now) {
+        Some(principal) => Check::Done(Ok(principal)),
+        None => Check::Token(hash),
     }
+}
+
+/// Confirms a token with the database and remembers it for a while.
+async fn look_up_token(state: &AppState, hash: String) -> Result<Principal, ApiError> {
     let record =
         store::tokens::find_live(state.db.reader(), &hash).await?.ok_or_else(invalid_token)?;
     let role = Role::parse(&record.role).ok_or_else(|| {

@@ -10,30 +10,28 @@
 
 use axum::extract::Request;
 use axum::http::Method;
-use axum::middleware::Next;
-use axum::response::{IntoResponse, Response};
 
 use crate::auth::session::{self, CSRF_HEADER};
 use crate::error::ApiError;
 use crate::http::session::PATH as LOGIN_PATH;
 
-/// Refuses cookie-authenticated unsafe requests without the session's anti-forgery token.
-pub async fn guard(request: Request, next: Next) -> Response {
+/// The refusal of a cookie-authenticated unsafe request without the session's anti-forgery
+/// token; `None` lets the request through.
+pub fn refusal(request: &Request) -> Option<ApiError> {
     let method = request.method();
     let safe = matches!(*method, Method::GET | Method::HEAD | Method::OPTIONS);
+    if safe {
+        return None;
+    }
     let is_login = *method == Method::POST && request.uri().path() == LOGIN_PATH;
     let headers = request.headers();
-    let Some(session_secret) = session::browser_secret(headers).filter(|_| !safe && !is_login)
-    else {
-        return next.run(request).await;
-    };
+    let session_secret = session::browser_secret(headers).filter(|_| !is_login)?;
     let presented = headers.get(CSRF_HEADER).and_then(|value| value.to_str().ok());
     if presented.is_some_and(|token| session::csrf_matches(&session_secret, token)) {
-        return next.run(request).await;
+        return None;
     }
-    ApiError::Forbidden(format!(
+    Some(ApiError::Forbidden(format!(
         "this request came with the session cookie but without its anti-forgery token; send \
          the `csrf_token` from GET {LOGIN_PATH} in the {CSRF_HEADER} header"
-    ))
-    .into_response()
+    )))
 }

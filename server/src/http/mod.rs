@@ -3,6 +3,7 @@
 pub mod access;
 mod csrf;
 mod effective;
+mod envelope;
 mod events;
 pub mod extract;
 mod fallback;
@@ -26,9 +27,8 @@ mod web;
 use axum::Router;
 use axum::extract::DefaultBodyLimit;
 use axum::handler::Handler;
-use axum::http::{HeaderValue, Method, header};
+use axum::http::Method;
 use axum::routing::{MethodFilter, on};
-use tower_http::set_header::SetResponseHeaderLayer;
 
 pub use access::Access;
 use openapi::{Doc, accounts};
@@ -66,9 +66,8 @@ impl Routes {
         T: 'static,
     {
         let filter = MethodFilter::try_from(method.clone()).expect("a standard method");
-        let check =
-            axum::middleware::from_fn_with_state((self.state.clone(), access), access::check);
-        self.router = self.router.route(path, on(filter, handler).route_layer(check));
+        let gate = access::Gate::new(self.state.clone(), access);
+        self.router = self.router.route(path, on(filter, handler).route_layer(gate));
         self.specs.push(RouteSpec { method, path, access, doc });
         self
     }
@@ -157,32 +156,15 @@ pub fn router_with_routes(state: AppState) -> (Router, Vec<RouteSpec>) {
         );
     let Routes { router, specs, .. } = routes;
     openapi.publish(&specs);
+    // One `layer` call, so each route is wrapped (and boxed by axum) once, not per layer.
+    let every_request = tower::ServiceBuilder::new()
+        .layer(crate::telemetry::http_trace_layer())
+        .layer(envelope::Envelope::new(state.metrics.clone()))
+        .layer(DefaultBodyLimit::max(extract::MAX_BODY_BYTES));
     let router = router
         .merge(web::router())
         .fallback(fallback::not_found)
-        .layer(axum::middleware::from_fn(fallback::method_not_allowed))
-        .layer(axum::middleware::from_fn(csrf::guard))
-        .layer(DefaultBodyLimit::max(extract::MAX_BODY_BYTES))
-        .layer(axum::middleware::from_fn_with_state(state.metrics.clone(), crate::metrics::track));
-    let router =
-        with_security_headers(router).layer(crate::telemetry::http_trace_layer()).with_state(state);
+        .layer(every_request)
+        .with_state(state);
     (router, specs)
-}
-
-/// Headers every response carries; the UI's Content-Security-Policy forbids inline script.
-fn with_security_headers(router: Router<AppState>) -> Router<AppState> {
-    const HEADERS: [(header::HeaderName, &str); 4] = [
-        (
-            header::CONTENT_SECURITY_POLICY,
-            "default-src 'self'; script-src 'self'; style-src 'self'; img-src 'self' data:; \
-             connect-src 'self'; object-src 'none'; base-uri 'none'; form-action 'self'; \
-             frame-ancestors 'none'",
-        ),
-        (header::X_CONTENT_TYPE_OPTIONS, "nosniff"),
-        (header::REFERRER_POLICY, "no-referrer"),
-        (header::X_FRAME_OPTIONS, "DENY"),
-    ];
-    HEADERS.into_iter().fold(router, |router, (name, value)| {
-        router.layer(SetResponseHeaderLayer::if_not_present(name, HeaderValue::from_static(value)))
-    })
 }
