@@ -4,7 +4,7 @@
 //! token revoked by another process (the CLI) keeps working.
 
 use std::collections::HashMap;
-use std::sync::RwLock;
+use std::sync::{Arc, RwLock};
 use std::time::{Duration, Instant};
 
 use crate::auth::Principal;
@@ -17,7 +17,7 @@ const CAPACITY: usize = 4096;
 
 #[derive(Debug)]
 struct Cached {
-    principal: Principal,
+    principal: Arc<Principal>,
     checked_at: Instant,
     /// Unix seconds after which the token stops working, if it expires.
     expires_at: Option<i64>,
@@ -25,25 +25,26 @@ struct Cached {
 
 #[derive(Debug, Default)]
 pub struct TokenCache {
-    entries: RwLock<HashMap<String, Cached>>,
+    /// By the token's SHA-256 ([`crate::auth::secret::digest`]).
+    entries: RwLock<HashMap<[u8; 32], Cached>>,
 }
 
 impl TokenCache {
-    /// The principal for a secret hash, when it was confirmed live recently.
-    pub fn get(&self, secret_hash: &str, now_unix: i64) -> Option<Principal> {
+    /// The principal for a token's digest, when it was confirmed live recently.
+    pub fn get(&self, digest: &[u8; 32], now_unix: i64) -> Option<Arc<Principal>> {
         let entries = self.entries.read().unwrap_or_else(|e| e.into_inner());
-        let cached = entries.get(secret_hash)?;
+        let cached = entries.get(digest)?;
         let fresh = cached.checked_at.elapsed() < RECHECK_AFTER;
         let live = cached.expires_at.is_none_or(|at| now_unix < at);
         (fresh && live).then(|| cached.principal.clone())
     }
 
-    pub fn insert(&self, secret_hash: String, principal: Principal, expires_at: Option<i64>) {
+    pub fn insert(&self, digest: [u8; 32], principal: Arc<Principal>, expires_at: Option<i64>) {
         let mut entries = self.entries.write().unwrap_or_else(|e| e.into_inner());
         if entries.len() >= CAPACITY {
             entries.retain(|_, cached| cached.checked_at.elapsed() < RECHECK_AFTER);
         }
-        entries.insert(secret_hash, Cached { principal, checked_at: Instant::now(), expires_at });
+        entries.insert(digest, Cached { principal, checked_at: Instant::now(), expires_at });
     }
 
     /// Forgets every cached token, e.g. after a revocation through the API.

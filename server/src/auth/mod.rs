@@ -12,6 +12,8 @@ pub mod secret;
 pub mod session;
 mod user_name;
 
+use std::sync::Arc;
+
 use axum::http::HeaderMap;
 use axum::http::header::AUTHORIZATION;
 pub use cache::{RECHECK_AFTER as TOKEN_RECHECK_AFTER, TokenCache};
@@ -24,7 +26,10 @@ use crate::state::AppState;
 use crate::store;
 
 /// Checks the request's credential.
-pub async fn authenticate(state: &AppState, headers: &HeaderMap) -> Result<Principal, ApiError> {
+pub async fn authenticate(
+    state: &AppState,
+    headers: &HeaderMap,
+) -> Result<Arc<Principal>, ApiError> {
     check_in_memory(state, headers).finish(state).await
 }
 
@@ -32,20 +37,20 @@ pub async fn authenticate(state: &AppState, headers: &HeaderMap) -> Result<Princ
 #[derive(Debug)]
 pub enum Check {
     /// Decided: a recently confirmed token, or a credential refused on sight.
-    Done(Result<Principal, ApiError>),
-    /// A well-formed token not confirmed recently, by its hash.
-    Token(String),
+    Done(Result<Arc<Principal>, ApiError>),
+    /// A well-formed token not confirmed recently, by its digest.
+    Token([u8; 32]),
     /// A browser session, by its secret.
     Session(String),
 }
 
 impl Check {
     /// Decides, reading the database if memory could not.
-    pub async fn finish(self, state: &AppState) -> Result<Principal, ApiError> {
+    pub async fn finish(self, state: &AppState) -> Result<Arc<Principal>, ApiError> {
         match self {
             Self::Done(decided) => decided,
-            Self::Token(hash) => look_up_token(state, hash).await,
-            Self::Session(secret) => session::authenticate(state, &secret).await,
+            Self::Token(digest) => look_up_token(state, digest).await,
+            Self::Session(secret) => session::authenticate(state, &secret).await.map(Arc::new),
         }
     }
 }
@@ -77,25 +82,26 @@ pub fn check_in_memory(state: &AppState, headers: &HeaderMap) -> Check {
     if !secret::looks_like_token(token) {
         return Check::Done(Err(invalid_token()));
     }
-    let hash = secret::hash(token);
+    let digest = secret::digest(token);
     let now = time::OffsetDateTime::now_utc().unix_timestamp();
-    match state.tokens.get(&hash, now) {
+    match state.tokens.get(&digest, now) {
         Some(principal) => Check::Done(Ok(principal)),
-        None => Check::Token(hash),
+        None => Check::Token(digest),
     }
 }
 
 /// Confirms a token with the database and remembers it for a while.
-async fn look_up_token(state: &AppState, hash: String) -> Result<Principal, ApiError> {
-    let record =
-        store::tokens::find_live(state.db.reader(), &hash).await?.ok_or_else(invalid_token)?;
+async fn look_up_token(state: &AppState, digest: [u8; 32]) -> Result<Arc<Principal>, ApiError> {
+    let record = store::tokens::find_live(state.db.reader(), &hex::encode(digest))
+        .await?
+        .ok_or_else(invalid_token)?;
     let role = Role::parse(&record.role).ok_or_else(|| {
         anyhow::anyhow!("token {} has an unknown role {:?}", record.id, record.role)
     })?;
-    let principal = Principal { role, name: record.name, robot: record.robot_id };
+    let principal = Arc::new(Principal { role, name: record.name, robot: record.robot_id });
     let expires_at =
         record.expires_at.as_deref().and_then(crate::clock::parse).map(|at| at.unix_timestamp());
-    state.tokens.insert(hash, principal.clone(), expires_at);
+    state.tokens.insert(digest, principal.clone(), expires_at);
     Ok(principal)
 }
 

@@ -21,7 +21,12 @@ pub fn mint_id() -> String {
 
 /// The SHA-256 of a secret, hex: what the database stores in place of the secret.
 pub fn hash(secret: &str) -> String {
-    hex::encode(Sha256::digest(secret.as_bytes()))
+    hex::encode(digest(secret))
+}
+
+/// The SHA-256 of a secret as bytes: what memory keys tokens by, with nothing to format.
+pub fn digest(secret: &str) -> [u8; 32] {
+    Sha256::digest(secret.as_bytes()).into()
 }
 
 /// Whether a presented string can be one of our tokens at all (cheap, before any look-up).

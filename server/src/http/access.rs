@@ -1,6 +1,7 @@
 //! Who may call a route, declared where the route is registered and checked before its handler.
 
 use std::convert::Infallible;
+use std::sync::Arc;
 use std::task::{Context, Poll};
 
 use axum::extract::Request;
@@ -120,7 +121,7 @@ where
 fn admit(
     state: &AppState,
     access: Access,
-    authenticated: Result<Principal, ApiError>,
+    authenticated: Result<Arc<Principal>, ApiError>,
     request: &mut Request,
 ) -> Result<(), ApiError> {
     let principal = authenticated?;

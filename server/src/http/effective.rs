@@ -8,7 +8,7 @@ use std::sync::Arc;
 use axum::body::Body;
 use axum::extract::{Path, State};
 use axum::http::header::{CONTENT_TYPE, ETAG};
-use axum::http::{HeaderMap, HeaderValue, StatusCode};
+use axum::http::{HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
 use sha2::{Digest, Sha256};
 
@@ -39,13 +39,13 @@ pub async fn get(
     State(state): State<AppState>,
     Caller(caller): Caller,
     Path((robot, epc)): Path<(String, String)>,
-    headers: HeaderMap,
+    if_none_match: precondition::IfNoneMatch,
 ) -> Result<Response, ApiError> {
     let robot = parse_robot_id(&robot)?;
     let epc = parse_epc(&epc)?;
     caller.require_robot_or_editor(robot.as_str())?;
     let entry = entry_for(&state, &epc, robot.as_str()).await?;
-    if precondition::not_modified(&headers, &entry.etag) {
+    if if_none_match.names(&entry.etag) {
         return Ok((StatusCode::NOT_MODIFIED, [(ETAG, entry.etag.clone())]).into_response());
     }
     let mut response = Response::new(Body::from(entry.body.clone()));

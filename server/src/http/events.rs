@@ -102,7 +102,7 @@ fn credential_key(headers: &HeaderMap) -> String {
 /// credential stops being valid.
 async fn forward(
     state: AppState,
-    caller: Principal,
+    caller: std::sync::Arc<Principal>,
     credential: Credential,
     mut cursor: i64,
     mut live: broadcast::Receiver<std::sync::Arc<Event>>,

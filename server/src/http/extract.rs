@@ -1,5 +1,7 @@
 //! Extractors that parse at the boundary and answer bad input with problem+json.
 
+use std::sync::Arc;
+
 use axum::extract::rejection::BytesRejection;
 use axum::extract::{FromRequest, FromRequestParts, Request};
 use axum::http::header::CONTENT_TYPE;
@@ -107,13 +109,13 @@ impl<S: Send + Sync, T: DeserializeOwned> FromRequestParts<S> for ApiQuery<T> {
 
 /// The authenticated caller, put in place by the route's access check.
 #[derive(Debug, Clone)]
-pub struct Caller(pub Principal);
+pub struct Caller(pub Arc<Principal>);
 
 impl<S: Send + Sync> FromRequestParts<S> for Caller {
     type Rejection = ApiError;
 
     async fn from_request_parts(parts: &mut Parts, _state: &S) -> Result<Self, Self::Rejection> {
-        parts.extensions.get::<Principal>().cloned().map(Self).ok_or_else(|| {
+        parts.extensions.get::<Arc<Principal>>().cloned().map(Self).ok_or_else(|| {
             ApiError::Internal(anyhow::anyhow!("route reached without an access check"))
         })
     }

@@ -1,8 +1,12 @@
 //! Conditional requests (RFC 9110 §13): ETags, `If-None-Match` for reads and creates,
 //! `If-Match` for replace and archive.
 
-use axum::http::HeaderMap;
+use std::convert::Infallible;
+
+use axum::extract::FromRequestParts;
 use axum::http::header::{IF_MATCH, IF_NONE_MATCH};
+use axum::http::request::Parts;
+use axum::http::{HeaderMap, HeaderValue};
 
 use crate::error::ApiError;
 use crate::store::WriteCondition;
@@ -40,11 +44,35 @@ pub fn write_condition(headers: &HeaderMap) -> Result<Option<WriteCondition>, Ap
 
 /// Whether a GET's `If-None-Match` names the current ETag, so the answer is 304.
 pub fn not_modified(headers: &HeaderMap, current_etag: &str) -> bool {
-    let Some(value) = headers.get(IF_NONE_MATCH).and_then(|v| v.to_str().ok()) else {
+    names(headers.get(IF_NONE_MATCH), current_etag)
+}
+
+fn names(if_none_match: Option<&HeaderValue>, current_etag: &str) -> bool {
+    let Some(value) = if_none_match.and_then(|v| v.to_str().ok()) else {
         return false;
     };
     value.trim() == "*"
         || etag_list(value).any(|tag| tag.strip_prefix("W/").unwrap_or(tag) == current_etag)
+}
+
+/// A GET's `If-None-Match` alone, for a handler that needs no other header (taking the whole
+/// `HeaderMap` copies it).
+#[derive(Debug)]
+pub struct IfNoneMatch(Option<HeaderValue>);
+
+impl IfNoneMatch {
+    /// Whether it names the current ETag, so the answer is 304.
+    pub fn names(&self, current_etag: &str) -> bool {
+        names(self.0.as_ref(), current_etag)
+    }
+}
+
+impl<S: Send + Sync> FromRequestParts<S> for IfNoneMatch {
+    type Rejection = Infallible;
+
+    async fn from_request_parts(parts: &mut Parts, _state: &S) -> Result<Self, Self::Rejection> {
+        Ok(Self(parts.headers.get(IF_NONE_MATCH).cloned()))
+    }
 }
 
 fn etag_list(value: &str) -> impl Iterator<Item = &str> {
