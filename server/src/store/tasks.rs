@@ -7,6 +7,7 @@
 
 use serde_json::{Value, json};
 use sqlx::{AnyConnection, AnyPool};
+use uuid::Uuid;
 
 use crate::db::Dialect;
 use crate::store::columns::Flag;
@@ -320,7 +321,7 @@ pub async fn finish(
     tx: &mut AnyConnection,
     id: &str,
     robot: &str,
-    trial: &str,
+    trial: &Uuid,
     succeeded: bool,
     reason: Option<&str>,
 ) -> sqlx::Result<Option<TaskRow>> {
@@ -332,7 +333,7 @@ pub async fn finish(
         columns!()
     ))
     .bind(if succeeded { "done" } else { "failed" })
-    .bind(trial)
+    .bind(trial.hyphenated().to_string())
     .bind(reason)
     .bind(&now)
     .bind(id)
