@@ -4,6 +4,9 @@
 //! never misses one and never announces one that did not commit. State changes are single
 //! `update … where <the state it must be in> … returning`, so two robots racing for one task
 //! cannot both get it.
+//!
+//! Long because every change of a task's state is one guarded `update … returning` with its
+//! event, and the guards (which state each change requires) are read against each other here.
 
 use serde_json::{Value, json};
 use sqlx::{AnyConnection, AnyPool};
