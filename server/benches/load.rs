@@ -15,6 +15,9 @@
 //! the two are compared in one run.
 //! The generator shares the machine's cores with the server, as a robot fleet's LAN would not;
 //! compare ratios measured in one run, not absolute figures across machines.
+//!
+//! Long because a bench target is one file (a module beside it would be taken for another
+//! bench): the fleet of simulated robots, the phases and the report live together.
 
 use std::net::TcpListener;
 use std::process::{Child, Command, Stdio};

@@ -57,16 +57,23 @@ pub fn median(mut values: Vec<f64>) -> Option<f64> {
     })
 }
 
-/// Trials of one tag, action and robot class (`""` when the robot has no class).
+/// Trials of one tag, action and robot class (`None` when the robot has none).
 #[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
 pub struct TrialGroup {
     pub epc: String,
     pub action: String,
     pub behavior: String,
-    pub robot_class: String,
+    pub robot_class: Option<String>,
     /// Whether what a learning rule measures may have changed: a new trial carrying one of the
     /// rules' measurements, or a changed verdict. Other trials only move reliability.
     pub relearn: bool,
+}
+
+impl TrialGroup {
+    /// The class as the change feed names it: `""` for robots without one, as it always has.
+    fn class_in_feed(&self) -> &str {
+        self.robot_class.as_deref().unwrap_or("")
+    }
 }
 
 /// Whether a trial's measurements hold anything a learning rule learns from.
@@ -82,7 +89,7 @@ pub async fn update(
     let mut changed = BTreeSet::new();
     for group in groups {
         if group.relearn && update_learned(conn, group).await? {
-            let data = json!({ "epc": group.epc, "robot_class": group.robot_class });
+            let data = json!({ "epc": group.epc, "robot_class": group.class_in_feed() });
             events::append(conn, EventKind::LearnedChanged, data).await?;
             changed.insert(group.epc.clone());
         }
@@ -106,7 +113,7 @@ async fn update_learned(conn: &mut AnyConnection, group: &TrialGroup) -> sqlx::R
             conn,
             &path,
             &group.epc,
-            &group.robot_class,
+            group.robot_class.as_deref(),
             &group.behavior,
             LEARNING_WINDOW,
         )
@@ -118,7 +125,7 @@ async fn update_learned(conn: &mut AnyConnection, group: &TrialGroup) -> sqlx::R
                 learning::store_learned(
                     conn,
                     &group.epc,
-                    &group.robot_class,
+                    group.robot_class.as_deref(),
                     &pointer,
                     rounded,
                     values.len() as i64,
@@ -126,7 +133,8 @@ async fn update_learned(conn: &mut AnyConnection, group: &TrialGroup) -> sqlx::R
                 .await?
             }
             None => {
-                learning::forget_learned(conn, &group.epc, &group.robot_class, &pointer).await?
+                learning::forget_learned(conn, &group.epc, group.robot_class.as_deref(), &pointer)
+                    .await?
             }
         };
     }
@@ -160,23 +168,31 @@ async fn update_reliability(conn: &mut AnyConnection, group: &TrialGroup) -> sql
         &mut *conn,
         &group.epc,
         &group.action,
-        &group.robot_class,
+        group.robot_class.as_deref(),
         RELIABILITY_WINDOW,
     )
     .await?;
     let reliable = is_reliable(attempts, successes);
-    let before = learning::reliability(conn, &group.epc, &group.action, &group.robot_class).await?;
+    let before =
+        learning::reliability(conn, &group.epc, &group.action, group.robot_class.as_deref())
+            .await?;
     // No row means "not reliable": a group stays rowless (and costs no write) until it first
     // becomes reliable.
     if before.unwrap_or(false) == reliable {
         return Ok(());
     }
-    learning::store_reliability(conn, &group.epc, &group.action, &group.robot_class, reliable)
-        .await?;
+    learning::store_reliability(
+        conn,
+        &group.epc,
+        &group.action,
+        group.robot_class.as_deref(),
+        reliable,
+    )
+    .await?;
     let data = json!({
         "epc": group.epc,
         "action": group.action,
-        "robot_class": group.robot_class,
+        "robot_class": group.class_in_feed(),
         "reliable": reliable,
         "attempts": attempts,
         "successes": successes,

@@ -3,6 +3,7 @@
 //!
 //! The binary is a thin shell: everything is here, so tests run the real router in-process.
 
+pub mod accept;
 pub mod auth;
 pub mod background;
 pub mod backup;
@@ -11,7 +12,7 @@ pub mod clock;
 pub mod db;
 pub mod effective;
 pub mod effective_cache;
-pub mod entry;
+
 pub mod error;
 pub mod export;
 pub mod feed;

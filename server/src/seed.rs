@@ -1,12 +1,12 @@
 //! The paper's five devices, embedded from `seed_tags/`, and the JSON import/export of tags.
 
 use anyhow::{Context, bail};
-use pps_schema::Epc;
+use pps_schema::{Epc, TagEntry};
 use serde_json::Value;
 use sqlx::AnyConnection;
 
+use crate::accept::accept;
 use crate::db::Db;
-use crate::entry;
 use crate::error::ApiError;
 use crate::store::WriteCondition;
 use crate::store::tags;
@@ -82,7 +82,7 @@ fn accept_all(entries: Vec<Value>) -> anyhow::Result<Vec<Accepted>> {
     let mut accepted = Vec::with_capacity(entries.len());
     for (index, value) in entries.into_iter().enumerate() {
         let archived = value.get("archived").and_then(Value::as_bool).unwrap_or(false);
-        match entry::accept(None, value) {
+        match accept::<TagEntry>(None, value) {
             Ok((epc, entry)) => accepted.push((epc, entry, archived)),
             Err(ApiError::Invalid(errors)) => {
                 let listed: Vec<String> =

@@ -8,15 +8,18 @@
 use std::collections::{BTreeSet, HashMap, HashSet};
 use std::sync::Arc;
 
+use pps_schema::{Epc, RobotId, Trial};
 use serde_json::{Value, json};
+use sqlx::AnyConnection;
 use tokio::sync::{mpsc, oneshot};
+use uuid::Uuid;
 
 use crate::db::{Db, Unwritable};
 use crate::effective_cache::EffectiveCache;
 use crate::feed::ChangeFeed;
 use crate::learning::{self, TrialGroup};
 use crate::store::events::{self, EventKind};
-use crate::store::trials::{self, TrialRow};
+use crate::store::trials::{self, NewTrial, TrialRow};
 use crate::{clock, retention, store};
 
 /// Trials committed together at most.
@@ -27,15 +30,7 @@ const QUEUE: usize = 4096;
 /// A trial that passed validation, ready to store.
 #[derive(Debug, Clone)]
 pub struct CheckedTrial {
-    pub id: String,
-    pub epc: String,
-    pub robot: String,
-    pub action: String,
-    pub behavior: String,
-    pub outcome: String,
-    pub confirmed: Option<bool>,
-    pub started_at: String,
-    pub finished_at: String,
+    pub trial: Trial,
     /// The trial as submitted; a retry must match it exactly.
     pub body: Value,
 }
@@ -149,113 +144,160 @@ fn refuse(batch: impl ExactSizeIterator<Item = (CheckedTrial, Reply)>, error: sq
 /// events are inserted with one statement each.
 async fn commit(db: &Db, batch: &[&CheckedTrial]) -> sqlx::Result<Stored> {
     // Serialised before the write lock is taken.
-    let bodies: Vec<String> = batch.iter().map(|trial| trial.body.to_string()).collect();
+    let bodies: Vec<String> = batch.iter().map(|checked| checked.body.to_string()).collect();
     let mut tx = db.begin_write().await?;
     let received_at = clock::now();
-    let mut tags: HashMap<&str, Result<(), TagProblem>> = HashMap::new();
-    let mut classes: HashMap<&str, Option<String>> = HashMap::new();
-    for trial in batch {
-        if !tags.contains_key(trial.epc.as_str()) {
-            tags.insert(&trial.epc, check_tag(&mut tx, &trial.epc).await?);
+    let known = Known::look_up(&mut tx, batch).await?;
+    let seqs = insert_on_active_tags(&mut tx, batch, &bodies, &known, &received_at).await?;
+    let sorted = sort_out(&mut tx, batch, bodies, &known, &seqs, &received_at).await?;
+    announce(&mut tx, sorted.recorded).await?;
+    let relearned = learning::update(&mut tx, &sorted.groups).await?;
+    tx.commit().await?;
+    Ok((sorted.results, relearned))
+}
+
+/// What the batch's trials need to know of their tags and robots, each looked up once.
+struct Known<'a> {
+    tags: HashMap<&'a Epc, Result<(), TagProblem>>,
+    classes: HashMap<&'a RobotId, Option<String>>,
+}
+
+impl<'a> Known<'a> {
+    async fn look_up(tx: &mut AnyConnection, batch: &[&'a CheckedTrial]) -> sqlx::Result<Self> {
+        let mut known = Self { tags: HashMap::new(), classes: HashMap::new() };
+        for CheckedTrial { trial, .. } in batch {
+            if !known.tags.contains_key(&trial.epc) {
+                known.tags.insert(&trial.epc, check_tag(tx, &trial.epc).await?);
+            }
+            if !known.classes.contains_key(&trial.robot) {
+                let class = store::robots::class_of(tx, &trial.robot).await?;
+                known.classes.insert(&trial.robot, class);
+            }
         }
-        if !classes.contains_key(trial.robot.as_str()) {
-            let class = store::robots::class_of(&mut tx, &trial.robot).await?;
-            classes.insert(&trial.robot, class);
-        }
+        Ok(known)
     }
 
-    // Trials on active tags; a retry of a trial stored before its tag was archived is still a
-    // retry, so the others are looked up below rather than refused at once.
-    let insertable: Vec<usize> =
-        (0..batch.len()).filter(|&i| tags[batch[i].epc.as_str()].is_ok()).collect();
-    let mut seqs: HashMap<String, i64> = HashMap::new();
-    for chunk in insertable.chunks(INSERT_CHUNK) {
-        // A second trial with the same id in one batch meets the first: it is a retry then.
-        let statement = format!(
-            "insert into trials (id, epc, robot, robot_class, action, behavior, outcome, \
-             confirmed, started_at, finished_at, received_at, body) values {} \
-             on conflict (id) do nothing returning id, seq",
-            store::placeholders::rows(chunk.len(), 12)
-        );
-        let mut insert = sqlx::query_as(sqlx::AssertSqlSafe(statement));
-        for &i in chunk {
-            let trial = batch[i];
-            insert = insert
-                .bind(&trial.id)
-                .bind(&trial.epc)
-                .bind(&trial.robot)
-                .bind(classes[trial.robot.as_str()].as_deref())
-                .bind(&trial.action)
-                .bind(&trial.behavior)
-                .bind(&trial.outcome)
-                .bind(trial.confirmed.map(i64::from))
-                .bind(&trial.started_at)
-                .bind(&trial.finished_at)
-                .bind(&received_at)
-                .bind(&bodies[i]);
-        }
-        let inserted: Vec<(String, i64)> = insert.fetch_all(&mut *tx).await?;
-        seqs.extend(inserted);
+    fn class_of(&self, trial: &Trial) -> Option<&str> {
+        self.classes[&trial.robot].as_deref()
     }
+}
 
-    let mut results = Vec::with_capacity(batch.len());
-    let mut recorded: Vec<(i64, &CheckedTrial)> = Vec::new();
-    let mut groups = BTreeSet::new();
-    let mut seen: HashSet<&str> = HashSet::with_capacity(batch.len());
-    for (trial, body) in batch.iter().zip(bodies) {
-        let robot_class = classes[trial.robot.as_str()].clone();
+/// Inserts the trials on active tags, in as few statements as the driver allows; returns the
+/// sequence numbers of those that were new. A retry of a trial stored before its tag was
+/// archived is still a retry, so the others are sorted out afterwards rather than refused.
+async fn insert_on_active_tags(
+    tx: &mut AnyConnection,
+    batch: &[&CheckedTrial],
+    bodies: &[String],
+    known: &Known<'_>,
+    received_at: &str,
+) -> sqlx::Result<HashMap<Uuid, i64>> {
+    let insertable: Vec<NewTrial<'_>> = batch
+        .iter()
+        .zip(bodies)
+        .filter(|(checked, _)| known.tags[&checked.trial.epc].is_ok())
+        .map(|(checked, body)| NewTrial {
+            trial: &checked.trial,
+            robot_class: known.class_of(&checked.trial),
+            received_at,
+            body,
+        })
+        .collect();
+    let mut seqs = HashMap::new();
+    for chunk in insertable.chunks(trials::INSERT_CHUNK) {
+        seqs.extend(trials::insert_new(tx, chunk).await?);
+    }
+    Ok(seqs)
+}
+
+/// Each trial's answer, and what the new ones announce and teach.
+struct Sorted<'a> {
+    results: Vec<Result<Recorded, TrialRejection>>,
+    recorded: Vec<(i64, &'a Trial)>,
+    groups: BTreeSet<TrialGroup>,
+}
+
+/// Sorts the batch into new trials, retries and conflicts, and refusals of their tag.
+async fn sort_out<'a>(
+    tx: &mut AnyConnection,
+    batch: &[&'a CheckedTrial],
+    bodies: Vec<String>,
+    known: &Known<'_>,
+    seqs: &HashMap<Uuid, i64>,
+    received_at: &str,
+) -> sqlx::Result<Sorted<'a>> {
+    let mut sorted = Sorted {
+        results: Vec::with_capacity(batch.len()),
+        recorded: Vec::new(),
+        groups: BTreeSet::new(),
+    };
+    let mut seen: HashSet<Uuid> = HashSet::with_capacity(batch.len());
+    for (CheckedTrial { trial, body: submitted }, body) in batch.iter().copied().zip(bodies) {
         // Only the first of duplicate ids in a batch was inserted; the rest are retries.
-        let first = seen.insert(trial.id.as_str());
+        let first = seen.insert(trial.id);
         let Some(&seq) = seqs.get(&trial.id).filter(|_| first) else {
-            results.push(match trials::find(&mut tx, &trial.id).await? {
-                Some(existing)
-                    if retention::same_submission(&existing.submitted(), &trial.body) =>
-                {
-                    Ok(Recorded::Repeat(existing))
-                }
-                Some(existing) => Err(TrialRejection::Conflict(existing)),
-                None => Err(tags[trial.epc.as_str()].clone().err().map_or_else(
-                    || TrialRejection::Database(Arc::new(sqlx::Error::RowNotFound)),
-                    TagProblem::rejection,
-                )),
-            });
+            sorted.results.push(not_inserted(tx, trial, submitted, known).await?);
             continue;
         };
-        recorded.push((seq, trial));
-        groups.insert(TrialGroup {
-            epc: trial.epc.clone(),
+        let robot_class = known.class_of(trial).map(str::to_owned);
+        sorted.recorded.push((seq, trial));
+        sorted.groups.insert(TrialGroup {
+            epc: trial.epc.as_hex().to_owned(),
             action: trial.action.clone(),
             behavior: trial.behavior.clone(),
-            robot_class: robot_class.clone().unwrap_or_default(),
-            relearn: learning::teaches(trial.body.get("measurements")),
+            robot_class: robot_class.clone(),
+            relearn: learning::teaches(submitted.get("measurements")),
         });
-        results.push(Ok(Recorded::New(TrialRow {
+        sorted.results.push(Ok(Recorded::New(TrialRow {
             seq,
-            id: trial.id.clone(),
-            epc: trial.epc.clone(),
-            robot: trial.robot.clone(),
+            id: trial.id.to_string(),
+            epc: trial.epc.as_hex().to_owned(),
+            robot: trial.robot.as_str().to_owned(),
             robot_class,
             action: trial.action.clone(),
-            outcome: trial.outcome.clone(),
+            outcome: trial.outcome.as_str().to_owned(),
             confirmed: trial.confirmed,
-            received_at: received_at.clone(),
+            received_at: received_at.to_owned(),
             body,
         })));
     }
-    // The feed announces the trials in the order the registry stored them.
+    Ok(sorted)
+}
+
+/// The answer to a trial that was not inserted: a retry of the stored one, a conflict with
+/// it, or its tag's refusal.
+async fn not_inserted(
+    tx: &mut AnyConnection,
+    trial: &Trial,
+    submitted: &Value,
+    known: &Known<'_>,
+) -> sqlx::Result<Result<Recorded, TrialRejection>> {
+    Ok(match trials::find(tx, &trial.id).await? {
+        Some(existing) if retention::same_submission(&existing.submitted(), submitted) => {
+            Ok(Recorded::Repeat(existing))
+        }
+        Some(existing) => Err(TrialRejection::Conflict(existing)),
+        None => Err(known.tags[&trial.epc].clone().err().map_or_else(
+            || TrialRejection::Database(Arc::new(sqlx::Error::RowNotFound)),
+            TagProblem::rejection,
+        )),
+    })
+}
+
+/// Puts the new trials in the feed, in the order the registry stored them.
+async fn announce(tx: &mut AnyConnection, mut recorded: Vec<(i64, &Trial)>) -> sqlx::Result<()> {
     recorded.sort_by_key(|(seq, _)| *seq);
     let announcements: Vec<Value> = recorded
         .iter()
-        .map(|(seq, trial)| json!({ "trial": trial.id, "epc": trial.epc, "robot": trial.robot, "action": trial.action, "outcome": trial.outcome, "seq": seq }))
+        .map(|(seq, trial)| {
+            json!({
+                "trial": trial.id, "epc": trial.epc.as_hex(), "robot": trial.robot,
+                "action": trial.action, "outcome": trial.outcome.as_str(), "seq": seq
+            })
+        })
         .collect();
-    events::append_all(&mut tx, EventKind::TrialRecorded, &announcements).await?;
-    let relearned = learning::update(&mut tx, &groups).await?;
-    tx.commit().await?;
-    Ok((results, relearned))
+    events::append_all(tx, EventKind::TrialRecorded, &announcements).await
 }
-
-/// Trials inserted by one statement at most (12 values each, well under SQLite's limit).
-const INSERT_CHUNK: usize = 256;
 
 /// Why a tag takes no trials.
 #[derive(Debug, Clone)]
@@ -276,14 +318,11 @@ impl TagProblem {
 }
 
 /// A trial must name a registered, active tag.
-async fn check_tag(
-    conn: &mut sqlx::AnyConnection,
-    epc: &str,
-) -> sqlx::Result<Result<(), TagProblem>> {
+async fn check_tag(conn: &mut AnyConnection, epc: &Epc) -> sqlx::Result<Result<(), TagProblem>> {
     Ok(match store::tags::is_archived(conn, epc).await? {
         Some(false) => Ok(()),
         Some(true) => Err(TagProblem::Archived),
-        None => match store::retired::successor(conn, epc).await? {
+        None => match store::retired::successor(conn, epc.as_hex()).await? {
             Some(successor) => Err(TagProblem::Retired(successor)),
             None => Err(TagProblem::Unknown),
         },

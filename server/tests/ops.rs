@@ -1,6 +1,9 @@
 //! Operating the registry with the `pps-server` binary: a backup taken while robots write,
 //! restored and served; trials exported with the API's filters; old force samples thinned
 //! without losing a trial or breaking a robot's retry.
+//!
+//! Long because each test drives the binary end to end, with robots writing while it runs;
+//! one file keeps the helpers they share (running the binary, paging, writing trials) with them.
 
 mod common;
 

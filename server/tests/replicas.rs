@@ -3,6 +3,9 @@
 //! database, one change feed, revocation everywhere, and no acknowledged trial lost when a
 //! replica is killed under load. Needs the cluster the test command starts
 //! (`PPS_TEST_POSTGRES`).
+//!
+//! Long because every test starts two replicas on a fresh database; they are one test binary
+//! so the test command can run them alone, against its cluster.
 
 mod common;
 

@@ -522,9 +522,15 @@ async fn a_robot_of_a_reliable_class_is_preferred_then_the_one_that_asked_first(
     let late = robot(&server, "el-e-2", "el-e").await;
     let reliable = robot(&server, "stretch-1", "stretch").await;
     let mut tx = server.db.begin_write().await.unwrap();
-    pps_server::store::learning::store_reliability(&mut tx, FLIP_SWITCH, "off", "stretch", true)
-        .await
-        .unwrap();
+    pps_server::store::learning::store_reliability(
+        &mut tx,
+        FLIP_SWITCH,
+        "off",
+        Some("stretch"),
+        true,
+    )
+    .await
+    .unwrap();
     tx.commit().await.unwrap();
 
     let wait = |token: String, robot: &'static str| {

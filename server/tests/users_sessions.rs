@@ -1,5 +1,8 @@
 //! Browser logins: password login, the session cookie and its flags, forgery protection,
 //! logout, expiry, password changes, the login slow-down, user management and the CLI.
+//!
+//! Long because each test is a whole browser conversation (login, cookie, forgery token, the
+//! next request); they share the login helpers at the top.
 
 mod common;
 

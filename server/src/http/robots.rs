@@ -4,9 +4,10 @@ use axum::Json;
 use axum::extract::{Path, State};
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
-use pps_schema::{READ_ONLY_ROBOT_FIELDS, RobotId, Validator, strip_fields};
+use pps_schema::{Robot, RobotId};
 use serde_json::Value;
 
+use crate::accept::accept;
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, JsonBody};
 use crate::http::openapi::{Body, Doc, Param, Reply};
@@ -62,24 +63,10 @@ pub async fn put(
     State(state): State<AppState>,
     Caller(caller): Caller,
     Path(robot): Path<String>,
-    JsonBody(mut body): JsonBody,
+    JsonBody(body): JsonBody,
 ) -> Result<Response, ApiError> {
     let robot = parse_robot_id(&robot)?;
-    strip_fields(&mut body, READ_ONLY_ROBOT_FIELDS);
-    if let Some(object) = body.as_object_mut() {
-        object.entry("id").or_insert_with(|| robot.as_str().into());
-    }
-    let mut errors: Vec<_> =
-        Validator::get().validate_robot(&body).err().map(|e| e.into_vec()).unwrap_or_default();
-    if body.get("id").and_then(Value::as_str).is_some_and(|id| id != robot.as_str()) {
-        errors.push(pps_schema::FieldError::new(
-            "/id",
-            format!("the robot's id differs from the id in the URL {robot}; they must be the same"),
-        ));
-    }
-    if !errors.is_empty() {
-        return Err(ApiError::Invalid(errors));
-    }
+    let (robot, body) = accept::<Robot>(Some(&robot), body)?;
     let written = robots::put(&state.db, robot.as_str(), &body, &caller.name).await?;
     if written != RobotWrite::Unchanged {
         // Class, capabilities and limits shape every effective entry this robot reads.

@@ -61,9 +61,14 @@ pub async fn get(
     for (action, class, attempts, detected, confirmed, confirmed_ok, agreeing, successes, last) in
         rows
     {
-        let (recent, recent_ok) =
-            trials::latest_outcomes(pool, epc.as_hex(), &action, &class, RELIABILITY_WINDOW)
-                .await?;
+        let (recent, recent_ok) = trials::latest_outcomes(
+            pool,
+            epc.as_hex(),
+            &action,
+            class.as_deref(),
+            RELIABILITY_WINDOW,
+        )
+        .await?;
         // Only what the action's own behaviour uses: `close` has nothing of `pull_open`'s.
         let behavior = tag.entry.pointer(&format!("/actions/{}", escape(&action)));
         let prefix = behavior.and_then(Value::as_str).map(|b| format!("/behaviors/{}/", escape(b)));
@@ -77,7 +82,7 @@ pub async fn get(
             .collect();
         groups.push(GroupStats {
             action,
-            robot_class: (!class.is_empty()).then_some(class),
+            robot_class: class,
             attempts,
             detected_successes: detected,
             confirmed,

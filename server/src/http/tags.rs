@@ -5,10 +5,11 @@ use axum::extract::State;
 use axum::http::header::{ETAG, LOCATION};
 use axum::http::{HeaderMap, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
+use pps_schema::TagEntry;
 use serde::Deserialize;
 use serde_json::{Value, json};
 
-use crate::entry;
+use crate::accept::accept;
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, EpcPath, JsonBody};
 use crate::http::openapi::{Body, Doc, Header, Param, ParamType, Reply};
@@ -114,7 +115,7 @@ pub async fn put(
                 .into(),
         )
     })?;
-    let (epc, entry) = entry::accept(Some(&epc), body)?;
+    let (epc, entry) = accept::<TagEntry>(Some(&epc), body)?;
     let written = tags::put(&state.db, &epc, &entry, &condition, &caller.name).await;
     if written.is_ok() {
         changed(&state, &epc);
@@ -196,7 +197,7 @@ pub const VALIDATE: Doc = Doc::new("validateTag", "Validate an entry without sto
     .replies(&[Reply::json(200, "The entry is valid", "validation_result"), Reply::INVALID]);
 
 pub async fn validate(JsonBody(body): JsonBody) -> Result<Json<Value>, ApiError> {
-    entry::accept(None, body)?;
+    accept::<TagEntry>(None, body)?;
     Ok(Json(json!({ "valid": true, "errors": [] })))
 }
 

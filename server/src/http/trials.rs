@@ -5,11 +5,12 @@ use axum::Json;
 use axum::extract::{Path, State};
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
-use pps_schema::{MAX_FORCE_SAMPLES, READ_ONLY_TRIAL_FIELDS, Validator, strip_fields};
+use pps_schema::{MAX_FORCE_SAMPLES, Trial};
 use serde::Deserialize;
 use serde_json::{Value, json};
 use uuid::Uuid;
 
+use crate::accept::accept;
 use crate::auth::{Principal, Role};
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, JsonBody};
@@ -53,7 +54,7 @@ pub async fn put(
     State(state): State<AppState>,
     Caller(caller): Caller,
     Path(id): Path<String>,
-    JsonBody(mut body): JsonBody,
+    JsonBody(body): JsonBody,
 ) -> Result<Response, ApiError> {
     let id = parse_trial_id(&id)?;
     let samples = body.get("forces").and_then(Value::as_array).map_or(0, Vec::len);
@@ -63,26 +64,8 @@ pub async fn put(
              downsample them or keep a summary in measurements"
         )));
     }
-    strip_fields(&mut body, READ_ONLY_TRIAL_FIELDS);
-    if let Some(object) = body.as_object_mut() {
-        object.entry("id").or_insert_with(|| id.clone().into());
-    }
-    let mut errors =
-        Validator::get().validate_trial(&body).err().map(|e| e.into_vec()).unwrap_or_default();
-    if body
-        .get("id")
-        .and_then(Value::as_str)
-        .is_some_and(|body_id| !body_id.eq_ignore_ascii_case(&id))
-    {
-        errors.push(pps_schema::FieldError::new(
-            "/id",
-            format!("the trial's id differs from the id in the URL {id}"),
-        ));
-    }
-    if !errors.is_empty() {
-        return Err(ApiError::Invalid(errors));
-    }
-    let trial: pps_schema::Trial = serde_json::from_value(body.clone()).map_err(|error| {
+    let (_, body) = accept::<Trial>(Some(&id), body)?;
+    let trial: Trial = serde_json::from_value(body.clone()).map_err(|error| {
         ApiError::invalid_at("", format!("the trial does not fit its type: {error}"))
     })?;
     if caller.robot.as_deref() != Some(trial.robot.as_str()) {
@@ -92,25 +75,15 @@ pub async fn put(
             trial.robot.as_str()
         )));
     }
-    let checked = CheckedTrial {
-        id: trial.id.to_string(),
-        epc: trial.epc.as_hex().to_owned(),
-        robot: trial.robot.as_str().to_owned(),
-        action: trial.action.clone(),
-        behavior: trial.behavior.clone(),
-        outcome: trial.outcome.as_str().to_owned(),
-        confirmed: trial.confirmed,
-        started_at: crate::clock::format(trial.started_at),
-        finished_at: crate::clock::format(trial.finished_at),
-        body,
-    };
+    let epc = trial.epc.clone();
+    let checked = CheckedTrial { trial, body };
     match state.trials.record(checked).await {
         Ok(Recorded::New(row)) => {
             state.metrics.trial_recorded();
             Ok((StatusCode::CREATED, Json(row.to_json())).into_response())
         }
         Ok(Recorded::Repeat(row)) => Ok((StatusCode::OK, Json(row.to_json())).into_response()),
-        Err(rejection) => Err(rejection_error(&trial.epc, rejection)),
+        Err(rejection) => Err(rejection_error(&epc, rejection)),
     }
 }
 
@@ -153,7 +126,7 @@ pub async fn get(
     Caller(caller): Caller,
     Path(id): Path<String>,
 ) -> Result<Json<Value>, ApiError> {
-    let row = find_visible(&state, &caller, &id).await?;
+    let row = find_visible(&state, &caller, &parse_trial_id(&id)?).await?;
     Ok(Json(row.to_json()))
 }
 
@@ -161,10 +134,9 @@ pub async fn get(
 async fn find_visible(
     state: &AppState,
     caller: &Principal,
-    id: &str,
+    id: &Uuid,
 ) -> Result<TrialRow, ApiError> {
-    let id = parse_trial_id(id)?;
-    let row = trials::get(state.db.reader(), &id)
+    let row = trials::get(state.db.reader(), id)
         .await?
         .ok_or_else(|| ApiError::NotFound(format!("no trial has the id {id}")))?;
     caller.require_robot_or_editor(&row.robot)?;
@@ -190,6 +162,7 @@ pub async fn patch(
     Path(id): Path<String>,
     JsonBody(body): JsonBody,
 ) -> Result<Json<Value>, ApiError> {
+    let id = parse_trial_id(&id)?;
     let row = find_visible(&state, &caller, &id).await?;
     let Some(patch) = body.as_object() else {
         return Err(ApiError::invalid_at(
@@ -223,7 +196,7 @@ pub async fn patch(
         return Ok(Json(row.to_json()));
     }
     let mut tx = state.db.begin_write().await?;
-    trials::set_confirmed(&mut tx, &row.id, confirmed).await?;
+    trials::set_confirmed(&mut tx, &id, confirmed).await?;
     events::append(
         &mut tx,
         EventKind::TrialUpdated,
@@ -236,7 +209,7 @@ pub async fn patch(
         epc: row.epc.clone(),
         action: row.action.clone(),
         behavior,
-        robot_class: row.robot_class.clone().unwrap_or_default(),
+        robot_class: row.robot_class.clone(),
         relearn: true,
     };
     let relearned = learning::update(&mut tx, &[group].into()).await?;
@@ -346,9 +319,9 @@ fn page_response(page: &Page<TrialRow>) -> Response {
     ([(axum::http::header::CONTENT_TYPE, "application/json")], body).into_response()
 }
 
-/// Trial ids are UUIDs, stored in their lower-case hyphenated form.
-fn parse_trial_id(raw: &str) -> Result<String, ApiError> {
-    Uuid::parse_str(raw).map(|id| id.hyphenated().to_string()).map_err(|error| {
+/// Parses a trial id (a UUID) from a URL.
+fn parse_trial_id(raw: &str) -> Result<Uuid, ApiError> {
+    Uuid::parse_str(raw).map_err(|error| {
         ApiError::BadRequest(format!("{raw:?} is not a trial id (a UUID): {error}"))
     })
 }

@@ -8,6 +8,12 @@ use crate::store::columns::Flag;
 use crate::clock;
 use crate::effective::Learned;
 
+/// How the learned tables key a robot class: `""` for robots without one (a key column cannot
+/// be null).
+fn class_key(robot_class: Option<&str>) -> &str {
+    robot_class.unwrap_or("")
+}
+
 /// Learned values for one tag and robot class (`""` for robots without a class).
 pub async fn learned_for(
     pool: &AnyPool,
@@ -28,20 +34,26 @@ pub async fn learned_for(
 pub async fn learned_all(
     pool: &AnyPool,
     epc: &str,
-) -> sqlx::Result<Vec<(String, String, f64, i64)>> {
-    sqlx::query_as(
+) -> sqlx::Result<Vec<(Option<String>, String, f64, i64)>> {
+    let rows: Vec<(String, String, f64, i64)> = sqlx::query_as(
         "select robot_class, pointer, value, trials from learned_values where epc = $1 order by robot_class, pointer",
     )
     .bind(epc)
     .fetch_all(pool)
-    .await
+    .await?;
+    Ok(rows
+        .into_iter()
+        .map(|(class, pointer, value, trials)| {
+            (Some(class).filter(|class| !class.is_empty()), pointer, value, trials)
+        })
+        .collect())
 }
 
 /// Stores a learned value; true when it differs from what was stored.
 pub async fn store_learned(
     conn: &mut AnyConnection,
     epc: &str,
-    robot_class: &str,
+    robot_class: Option<&str>,
     pointer: &str,
     value: f64,
     trials: i64,
@@ -50,7 +62,7 @@ pub async fn store_learned(
         "select value from learned_values where epc = $1 and robot_class = $2 and pointer = $3",
     )
     .bind(epc)
-    .bind(robot_class)
+    .bind(class_key(robot_class))
     .bind(pointer)
     .fetch_optional(&mut *conn)
     .await?;
@@ -61,7 +73,7 @@ pub async fn store_learned(
              trials = excluded.trials, updated_at = excluded.updated_at",
     )
     .bind(epc)
-    .bind(robot_class)
+    .bind(class_key(robot_class))
     .bind(pointer)
     .bind(value)
     .bind(trials)
@@ -75,14 +87,14 @@ pub async fn store_learned(
 pub async fn forget_learned(
     conn: &mut AnyConnection,
     epc: &str,
-    robot_class: &str,
+    robot_class: Option<&str>,
     pointer: &str,
 ) -> sqlx::Result<bool> {
     let done = sqlx::query(
         "delete from learned_values where epc = $1 and robot_class = $2 and pointer = $3",
     )
     .bind(epc)
-    .bind(robot_class)
+    .bind(class_key(robot_class))
     .bind(pointer)
     .execute(conn)
     .await?;
@@ -94,14 +106,14 @@ pub async fn reliability(
     conn: &mut AnyConnection,
     epc: &str,
     action: &str,
-    robot_class: &str,
+    robot_class: Option<&str>,
 ) -> sqlx::Result<Option<bool>> {
     let reliable: Option<Flag> = sqlx::query_scalar(
         "select reliable from reliability where epc = $1 and action = $2 and robot_class = $3",
     )
     .bind(epc)
     .bind(action)
-    .bind(robot_class)
+    .bind(class_key(robot_class))
     .fetch_optional(conn)
     .await?;
     Ok(reliable.map(bool::from))
@@ -126,7 +138,7 @@ pub async fn store_reliability(
     conn: &mut AnyConnection,
     epc: &str,
     action: &str,
-    robot_class: &str,
+    robot_class: Option<&str>,
     reliable: bool,
 ) -> sqlx::Result<()> {
     sqlx::query(
@@ -135,7 +147,7 @@ pub async fn store_reliability(
     )
     .bind(epc)
     .bind(action)
-    .bind(robot_class)
+    .bind(class_key(robot_class))
     .bind(i64::from(reliable))
     .execute(conn)
     .await?;

@@ -1,5 +1,6 @@
 //! The robot registry: who the robots are, their class, capabilities and limits.
 
+use pps_schema::RobotId;
 use serde_json::{Value, json};
 use sqlx::AnyPool;
 
@@ -70,10 +71,13 @@ pub async fn get(pool: &AnyPool, id: &str) -> sqlx::Result<Option<StoredRobot>> 
 }
 
 /// The class of the robot `id`; `None` when it has none or is not registered.
-pub async fn class_of(conn: &mut sqlx::AnyConnection, id: &str) -> sqlx::Result<Option<String>> {
+pub async fn class_of(
+    conn: &mut sqlx::AnyConnection,
+    id: &RobotId,
+) -> sqlx::Result<Option<String>> {
     let class: Option<Option<String>> =
         sqlx::query_scalar("select class from robots where id = $1")
-            .bind(id)
+            .bind(id.as_str())
             .fetch_optional(conn)
             .await?;
     Ok(class.flatten())

@@ -246,9 +246,9 @@ pub async fn entry_of(
 }
 
 /// Whether the tag with this EPC (hex) is archived; `None` when no tag has it.
-pub async fn is_archived(conn: &mut sqlx::AnyConnection, epc: &str) -> sqlx::Result<Option<bool>> {
+pub async fn is_archived(conn: &mut sqlx::AnyConnection, epc: &Epc) -> sqlx::Result<Option<bool>> {
     let archived: Option<Flag> = sqlx::query_scalar("select archived from tags where epc = $1")
-        .bind(epc)
+        .bind(epc.as_hex())
         .fetch_optional(conn)
         .await?;
     Ok(archived.map(bool::from))

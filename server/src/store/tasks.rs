@@ -4,9 +4,13 @@
 //! never misses one and never announces one that did not commit. State changes are single
 //! `update … where <the state it must be in> … returning`, so two robots racing for one task
 //! cannot both get it.
+//!
+//! Long because every change of a task's state is one guarded `update … returning` with its
+//! event, and the guards (which state each change requires) are read against each other here.
 
 use serde_json::{Value, json};
 use sqlx::{AnyConnection, AnyPool};
+use uuid::Uuid;
 
 use crate::db::Dialect;
 use crate::store::columns::Flag;
@@ -320,7 +324,7 @@ pub async fn finish(
     tx: &mut AnyConnection,
     id: &str,
     robot: &str,
-    trial: &str,
+    trial: &Uuid,
     succeeded: bool,
     reason: Option<&str>,
 ) -> sqlx::Result<Option<TaskRow>> {
@@ -332,7 +336,7 @@ pub async fn finish(
         columns!()
     ))
     .bind(if succeeded { "done" } else { "failed" })
-    .bind(trial)
+    .bind(trial.hyphenated().to_string())
     .bind(reason)
     .bind(&now)
     .bind(id)

@@ -1,19 +1,23 @@
 //! Trials in the database: one row per attempt, in the order the registry received them.
 
+use pps_schema::Trial;
 use serde_json::{Value, json};
 use sqlx::{AnyConnection, AnyExecutor, AnyPool};
+use uuid::Uuid;
 
+use crate::clock;
 use crate::db::Dialect;
 use crate::store::columns::MaybeFlag;
+use crate::store::placeholders;
 
-/// How a group (a tag, an action, a robot class; `""` for robots without one) went lately: the
+/// How a group (a tag, an action, a robot class or none) went lately: the
 /// attempts and successes among its latest `window` trials, a person's verdict overriding the
 /// detector's. What *reliable* is judged on.
 pub async fn latest_outcomes(
     executor: impl AnyExecutor<'_>,
     epc: &str,
     action: &str,
-    robot_class: &str,
+    robot_class: Option<&str>,
     window: i64,
 ) -> sqlx::Result<(i64, i64)> {
     sqlx::query_as(
@@ -21,7 +25,7 @@ pub async fn latest_outcomes(
              select case when confirmed = 1 or (confirmed is null and outcome = 'success')
                          then 1 else 0 end as success
              from trials
-             where epc = $1 and action = $2 and coalesce(robot_class, '') = $3
+             where epc = $1 and action = $2 and coalesce(robot_class, '') = coalesce($3, '')
              order by seq desc limit $4) as latest",
     )
     .bind(epc)
@@ -32,15 +36,15 @@ pub async fn latest_outcomes(
     .await
 }
 
-/// One action as done by one robot class (`""` for robots without one), counted over all its
+/// One action as done by one robot class (`None` for robots without one), counted over all its
 /// trials: (action, class, attempts, detected successes, verdicts, confirmed successes, verdicts
 /// agreeing with the detector, successes by verdict else detector, last start).
-pub type GroupCounts = (String, String, i64, i64, i64, i64, i64, i64, Option<String>);
+pub type GroupCounts = (String, Option<String>, i64, i64, i64, i64, i64, i64, Option<String>);
 
 /// Every action × robot class group of a tag's trials, ordered by action and class.
 pub async fn group_counts(pool: &AnyPool, epc: &str) -> sqlx::Result<Vec<GroupCounts>> {
     sqlx::query_as(
-        "select action, coalesce(robot_class, ''), count(*),
+        "select action, robot_class, count(*),
                 sum(case when outcome = 'success' then 1 else 0 end),
                 sum(case when confirmed is not null then 1 else 0 end),
                 sum(case when confirmed = 1 then 1 else 0 end),
@@ -49,7 +53,7 @@ pub async fn group_counts(pool: &AnyPool, epc: &str) -> sqlx::Result<Vec<GroupCo
                 sum(case when confirmed = 1 or (confirmed is null and outcome = 'success')
                          then 1 else 0 end),
                 max(started_at)
-         from trials where epc = $1 group by action, coalesce(robot_class, '')
+         from trials where epc = $1 group by action, robot_class
          order by action, coalesce(robot_class, '')",
     )
     .bind(epc)
@@ -65,7 +69,7 @@ pub async fn latest_measurements(
     conn: &mut AnyConnection,
     path: &str,
     epc: &str,
-    robot_class: &str,
+    robot_class: Option<&str>,
     behavior: &str,
     window: i64,
 ) -> sqlx::Result<Vec<f64>> {
@@ -74,13 +78,13 @@ pub async fn latest_measurements(
         "select case when json_type(body, $1) in ('integer', 'real')
                      then cast(json_extract(body, $1) as real) end
          from trials
-         where epc = $2 and coalesce(robot_class, '') = $3 and behavior = $4
+         where epc = $2 and coalesce(robot_class, '') = coalesce($3, '') and behavior = $4
            and outcome = 'success' and coalesce(confirmed, 1) = 1
          order by seq desc limit $5",
         "select case when jsonb_typeof(jsonb_path_query_first(body::jsonb, $1::jsonpath)) = 'number'
                      then jsonb_path_query_first(body::jsonb, $1::jsonpath)::double precision end
          from trials
-         where epc = $2 and coalesce(robot_class, '') = $3 and behavior = $4
+         where epc = $2 and coalesce(robot_class, '') = coalesce($3, '') and behavior = $4
            and outcome = 'success' and coalesce(confirmed, 1) = 1
          order by seq desc limit $5",
     ))
@@ -129,6 +133,60 @@ impl TrialRow {
     }
 }
 
+/// A checked trial as the batch that records it inserts it.
+#[derive(Debug, Clone, Copy)]
+pub struct NewTrial<'a> {
+    pub trial: &'a Trial,
+    /// The robot's class as it is now; the trial keeps it.
+    pub robot_class: Option<&'a str>,
+    pub received_at: &'a str,
+    /// `trial` as submitted, serialised.
+    pub body: &'a str,
+}
+
+/// Trials inserted by one statement at most (12 values each, well under SQLite's limit).
+pub const INSERT_CHUNK: usize = 256;
+
+/// Inserts up to [`INSERT_CHUNK`] trials with one statement; returns the id and sequence number
+/// of each that was new. A trial whose id is stored already (also earlier in `trials`) is left
+/// as it is: the caller tells a retry from a conflict.
+pub async fn insert_new(
+    conn: &mut AnyConnection,
+    trials: &[NewTrial<'_>],
+) -> sqlx::Result<Vec<(Uuid, i64)>> {
+    let statement = format!(
+        "insert into trials (id, epc, robot, robot_class, action, behavior, outcome, \
+         confirmed, started_at, finished_at, received_at, body) values {} \
+         on conflict (id) do nothing returning id, seq",
+        placeholders::rows(trials.len(), 12)
+    );
+    let mut insert = sqlx::query_as(sqlx::AssertSqlSafe(statement));
+    for new in trials {
+        let trial = new.trial;
+        insert = insert
+            .bind(trial.id.hyphenated().to_string())
+            .bind(trial.epc.as_hex())
+            .bind(trial.robot.as_str())
+            .bind(new.robot_class)
+            .bind(&trial.action)
+            .bind(&trial.behavior)
+            .bind(trial.outcome.as_str())
+            .bind(trial.confirmed.map(i64::from))
+            .bind(clock::format(trial.started_at))
+            .bind(clock::format(trial.finished_at))
+            .bind(new.received_at)
+            .bind(new.body);
+    }
+    let inserted: Vec<(String, i64)> = insert.fetch_all(conn).await?;
+    inserted
+        .into_iter()
+        .map(|(id, seq)| {
+            let id = Uuid::parse_str(&id).map_err(|error| sqlx::Error::Decode(error.into()))?;
+            Ok((id, seq))
+        })
+        .collect()
+}
+
 /// Which trials a list wants.
 #[derive(Debug, Default, Clone)]
 pub struct TrialFilter {
@@ -140,18 +198,18 @@ pub struct TrialFilter {
     pub since: Option<String>,
 }
 
-pub async fn find(conn: &mut AnyConnection, id: &str) -> sqlx::Result<Option<TrialRow>> {
+pub async fn find(conn: &mut AnyConnection, id: &Uuid) -> sqlx::Result<Option<TrialRow>> {
     sqlx::query_as(
         "select seq, id, epc, robot, robot_class, action, outcome, confirmed, received_at, body
          from trials where id = $1",
     )
-    .bind(id)
+    .bind(id.hyphenated().to_string())
     .fetch_optional(conn)
     .await
 }
 
 #[tracing::instrument(skip_all)]
-pub async fn get(pool: &AnyPool, id: &str) -> sqlx::Result<Option<TrialRow>> {
+pub async fn get(pool: &AnyPool, id: &Uuid) -> sqlx::Result<Option<TrialRow>> {
     let mut conn = pool.acquire().await?;
     find(&mut conn, id).await
 }
@@ -225,12 +283,12 @@ pub async fn list(
 /// Sets the person's verdict; false when no trial has this id.
 pub async fn set_confirmed(
     conn: &mut AnyConnection,
-    id: &str,
+    id: &Uuid,
     confirmed: Option<bool>,
 ) -> sqlx::Result<bool> {
     let done = sqlx::query("update trials set confirmed = $1 where id = $2")
         .bind(confirmed.map(i64::from))
-        .bind(id)
+        .bind(id.hyphenated().to_string())
         .execute(conn)
         .await?;
     Ok(done.rows_affected() == 1)

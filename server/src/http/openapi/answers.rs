@@ -3,6 +3,9 @@
 //!
 //! Written by hand from what the handlers send; `server/tests/openapi.rs` and the Schemathesis
 //! step hold them against real answers.
+//!
+//! Long because it is one table, a shape per answer, read top to bottom beside the handlers;
+//! the helpers above it are all it shares.
 
 use serde_json::{Value, json};
 

@@ -163,7 +163,8 @@ pub async fn finish(
     let robot = holder(&caller)?;
     let (trial_id, outcome) = parse_finish(&body)?;
     let task = find(&state, &id).await?;
-    if task.trial.as_deref() == Some(trial_id.as_str()) && task.claimed_by.as_deref() == Some(robot)
+    if task.trial.as_deref() == Some(&*trial_id.hyphenated().to_string())
+        && task.claimed_by.as_deref() == Some(robot)
     {
         // A retry whose first answer was lost.
         return Ok(Json(task.to_json()));
@@ -224,7 +225,7 @@ pub async fn finish(
 }
 
 /// The finish body: `{"trial": UUID, "outcome"}`, every problem reported at once.
-fn parse_finish(body: &Value) -> Result<(String, String), ApiError> {
+fn parse_finish(body: &Value) -> Result<(Uuid, String), ApiError> {
     let Some(object) = body.as_object() else {
         return Err(ApiError::invalid_at(
             "",
@@ -239,7 +240,7 @@ fn parse_finish(body: &Value) -> Result<(String, String), ApiError> {
         ));
     }
     let trial = match object.get("trial").and_then(Value::as_str).map(Uuid::parse_str) {
-        Some(Ok(id)) => Some(id.hyphenated().to_string()),
+        Some(Ok(id)) => Some(id),
         _ => {
             errors.push(FieldError::new("/trial", "trial is the id (a UUID) of a recorded trial"));
             None

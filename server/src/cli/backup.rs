@@ -1,0 +1,18 @@
+//! `pps-server backup`: a consistent copy of a SQLite database.
+
+use std::path::Path;
+
+use crate::backup;
+use crate::db::Db;
+
+pub(super) async fn backup(db: &Db, to: &Path, force: bool) -> anyhow::Result<()> {
+    let report = backup::backup(db, to, force).await?;
+    eprintln!(
+        "backed up {} tags and {} trials to {} ({} bytes, integrity ok)",
+        report.tags,
+        report.trials,
+        report.path.display(),
+        report.bytes
+    );
+    Ok(())
+}

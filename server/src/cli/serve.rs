@@ -1,0 +1,99 @@
+//! `pps-server serve`: start-up of the registry: transport from the flags, seeding, the
+//! first admin's token, serving until a signal, draining.
+
+use anyhow::{Context, bail};
+
+use super::ServeArgs;
+use crate::db::Db;
+use crate::retention::Age;
+use crate::state::AppState;
+use crate::store::tokens;
+use crate::transport::{TlsIdentity, Transport};
+use crate::{ServeOptions, seed};
+
+/// A lease long enough for one heartbeat round trip, and at most an hour.
+pub(super) fn parse_lease(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(seconds) if (0.5..=3600.0).contains(&seconds) => Ok(seconds),
+        _ => Err(format!("{text:?} is not a lease of 0.5 to 3600 seconds")),
+    }
+}
+
+/// Connection limits and TLS as the serve flags say; TLS files are checked before anything.
+fn transport(args: &ServeArgs) -> anyhow::Result<Transport> {
+    let tls = match (&args.tls_cert, &args.tls_key) {
+        (Some(cert), Some(key)) => Some(TlsIdentity::load(cert, key)?),
+        (None, None) => None,
+        _ => bail!(
+            "--tls-cert and --tls-key (PPS_TLS_CERT and PPS_TLS_KEY) go together: give both to \
+             serve HTTPS, or neither to serve plain HTTP"
+        ),
+    };
+    Ok(Transport {
+        header_read_timeout: std::time::Duration::from_secs(args.header_timeout),
+        max_connections: args.max_connections as usize,
+        max_connections_per_address: args.max_connections_per_address.min(args.max_connections)
+            as usize,
+        body_read_timeout: std::time::Duration::from_secs(args.body_timeout),
+        tls,
+    })
+}
+
+pub(super) async fn serve(db: Db, args: ServeArgs) -> anyhow::Result<()> {
+    let transport = transport(&args)?;
+    let seeded = seed::seed_if_empty(&db).await?;
+    if seeded > 0 {
+        tracing::info!(tags = seeded, "seeded an empty registry with the paper's devices");
+    }
+    let listener = tokio::net::TcpListener::bind(args.listen)
+        .await
+        .with_context(|| format!("cannot listen on {}", args.listen))?;
+    let address = listener.local_addr()?;
+    let url = format!("{}://{address}/", transport.scheme());
+    if let Some(minted) = tokens::create_first_admin(&db).await? {
+        print_first_admin_banner(&url, &minted.token);
+    }
+    tracing::info!(%url, "serving the PPS-tag registry");
+    let options = ServeOptions {
+        transport,
+        thin_forces_after: args.thin_forces_after.map(|days| Age { days }),
+    };
+    let state =
+        AppState::new(db).with_task_lease(std::time::Duration::from_secs_f64(args.task_lease));
+    crate::serve_with(listener, state, options, shutdown_signal()).await?;
+    tracing::info!("stopped");
+    Ok(())
+}
+
+/// The one time the first admin token is shown: on stderr, not through the log.
+fn print_first_admin_banner(url: &str, token: &str) {
+    let rule = "=".repeat(78);
+    eprintln!(
+        "\n{rule}\n  PPS-tag registry at {url}\n\n  No admin credential existed, so one was made. It is shown only now and\n  \
+         stored only as a hash; keep it safe:\n\n    {token}\n\n  Try it:  curl -H \"Authorization: Bearer {token}\" {url}api/v1/tags\n\n  \
+         For the web UI, make a login:  pps-server user add NAME --role admin\n{rule}\n"
+    );
+}
+
+/// Completes on SIGINT or SIGTERM.
+async fn shutdown_signal() {
+    let interrupt = async {
+        let _ = tokio::signal::ctrl_c().await;
+    };
+    #[cfg(unix)]
+    let terminate = async {
+        match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
+            Ok(mut signal) => {
+                signal.recv().await;
+            }
+            Err(_) => std::future::pending().await,
+        }
+    };
+    #[cfg(not(unix))]
+    let terminate = std::future::pending::<()>();
+    tokio::select! {
+        () = interrupt => {}
+        () = terminate => {}
+    }
+    tracing::info!("shutting down: finishing open requests");
+}

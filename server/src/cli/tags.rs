@@ -1,0 +1,58 @@
+//! `pps-server seed`, `export` and `import`: the tags in and out as one JSON array.
+
+use std::io::{Read, Write};
+use std::path::PathBuf;
+
+use anyhow::{Context, bail};
+
+use crate::db::Db;
+use crate::seed;
+
+/// Loads the paper's five devices again.
+pub(super) async fn seed(db: &Db) -> anyhow::Result<()> {
+    let report = seed::reload(db).await?;
+    eprintln!(
+        "seeded: {} created, {} restored, {} unchanged",
+        report.created, report.replaced, report.unchanged
+    );
+    Ok(())
+}
+
+/// Prints every tag, or writes them to `out`.
+pub(super) async fn export(db: &Db, out: Option<PathBuf>) -> anyhow::Result<()> {
+    let text = serde_json::to_string_pretty(&seed::export(db).await?)?;
+    match out {
+        Some(path) => crate::private_file::options()
+            .create(true)
+            .truncate(true)
+            .open(&path)
+            .and_then(|mut file| file.write_all((text + "\n").as_bytes()))
+            .with_context(|| format!("cannot write {}", path.display())),
+        None => {
+            println!("{text}");
+            Ok(())
+        }
+    }
+}
+
+pub(super) async fn import(db: &Db, file: Option<PathBuf>) -> anyhow::Result<()> {
+    let text = match &file {
+        Some(path) => std::fs::read_to_string(path)
+            .with_context(|| format!("cannot read {}", path.display()))?,
+        None => {
+            let mut text = String::new();
+            std::io::stdin().read_to_string(&mut text)?;
+            text
+        }
+    };
+    let value: serde_json::Value = serde_json::from_str(&text).context("the input is not JSON")?;
+    let serde_json::Value::Array(entries) = value else {
+        bail!("the input must be a JSON array of tag entries, as `pps-server export` prints");
+    };
+    let report = seed::import(db, entries, "import").await?;
+    eprintln!(
+        "imported: {} created, {} replaced, {} unchanged",
+        report.created, report.replaced, report.unchanged
+    );
+    Ok(())
+}

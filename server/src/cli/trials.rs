@@ -1,0 +1,50 @@
+//! `pps-server export-trials` and `thin-forces`: the trial history out, and kept small.
+
+use anyhow::Context;
+
+use super::{ExportTrialsArgs, FormatArg};
+use crate::db::Db;
+use crate::export::{self, TrialFormat};
+use crate::retention::{self, Age};
+use crate::store::trials::TrialFilter;
+
+pub(super) async fn export_trials(db: &Db, args: ExportTrialsArgs) -> anyhow::Result<()> {
+    let filter = TrialFilter::parse(
+        args.epc.as_deref(),
+        args.robot,
+        args.action,
+        args.outcome,
+        args.since.as_deref(),
+    )
+    .map_err(anyhow::Error::msg)?;
+    let format = match args.format {
+        FormatArg::Jsonl => TrialFormat::Jsonl,
+        FormatArg::Csv => TrialFormat::Csv,
+    };
+    let written = match &args.out {
+        Some(path) => {
+            let file = crate::private_file::options()
+                .create(true)
+                .truncate(true)
+                .open(path)
+                .with_context(|| format!("cannot write {}", path.display()))?;
+            export::export_trials(db.reader(), &filter, format, std::io::BufWriter::new(file))
+                .await?
+        }
+        None => {
+            export::export_trials(db.reader(), &filter, format, std::io::stdout().lock()).await?
+        }
+    };
+    eprintln!("exported {written} trials");
+    Ok(())
+}
+
+pub(super) async fn thin_forces(db: &Db, days: u32) -> anyhow::Result<()> {
+    let report = retention::thin_forces(db, Age { days }).await?;
+    eprintln!(
+        "thinned {} trials received more than {days} days ago ({} force samples replaced by \
+         their summary)",
+        report.trials, report.samples
+    );
+    Ok(())
+}
