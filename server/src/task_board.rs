@@ -25,6 +25,8 @@ pub struct Waiter {
     pub arrival: u64,
     pub robot: String,
     pub class: Option<String>,
+    /// Whether it waits for a task; an instant claim leaves with nothing rather than wait.
+    pub waits: bool,
     turn: Arc<Notify>,
 }
 
@@ -81,23 +83,27 @@ impl TaskBoard {
         }
     }
 
-    /// Puts `robot` in line until the returned place is dropped.
-    pub fn join(self: &Arc<Self>, robot: &str, class: Option<&str>) -> Place {
+    /// Puts `robot` in line until the returned place is dropped; `waits` when it will wait
+    /// for a task rather than leave at once with nothing.
+    pub fn join(self: &Arc<Self>, robot: &str, class: Option<&str>, waits: bool) -> Place {
         let arrival = self.arrivals.fetch_add(1, Ordering::Relaxed);
         let turn = Arc::new(Notify::new());
         let waiter = Waiter {
             arrival,
             robot: robot.to_owned(),
             class: class.map(str::to_owned),
+            waits,
             turn: turn.clone(),
         };
         self.lock().insert(arrival, waiter);
         Place { board: self.clone(), arrival, turn }
     }
 
-    /// Everyone in line but the holder of `place`, first come first.
+    /// Everyone in line who waits for a task, but the holder of `place`, first come first.
+    /// Nobody steps aside for an instant claim: it would leave with nothing, and the task it
+    /// was left would wait for the next claim.
     pub fn others(&self, place: &Place) -> Vec<Waiter> {
-        self.lock().values().filter(|w| w.arrival != place.arrival).cloned().collect()
+        self.lock().values().filter(|w| w.waits && w.arrival != place.arrival).cloned().collect()
     }
 
     /// Notes that a robot passed over a task for another in line.
@@ -163,11 +169,13 @@ mod tests {
     #[test]
     fn a_change_wakes_the_first_in_line_who_passes_the_turn_back() {
         let board = Arc::new(TaskBoard::default());
-        let first = board.join("a", Some("el-e"));
-        let second = board.join("b", None);
-        let third = board.join("c", None);
+        let first = board.join("a", Some("el-e"), true);
+        let second = board.join("b", None, true);
+        let third = board.join("c", None, true);
+        let instant = board.join("d", None, false);
         let others: Vec<String> = board.others(&second).into_iter().map(|w| w.robot).collect();
-        assert_eq!(others, ["a", "c"]);
+        assert_eq!(others, ["a", "c"], "nobody steps aside for an instant claim");
+        drop(instant);
         board.changed();
         assert!(has_turn(&first));
         assert!(!has_turn(&second) && !has_turn(&third), "one look per change");

@@ -56,7 +56,14 @@ const WALLS: [Wall; 3] = [
         src: "server/src",
         modules: &["."],
         except: &["store", "db", "backup.rs"],
-        beyond: &["sqlx::query"],
+        beyond: &[
+            "sqlx::query",
+            "sqlx::query_as",
+            "sqlx::query_scalar",
+            "sqlx::query_with",
+            "sqlx::raw_sql",
+            "sqlx::QueryBuilder",
+        ],
     },
 ];
 

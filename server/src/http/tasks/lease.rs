@@ -84,7 +84,7 @@ pub async fn claim(
     };
     let deadline = tokio::time::Instant::now() + wait;
     let class = robots::get(state.db.reader(), robot).await?.and_then(|r| r.class);
-    let place = state.tasks.join(robot, class.as_deref());
+    let place = state.tasks.join(robot, class.as_deref(), !wait.is_zero());
     loop {
         if let Some(task) = offer::claim_next(&state, &place, robot, class.as_deref()).await? {
             return Ok(Json(task.to_json()).into_response());
