@@ -5,6 +5,7 @@ mod bench;
 mod bench_llrp;
 mod logging;
 mod overlay;
+mod parse;
 mod perceive;
 mod registry_args;
 mod rfid;

@@ -5,6 +5,7 @@
 
 use clap::Args;
 
+use super::parse::{parse_device, parse_direction};
 use super::registry_args::RegistryArgs;
 use super::rfid::{ReadSettings, ReaderChoice, open_reader};
 use crate::experiment::{Fault, SimulatedTrial, run_simulated_reading, start_up};
@@ -51,17 +52,6 @@ fn parse_fault(name: &str) -> Result<Fault, String> {
         "sticky-object" => Ok(Fault::StickyObject),
         _ => Err(format!("`{name}` is not one of lamp-unplugged, drawer-stuck, sticky-object")),
     }
-}
-
-pub(crate) fn parse_device(name: &str) -> Result<DeviceKind, String> {
-    DeviceKind::parse(name).ok_or_else(|| {
-        format!("`{name}` is not one of light-switch, ada-light-switch, lamp, drawer, trash-can")
-    })
-}
-
-fn parse_direction(name: &str) -> Result<StartDirection, String> {
-    StartDirection::parse(name)
-        .ok_or_else(|| format!("`{name}` is not one of far-left, left, front, right, far-right"))
 }
 
 pub fn run(args: &RunArgs) -> anyhow::Result<()> {
