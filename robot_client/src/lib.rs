@@ -11,10 +11,16 @@
 //! - [`behaviors`]: the paper's §IV-B.2 manipulation behaviours, each with its detector.
 //! - [`task`]: the paper's four phases end to end, ending in a trial in the registry.
 //! - [`sim`]: a seeded room with the paper's five tagged devices, rendered for the sensors.
-//! - [`cli`]: the `pps-robot` subcommands.
+//! - [`experiment`]: the paper's §V experiment (Table I) in the simulator: the trials, the
+//!   simulated person, the scoring, the runner.
+//! - [`cli`]: the `pps-robot` and `pps-trials` command lines, which only parse and print.
+//!
+//! The robot's own code (`hal` to `task`) never uses [`sim`] or [`cli`], so it runs on a real
+//! robot unchanged; [`experiment`] uses the simulator but not the command line.
 
 pub mod behaviors;
 pub mod cli;
+pub mod experiment;
 pub mod hal;
 pub mod navigation;
 pub mod perception;

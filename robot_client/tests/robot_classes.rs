@@ -5,7 +5,7 @@
 
 mod support;
 
-use pps_robot::cli::{SimulatedTrial, run_simulated, start_up};
+use pps_robot::experiment::{SimulatedTrial, run_simulated, start_up};
 use pps_robot::registry::RegistryClient;
 use pps_robot::sim::{DeviceKind, SimBody};
 use pps_robot::task::TaskConfig;
@@ -13,7 +13,7 @@ use pps_schema::Outcome;
 
 const CAPABILITIES: [&str; 5] = ["light_switch", "pull_back", "push", "pull_lamp", "drop"];
 
-async fn lamp_on(client: &RegistryClient) -> pps_robot::cli::SimulatedResult {
+async fn lamp_on(client: &RegistryClient) -> pps_robot::experiment::SimulatedResult {
     let trial = SimulatedTrial {
         body: start_up(client).await.unwrap(),
         ..SimulatedTrial::new(DeviceKind::Lamp, "on", None)

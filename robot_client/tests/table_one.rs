@@ -6,7 +6,7 @@
 
 mod support;
 
-use pps_robot::cli::{flush_until_stored, render_table, run_trials};
+use pps_robot::experiment::{flush_until_stored, render_table, run_trials};
 use pps_robot::registry::RegistryClient;
 use pps_robot::sim::RoomOptions;
 

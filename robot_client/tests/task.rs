@@ -4,7 +4,7 @@
 
 mod support;
 
-use pps_robot::cli::{SimulatedTrial, run_simulated};
+use pps_robot::experiment::{SimulatedTrial, run_simulated};
 use pps_robot::sim::{DeviceKind, RoomOptions};
 use pps_robot::task::TaskConfig;
 use pps_schema::Outcome;
@@ -74,8 +74,11 @@ async fn trials_made_while_the_registry_is_away_are_stored_when_it_returns() {
     let mut registry = support::Registry::start(dir.path()).await;
     let client = registry.client(dir.path());
     // Read once, so the entry is cached for when the registry is gone.
-    let trial =
-        SimulatedTrial::new(DeviceKind::Lamp, "on", Some(pps_robot::cli::Fault::LampUnplugged));
+    let trial = SimulatedTrial::new(
+        DeviceKind::Lamp,
+        "on",
+        Some(pps_robot::experiment::Fault::LampUnplugged),
+    );
     run_simulated(&trial, &client, &TaskConfig::default()).await.unwrap();
     registry.stop().await;
 
@@ -85,7 +88,7 @@ async fn trials_made_while_the_registry_is_away_are_stored_when_it_returns() {
     assert_eq!(client.outbox().len().unwrap(), 1);
 
     registry.restart().await;
-    pps_robot::cli::flush_until_stored(&client).await.unwrap();
+    pps_robot::experiment::flush_until_stored(&client).await.unwrap();
     let stored = registry.trials().await;
     assert_eq!(stored.len(), 2);
     assert!(stored.iter().any(|t| t["id"] == serde_json::json!(result.report.trial.unwrap())));
@@ -116,7 +119,7 @@ async fn a_lower_rocker_switch_is_pressed_on_the_half_the_action_needs() {
     let dir = tempfile::tempdir().unwrap();
     let registry = support::Registry::start(dir.path()).await;
     let client = registry.client(dir.path());
-    pps_robot::cli::start_up(&client).await.unwrap();
+    pps_robot::experiment::start_up(&client).await.unwrap();
     for action in ["on", "off"] {
         let trial = SimulatedTrial {
             room: RoomOptions {

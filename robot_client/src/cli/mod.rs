@@ -5,8 +5,8 @@ mod bench;
 mod bench_llrp;
 mod logging;
 mod overlay;
+mod parse;
 mod perceive;
-mod real_rfid;
 mod registry_args;
 mod rfid;
 mod run;
@@ -23,12 +23,9 @@ pub use overlay::draw_overlay;
 pub use perceive::{PerceiveArgs, PerceiveReport};
 pub use registry_args::RegistryArgs;
 pub use rfid::{ReadSettings, ReaderChoice, RfidArgs, open_reader};
-pub use run::{Fault, RunArgs, SimulatedResult, SimulatedTrial, achieved, run_simulated, start_up};
+pub use run::RunArgs;
 pub use scene::SceneArgs;
-pub use trials::{
-    Protocol, TABLE_ONE, TableRow, TrialsArgs, flush_until_stored, render_table, rows_json,
-    run as trials_main, run_trials,
-};
+pub use trials::{TrialsArgs, run as trials_main};
 pub use work::WorkArgs;
 
 /// The robot side of PPS-tags.

@@ -4,6 +4,8 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use super::parse::{parse_device, parse_direction};
+
 use crate::sim::{CaptureSettings, DeviceKind, Room, StartDirection, capture_scene};
 
 #[derive(Debug, Args)]
@@ -26,17 +28,6 @@ pub struct SceneArgs {
     /// Directory to write image.png, cloud.ply, camera.json and scene.json into.
     #[arg(long)]
     pub out: PathBuf,
-}
-
-fn parse_device(name: &str) -> Result<DeviceKind, String> {
-    DeviceKind::parse(name).ok_or_else(|| {
-        format!("`{name}` is not one of light-switch, ada-light-switch, lamp, drawer, trash-can")
-    })
-}
-
-fn parse_direction(name: &str) -> Result<StartDirection, String> {
-    StartDirection::parse(name)
-        .ok_or_else(|| format!("`{name}` is not one of far-left, left, front, right, far-right"))
 }
 
 pub fn run(args: &SceneArgs) -> anyhow::Result<()> {

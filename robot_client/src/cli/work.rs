@@ -13,8 +13,7 @@ use clap::Args;
 use pps_schema::Outcome;
 
 use super::registry_args::RegistryArgs;
-use super::run::{SimulatedTrial, run_simulated, start_up};
-use super::trials::flush_until_stored;
+use crate::experiment::{SimulatedTrial, flush_until_stored, run_simulated, start_up};
 use crate::registry::{RegistryClient, RegistryError, Task};
 use crate::sim::{DeviceKind, RoomOptions, SimBody};
 use crate::task::TaskConfig;

@@ -23,20 +23,20 @@ pub(crate) fn perceive(
         .map_err(|e| HalError::Failed { device: "camera", reason: e.to_string() })
 }
 
-/// Finds the tag and drives to its waypoint; returns the tag's centre in the odometry frame,
-/// or `None` (with the reason in the report) when there is no way to approach it.
+/// Perceives around `target` until a look finds the tag and the surface behind it; returns the
+/// last look, which [`drive_to_waypoint`] follows.
 ///
 /// When a look finds the tag but no surface behind it, the robot first looks again from a
 /// better place (square to the surface it half saw, or further back), as the paper's person
 /// would otherwise be asked to point again; only when that look fails too is the person asked.
-pub(crate) fn approach_tag(
+pub(crate) fn look_for_tag_and_surface(
     robot: &(impl ColorCamera + TiltingLaser + MobileBase),
     operator: &dyn Operator,
     target: &Point3<f64>,
     sweep: &TiltSweep,
     params: &ApproachParams,
     report: &mut PhaseReport,
-) -> Result<Option<Point3<f64>>, HalError> {
+) -> Result<ApproachPlan, HalError> {
     let mut target = *target;
     let mut plan = perceive(robot, &target, sweep, params)?;
     if plan.tag.is_none() {
@@ -68,6 +68,17 @@ pub(crate) fn approach_tag(
             }
         }
     }
+    Ok(plan)
+}
+
+/// Drives to the plan's waypoint, facing the tag; returns the tag's centre in the odometry
+/// frame, or `None` (with the reason in the report) when there is no way to approach it: no
+/// tag, no surface behind it, or a blocked waypoint.
+pub(crate) fn drive_to_waypoint(
+    robot: &impl MobileBase,
+    plan: &ApproachPlan,
+    report: &mut PhaseReport,
+) -> Result<Option<Point3<f64>>, HalError> {
     let Some(sighting) = &plan.tag else {
         report.fail("no red tag near the pointed location");
         return Ok(None);
@@ -83,7 +94,7 @@ pub(crate) fn approach_tag(
         report.fail(format!(
             "no surface behind the tag among {} planes ({})",
             plan.planes.len(),
-            nearest_rejection(&plan)
+            nearest_rejection(plan)
         ));
         return Ok(None);
     };
@@ -115,11 +126,13 @@ fn nearest_rejection(plan: &ApproachPlan) -> String {
     };
     plan.rejected_planes
         .iter()
-        .min_by(|a, b| {
-            let height = |r: &RejectedPlane| (r.normal.dot(&tag.coords) + r.offset).abs();
-            height(a).total_cmp(&height(b))
-        })
+        .min_by(|a, b| off_plane(a, &tag).total_cmp(&off_plane(b, &tag)))
         .map_or("no plane was even tried".into(), |r| format!("the nearest: {}", r.why))
+}
+
+/// How far `point` (base frame) lies off a rejected plane, metres.
+fn off_plane(plane: &RejectedPlane, point: &Point3<f64>) -> f64 {
+    (plane.normal.dot(&point.coords) + plane.offset).abs()
 }
 
 /// Moves the base to look at the tag from a better place: square to the vertical surface the
@@ -139,11 +152,8 @@ fn step_to_a_better_view(
         .rejected_planes
         .iter()
         .filter(|r| r.normal.z.abs() < 20f64.to_radians().sin())
-        .filter(|r| (r.normal.dot(&tag.coords) + r.offset).abs() < 0.1)
-        .min_by(|a, b| {
-            let height = |r: &RejectedPlane| (r.normal.dot(&tag.coords) + r.offset).abs();
-            height(a).total_cmp(&height(b))
-        })
+        .filter(|r| off_plane(r, &tag) < 0.1)
+        .min_by(|a, b| off_plane(a, &tag).total_cmp(&off_plane(b, &tag)))
         .and_then(|r| Vector2::new(r.normal.x, r.normal.y).try_normalize(1e-6));
     match facing {
         Some(out) if out.dot(&-here.normalize()).acos() > 15f64.to_radians() => {

@@ -32,7 +32,19 @@ pub(crate) fn servo_and_read(
     config: &TaskConfig,
     report: &mut PhaseReport,
 ) -> Result<Option<RfidIdentity>, HalError> {
-    // Look again where the camera can see the tag from here; odometry has drifted on the way.
+    look_again(robot, tag, config, report)?;
+    let bump = reach_toward(robot, tag, config, report)?;
+    read_until_clear(robot, config, bump, report)
+}
+
+/// Updates `tag` from a second look where the camera can see it from here, since odometry has
+/// drifted on the way; otherwise keeps odometry's.
+fn look_again(
+    robot: &(impl MobileBase + ColorCamera + TiltingLaser),
+    tag: &mut Point3<f64>,
+    config: &TaskConfig,
+    report: &mut PhaseReport,
+) -> Result<(), HalError> {
     let expected = in_base(robot, tag)?;
     if in_view(&robot.calibration(), &expected, 0.05) {
         let sweep = sweep_toward(&config.body.laser, &expected, &config.sweep);
@@ -51,8 +63,17 @@ pub(crate) fn servo_and_read(
     } else {
         report.note("the tag is below the camera's view here; going by odometry");
     }
+    Ok(())
+}
 
-    // Face the tag, hand at its height, fingers closed and pointed at it.
+/// Faces the tag, hand at its height, fingers closed and pointed at it, and brings them to
+/// `config.servo_distance` from it, stopping on contact; returns the force that means a bump.
+fn reach_toward(
+    robot: &(impl Hand + MobileBase),
+    tag: &Point3<f64>,
+    config: &TaskConfig,
+    report: &mut PhaseReport,
+) -> Result<f64, HalError> {
     let here = in_base(robot, tag)?;
     robot.turn(here.y.atan2(here.x))?;
     let here = in_base(robot, tag)?;
@@ -83,7 +104,17 @@ pub(crate) fn servo_and_read(
         config.servo_distance + (extension - reached).max(0.0),
         if reached < extension - 1e-3 { " (stopped by contact)" } else { "" }
     ));
+    Ok(bump)
+}
 
+/// Reads the RFID; while two tags answer about as strongly, moves the fingers closer (never
+/// harder than `bump`) and reads again.
+fn read_until_clear(
+    robot: &(impl Hand + RfidReader),
+    config: &TaskConfig,
+    bump: f64,
+    report: &mut PhaseReport,
+) -> Result<Option<RfidIdentity>, HalError> {
     let mut identity = read(robot, config)?;
     for _ in 0..CLOSER_TRIES {
         let Some(RfidIdentity::Ambiguous { strongest, runner_up }) = &identity else { break };

@@ -12,6 +12,7 @@ mod act;
 mod approach;
 mod drive;
 mod identify;
+mod perform;
 mod report;
 mod run;
 

@@ -1,6 +1,9 @@
 //! The six 96-bit EPC binary encodings the registry turns into URIs (SGTIN-96, SSCC-96, SGLN-96,
 //! GRAI-96, GIAI-96, GID-96), laid out as the GS1 EPC Tag Data Standard's coding and partition
 //! tables give them, with the decoder (hex → URIs) and the tag-URI encoder (URI → hex).
+//!
+//! It is long because half of it is the standard's tables, transcribed so as to be read against
+//! them, and the decoder and encoder walk those same rows field by field.
 
 use super::{EpcError, excerpt};
 

@@ -4,6 +4,10 @@
 //! Only what an inventory round needs is modelled; other parameters inside a reader's own
 //! ROSpecs (RF surveys, loop specs, vendors' settings) are skipped on decoding, so a stale spec
 //! of any shape can still be listed and deleted.
+//!
+//! It is long because a ROSpec is one tree of the specification's parameters (eleven nested in
+//! it), each kept beside its encoder and decoder in the specification's order, so that the tree
+//! reads top to bottom as the specification draws it.
 
 use super::super::wire::{DecodeError, Decoded, FieldReader, Param, tlv};
 

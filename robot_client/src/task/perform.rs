@@ -1,0 +1,258 @@
+//! Phase 4 step by step (paper §IV-B): the tag's EPC settled, the registry's entry read, the
+//! action and its behaviour chosen, the behaviour performed, the person asked, and the trial
+//! recorded through the outbox.
+
+use nalgebra::Point3;
+use pps_schema::{BehaviorSpec, Epc, Outcome, Properties, Trial};
+use serde_json::{Map, Value};
+use time::OffsetDateTime;
+use uuid::Uuid;
+
+use super::act::{ActionChoice, choose_action, run_behavior};
+use super::report::{PhaseReport, TaskReport};
+use super::run::{TaskConfig, TaskRobot};
+use crate::behaviors::{DropGeometry, ForceRecorder};
+use crate::hal::{Clock, HalError, Operator};
+use crate::navigation::RfidIdentity;
+use crate::registry::{Fetched, RegistryClient, Source};
+
+/// Who takes part in phase 4, and the settings it runs by.
+pub(super) struct Acting<'a, R> {
+    pub robot: &'a R,
+    pub operator: &'a dyn Operator,
+    pub registry: &'a RegistryClient,
+    pub clock: &'a dyn Clock,
+    pub config: &'a TaskConfig,
+}
+
+/// The tag phase 4 acts on: its EPC, and where it was seen (base frame, metres).
+pub(super) struct FoundTag {
+    pub epc: Epc,
+    pub at: Point3<f64>,
+}
+
+/// The action chosen and the behaviour the entry names for it.
+struct Chosen<'e> {
+    action: String,
+    key: &'e str,
+    spec: &'e BehaviorSpec,
+}
+
+/// What the behaviour did, and when.
+struct Performed {
+    started: OffsetDateTime,
+    finished: OffsetDateTime,
+    outcome: Outcome,
+    detector: Map<String, Value>,
+    measurements: Map<String, Value>,
+    forces: Vec<pps_schema::ForceSample>,
+}
+
+/// The EPC the reads name; when two tags read alike, the one whose entry's height matches where
+/// the tag was seen.
+pub(super) async fn settle_epc(
+    identity: RfidIdentity,
+    at: &Point3<f64>,
+    registry: &RegistryClient,
+    phase: &mut PhaseReport,
+) -> Epc {
+    match identity {
+        RfidIdentity::Identified(signal) => signal.epc,
+        RfidIdentity::Ambiguous { strongest, runner_up } => {
+            let mut best = (f64::INFINITY, strongest.epc.clone());
+            for epc in [strongest.epc, runner_up.epc] {
+                if let Ok(fetched) = registry.effective_entry(&epc).await
+                    && let Some(height) = fetched.entry.entry.properties.height
+                {
+                    let off = (height - at.z).abs();
+                    if off < best.0 {
+                        best = (off, epc);
+                    }
+                }
+            }
+            phase.note(format!(
+                "took {} by the entries' heights against the tag seen at {:.2} m",
+                best.1, at.z
+            ));
+            best.1
+        }
+    }
+}
+
+/// Phase 4 on the tag found, noted in the report's last phase. It stops, failing the phase,
+/// where the entry leaves the robot nothing to do.
+pub(super) async fn act(
+    acting: &Acting<'_, impl TaskRobot>,
+    tag: &FoundTag,
+    report: &mut TaskReport,
+) -> anyhow::Result<()> {
+    let phase = report.phases.last_mut().expect("phase 4 started");
+    let Some(fetched) = read_entry(acting.registry, &tag.epc, phase).await else {
+        return Ok(());
+    };
+    let Some(chosen) = choose_behavior(&fetched, acting.operator, phase)? else {
+        return Ok(());
+    };
+    report.action = Some(chosen.action.clone());
+    report.behavior = Some(chosen.key.to_owned());
+    let phase = report.phases.last_mut().expect("phase 4 started");
+    let performed = perform(acting, &chosen, &fetched.entry.entry.properties, tag.at, phase);
+    let confirmed = ask_the_person(acting.operator, performed.outcome, phase)?;
+    let trial = trial_record(acting, tag, chosen, performed, confirmed);
+    let flushed = acting.registry.record_trial(&trial).await?;
+    report.outcome = Some(trial.outcome);
+    report.confirmed = confirmed;
+    report.trial = Some(trial.id);
+    report.waiting_upload = flushed.remaining;
+    Ok(())
+}
+
+/// The entry for `epc` as it applies to this robot, noting where it came from; `None`, failing
+/// the phase, when there is none to be had.
+async fn read_entry(
+    registry: &RegistryClient,
+    epc: &Epc,
+    phase: &mut PhaseReport,
+) -> Option<Fetched> {
+    let fetched = match registry.effective_entry(epc).await {
+        Ok(fetched) => fetched,
+        Err(error) => {
+            phase.fail(format!("no entry for {epc}: {error}"));
+            return None;
+        }
+    };
+    let entry = &fetched.entry.entry;
+    phase.note(format!(
+        "entry: {} ({}), revision {}, {}",
+        entry.properties.name,
+        entry.properties.kind.as_deref().unwrap_or("no type"),
+        fetched.entry.revision,
+        match fetched.source {
+            Source::Registry => "read from the registry",
+            Source::Revalidated => "cached, confirmed current by the registry",
+            Source::Fresh => "cached, current by the change feed",
+            Source::Offline => "cached; the registry is unreachable",
+        }
+    ));
+    Some(fetched)
+}
+
+/// The action (asking the person when there are two) and its behaviour; `None`, failing the
+/// phase, when the entry offers no action this robot can take.
+fn choose_behavior<'e>(
+    fetched: &'e Fetched,
+    operator: &dyn Operator,
+    phase: &mut PhaseReport,
+) -> Result<Option<Chosen<'e>>, HalError> {
+    let entry = &fetched.entry.entry;
+    let Some(choice) = choose_action(entry, operator)? else {
+        phase.fail(format!(
+            "the entry offers {} actions; the interface chooses between one or two",
+            entry.actions.len()
+        ));
+        return Ok(None);
+    };
+    let action = choice.action().to_owned();
+    match &choice {
+        ActionChoice::Only(a) => phase.note(format!("one action: {a}")),
+        ActionChoice::Asked { choice, action } => {
+            phase.note(format!("asked the person: they pointed {choice:?}, meaning {action}"))
+        }
+    }
+    if let Some(unavailable) = fetched.entry.unavailable_actions.iter().find(|u| u.action == action)
+    {
+        phase.fail(format!("{action} is unavailable to this robot: {}", unavailable.reason));
+        return Ok(None);
+    }
+    let Some((key, spec)) = entry.behavior_for(&action) else {
+        phase.fail(format!("{action} names no behaviour in the entry"));
+        return Ok(None);
+    };
+    Ok(Some(Chosen { action, key, spec }))
+}
+
+/// Runs the chosen behaviour, recording the fingers' forces; a behaviour that errs is an
+/// [`Outcome::Error`] with the error as its detector, not the end of the task.
+fn perform(
+    acting: &Acting<'_, impl TaskRobot>,
+    chosen: &Chosen<'_>,
+    properties: &Properties,
+    tag: Point3<f64>,
+    phase: &mut PhaseReport,
+) -> Performed {
+    let Acting { robot, clock, config, .. } = *acting;
+    let started = clock.now();
+    let forces = ForceRecorder::new(robot, clock, started);
+    let drop = DropGeometry { tag, sweep: config.drop_sweep, body: config.body, seed: 7 };
+    let result =
+        run_behavior(robot, &chosen.spec.params, properties, &chosen.action, &drop, forces);
+    let finished = clock.now();
+    let key = chosen.key;
+    let (outcome, detector, measurements, forces) = match result {
+        Ok(behavior) => {
+            phase.note(format!("{key} ({}):", chosen.spec.kind()));
+            for step in &behavior.steps {
+                phase.note(format!("  {step}"));
+            }
+            (behavior.outcome, behavior.detector, behavior.measurements, behavior.forces)
+        }
+        Err(error) => {
+            phase.note(format!("{key} failed: {error}"));
+            let mut detector = Map::new();
+            detector.insert("error".into(), error.to_string().into());
+            (Outcome::Error, detector, Map::new(), Vec::new())
+        }
+    };
+    Performed { started, finished, outcome, detector, measurements, forces }
+}
+
+/// The person's answer whether it worked, noted beside the detector's verdict.
+fn ask_the_person(
+    operator: &dyn Operator,
+    outcome: Outcome,
+    phase: &mut PhaseReport,
+) -> Result<Option<bool>, HalError> {
+    let confirmed = operator.confirm_success()?;
+    phase.note(format!(
+        "the detector says {}; asked the person: {}",
+        outcome.as_str(),
+        match confirmed {
+            Some(true) => "it worked",
+            Some(false) => "it did not work",
+            None => "no answer",
+        }
+    ));
+    Ok(confirmed)
+}
+
+/// The trial as the registry stores it; the registry task it did, if any, goes in its
+/// `measurements.task`.
+fn trial_record(
+    acting: &Acting<'_, impl TaskRobot>,
+    tag: &FoundTag,
+    chosen: Chosen<'_>,
+    performed: Performed,
+    confirmed: Option<bool>,
+) -> Trial {
+    let Performed { started, finished, outcome, detector, mut measurements, forces } = performed;
+    if let Some(task) = acting.config.task {
+        measurements.insert("task".into(), task.to_string().into());
+    }
+    Trial {
+        id: Uuid::new_v4(),
+        epc: tag.epc.clone(),
+        robot: acting.registry.robot().clone(),
+        action: chosen.action,
+        behavior: chosen.key.to_owned(),
+        started_at: started,
+        finished_at: finished.max(started),
+        outcome,
+        confirmed,
+        detector,
+        forces,
+        measurements,
+        start_pose: acting.config.start_pose,
+        received_at: None,
+        seq: None,
+    }
+}
