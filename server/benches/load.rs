@@ -253,7 +253,7 @@ async fn prepare(
     let mut minted = Vec::new();
     for (id, class) in ROBOTS {
         let robot = json!({ "id": id, "class": class, "name": id, "capabilities": ["light_switch", "pull_back", "push", "pull_lamp", "drop"], "limits": { "max_force": 40.0 } });
-        robots::put(&db, id, &robot, "bench").await?;
+        robots::put(&db, &pps_schema::RobotId::parse(id)?, &robot, "bench").await?;
         minted.push((id.to_owned(), tokens::create(&db, Role::Robot, id, None).await?.token));
     }
     db.close().await;

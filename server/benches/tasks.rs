@@ -70,7 +70,7 @@ async fn run(options: &Options) -> anyhow::Result<()> {
         let document = json!({ "id": id, "class": class, "name": id,
             "capabilities": ["light_switch", "pull_back", "push", "pull_lamp", "drop"],
             "limits": { "max_force": 40.0 } });
-        robots::put(&db, &id, &document, "bench").await?;
+        robots::put(&db, &pps_schema::RobotId::parse(&id)?, &document, "bench").await?;
         fleet.push((id.clone(), tokens::create(&db, Role::Robot, &id, None).await?.token));
     }
     let state = AppState::new(db);

@@ -193,7 +193,7 @@ mod tests {
 
     fn robot(class: Option<&str>, capabilities: &[&str], max_force: f64) -> StoredRobot {
         StoredRobot {
-            id: "el-e-1".into(),
+            id: pps_schema::RobotId::parse("el-e-1").unwrap(),
             class: class.map(str::to_owned),
             document: Some(json!({ "id": "el-e-1", "class": class, "name": "EL-E",
                 "capabilities": capabilities, "limits": { "max_force": max_force } })),

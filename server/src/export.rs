@@ -10,7 +10,8 @@ use serde_json::Value;
 use sqlx::AnyPool;
 
 use crate::retention::ForceSummary;
-use crate::store::trials::{self, TrialFilter, TrialRow};
+use crate::store::trials::{self, TrialRow};
+use crate::trial_filter::TrialFilter;
 
 /// Trials read per query.
 const PAGE: u32 = 500;
@@ -116,9 +117,9 @@ fn csv_row(row: &TrialRow, trial: &Value) -> [String; CSV_COLUMNS.len()] {
         .zip(crate::clock::parse(&finished_at))
         .map(|(start, end)| (end - start).as_seconds_f64());
     [
-        row.id.clone(),
-        row.epc.clone(),
-        row.robot.clone(),
+        row.id.to_string(),
+        row.epc.as_hex().to_owned(),
+        row.robot.as_str().to_owned(),
         row.robot_class.clone().unwrap_or_default(),
         row.action.clone(),
         text("behavior"),

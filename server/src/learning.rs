@@ -6,8 +6,8 @@
 
 use std::collections::BTreeSet;
 
-use pps_schema::BehaviorKind;
 use pps_schema::pointer::escape;
+use pps_schema::{BehaviorKind, Epc};
 use serde_json::{Value, json};
 use sqlx::AnyConnection;
 
@@ -60,7 +60,7 @@ pub fn median(mut values: Vec<f64>) -> Option<f64> {
 /// Trials of one tag, action and robot class (`None` when the robot has none).
 #[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
 pub struct TrialGroup {
-    pub epc: String,
+    pub epc: Epc,
     pub action: String,
     pub behavior: String,
     pub robot_class: Option<String>,
@@ -85,11 +85,11 @@ pub fn teaches(measurements: Option<&Value>) -> bool {
 pub async fn update(
     conn: &mut AnyConnection,
     groups: &BTreeSet<TrialGroup>,
-) -> sqlx::Result<BTreeSet<String>> {
+) -> sqlx::Result<BTreeSet<Epc>> {
     let mut changed = BTreeSet::new();
     for group in groups {
         if group.relearn && update_learned(conn, group).await? {
-            let data = json!({ "epc": group.epc, "robot_class": group.class_in_feed() });
+            let data = json!({ "epc": group.epc.as_hex(), "robot_class": group.class_in_feed() });
             events::append(conn, EventKind::LearnedChanged, data).await?;
             changed.insert(group.epc.clone());
         }

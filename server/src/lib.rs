@@ -29,6 +29,7 @@ pub mod store;
 pub mod task_board;
 pub mod telemetry;
 pub mod transport;
+pub mod trial_filter;
 pub mod trial_writer;
 
 use std::future::Future;

@@ -13,6 +13,7 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
+use pps_schema::RobotId;
 use tokio::sync::Notify;
 
 /// How long a claim holds a task before it goes back to the queue, unless heartbeats extend it.
@@ -23,7 +24,7 @@ pub const DEFAULT_LEASE: Duration = Duration::from_secs(30);
 pub struct Waiter {
     /// Its place: lower asked earlier.
     pub arrival: u64,
-    pub robot: String,
+    pub robot: RobotId,
     pub class: Option<String>,
     /// Whether it waits for a task; an instant claim leaves with nothing rather than wait.
     pub waits: bool,
@@ -85,12 +86,12 @@ impl TaskBoard {
 
     /// Puts `robot` in line until the returned place is dropped; `waits` when it will wait
     /// for a task rather than leave at once with nothing.
-    pub fn join(self: &Arc<Self>, robot: &str, class: Option<&str>, waits: bool) -> Place {
+    pub fn join(self: &Arc<Self>, robot: &RobotId, class: Option<&str>, waits: bool) -> Place {
         let arrival = self.arrivals.fetch_add(1, Ordering::Relaxed);
         let turn = Arc::new(Notify::new());
         let waiter = Waiter {
             arrival,
-            robot: robot.to_owned(),
+            robot: robot.clone(),
             class: class.map(str::to_owned),
             waits,
             turn: turn.clone(),
@@ -166,14 +167,19 @@ mod tests {
 
     use std::future::Future;
 
+    fn robot(id: &str) -> RobotId {
+        RobotId::parse(id).unwrap()
+    }
+
     #[test]
     fn a_change_wakes_the_first_in_line_who_passes_the_turn_back() {
         let board = Arc::new(TaskBoard::default());
-        let first = board.join("a", Some("el-e"), true);
-        let second = board.join("b", None, true);
-        let third = board.join("c", None, true);
-        let instant = board.join("d", None, false);
-        let others: Vec<String> = board.others(&second).into_iter().map(|w| w.robot).collect();
+        let first = board.join(&robot("a"), Some("el-e"), true);
+        let second = board.join(&robot("b"), None, true);
+        let third = board.join(&robot("c"), None, true);
+        let instant = board.join(&robot("d"), None, false);
+        let others: Vec<String> =
+            board.others(&second).into_iter().map(|w| w.robot.to_string()).collect();
         assert_eq!(others, ["a", "c"], "nobody steps aside for an instant claim");
         drop(instant);
         board.changed();

@@ -53,7 +53,7 @@ pub enum TrialRejection {
     #[error("the tag is archived")]
     ArchivedTag,
     #[error("the EPC was retired; the tag now has EPC {0}")]
-    RetiredTag(String),
+    RetiredTag(Epc),
     #[error("the trial could not be stored: {0}")]
     Database(Arc<sqlx::Error>),
     #[error("the registry is shutting down")]
@@ -109,7 +109,7 @@ async fn run(
     }
 }
 
-type Stored = (Vec<Result<Recorded, TrialRejection>>, BTreeSet<String>);
+type Stored = (Vec<Result<Recorded, TrialRejection>>, BTreeSet<Epc>);
 
 /// Answers the robots of a committed batch, after the caches and the feed have heard of it.
 fn answer(
@@ -119,7 +119,7 @@ fn answer(
     cache: &EffectiveCache,
 ) {
     for epc in relearned {
-        cache.forget_tag(&epc);
+        cache.forget_tag(epc.as_hex());
     }
     feed.committed();
     for ((_, reply), result) in batch.zip(results) {
@@ -242,7 +242,7 @@ async fn sort_out<'a>(
         let robot_class = known.class_of(trial).map(str::to_owned);
         sorted.recorded.push((seq, trial));
         sorted.groups.insert(TrialGroup {
-            epc: trial.epc.as_hex().to_owned(),
+            epc: trial.epc.clone(),
             action: trial.action.clone(),
             behavior: trial.behavior.clone(),
             robot_class: robot_class.clone(),
@@ -250,9 +250,9 @@ async fn sort_out<'a>(
         });
         sorted.results.push(Ok(Recorded::New(TrialRow {
             seq,
-            id: trial.id.to_string(),
-            epc: trial.epc.as_hex().to_owned(),
-            robot: trial.robot.as_str().to_owned(),
+            id: trial.id,
+            epc: trial.epc.clone(),
+            robot: trial.robot.clone(),
             robot_class,
             action: trial.action.clone(),
             outcome: trial.outcome.as_str().to_owned(),
@@ -304,7 +304,7 @@ async fn announce(tx: &mut AnyConnection, mut recorded: Vec<(i64, &Trial)>) -> s
 enum TagProblem {
     Unknown,
     Archived,
-    Retired(String),
+    Retired(Epc),
 }
 
 impl TagProblem {
@@ -322,7 +322,7 @@ async fn check_tag(conn: &mut AnyConnection, epc: &Epc) -> sqlx::Result<Result<(
     Ok(match store::tags::is_archived(conn, epc).await? {
         Some(false) => Ok(()),
         Some(true) => Err(TagProblem::Archived),
-        None => match store::retired::successor(conn, epc.as_hex()).await? {
+        None => match store::retired::successor(conn, epc).await? {
             Some(successor) => Err(TagProblem::Retired(successor)),
             None => Err(TagProblem::Unknown),
         },

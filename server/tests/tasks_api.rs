@@ -524,7 +524,7 @@ async fn a_robot_of_a_reliable_class_is_preferred_then_the_one_that_asked_first(
     let mut tx = server.db.begin_write().await.unwrap();
     pps_server::store::learning::store_reliability(
         &mut tx,
-        FLIP_SWITCH,
+        &pps_schema::Epc::parse(FLIP_SWITCH).unwrap(),
         "off",
         Some("stretch"),
         true,

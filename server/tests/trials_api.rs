@@ -141,6 +141,13 @@ async fn verdicts_are_set_later_and_lists_filter() {
         StatusCode::BAD_REQUEST,
     )
     .await;
+    // A robot id no robot can have is a typo to point out, not an empty history.
+    let typo = problem(
+        server.get("/api/v1/trials?robot=El-E%201", &server.admin).await,
+        StatusCode::BAD_REQUEST,
+    )
+    .await;
+    assert!(typo["detail"].as_str().unwrap().contains("is not a robot id"), "{typo}");
     problem(server.get(&format!("/api/v1/trials/{}", ids[1]), &a).await, StatusCode::FORBIDDEN)
         .await;
 }

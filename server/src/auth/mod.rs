@@ -98,7 +98,9 @@ async fn look_up_token(state: &AppState, digest: [u8; 32]) -> Result<Arc<Princip
     let role = Role::parse(&record.role).ok_or_else(|| {
         anyhow::anyhow!("token {} has an unknown role {:?}", record.id, record.role)
     })?;
-    let principal = Arc::new(Principal { role, name: record.name, robot: record.robot_id });
+    // A robot token's name passed as a robot id when it was minted (`tokens::name_problem`).
+    let robot = record.robot_id.as_deref().and_then(|id| pps_schema::RobotId::parse(id).ok());
+    let principal = Arc::new(Principal { role, name: record.name, robot });
     let expires_at =
         record.expires_at.as_deref().and_then(crate::clock::parse).map(|at| at.unix_timestamp());
     state.tokens.insert(digest, principal.clone(), expires_at);

@@ -6,17 +6,16 @@ use super::{ExportTrialsArgs, FormatArg};
 use crate::db::Db;
 use crate::export::{self, TrialFormat};
 use crate::retention::{self, Age};
-use crate::store::trials::TrialFilter;
+use crate::trial_filter::{FilterText, TrialFilter};
 
 pub(super) async fn export_trials(db: &Db, args: ExportTrialsArgs) -> anyhow::Result<()> {
-    let filter = TrialFilter::parse(
-        args.epc.as_deref(),
-        args.robot,
-        args.action,
-        args.outcome,
-        args.since.as_deref(),
-    )
-    .map_err(anyhow::Error::msg)?;
+    let filter = TrialFilter::parse(FilterText {
+        epc: args.epc.as_deref(),
+        robot: args.robot.as_deref(),
+        action: args.action.as_deref(),
+        outcome: args.outcome.as_deref(),
+        since: args.since.as_deref(),
+    })?;
     let format = match args.format {
         FormatArg::Jsonl => TrialFormat::Jsonl,
         FormatArg::Csv => TrialFormat::Csv,

@@ -137,7 +137,7 @@ fn admit(
         )));
     }
     if let Some(robot) = &principal.robot {
-        state.presence.saw(robot);
+        state.presence.saw(robot.as_str());
     }
     request.extensions_mut().insert(principal);
     Ok(())

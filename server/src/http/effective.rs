@@ -6,19 +6,20 @@
 use std::sync::Arc;
 
 use axum::body::Body;
-use axum::extract::{Path, State};
+use axum::extract::State;
 use axum::http::header::{CONTENT_TYPE, ETAG};
 use axum::http::{HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
+use pps_schema::{Epc, RobotId};
 use sha2::{Digest, Sha256};
 
 use crate::effective::merge;
 use crate::effective_cache::CachedEffective;
 use crate::error::ApiError;
-use crate::http::extract::{Caller, parse_epc};
+use crate::http::extract::Caller;
+use crate::http::ids::InPath;
 use crate::http::openapi::{Doc, Header, Param, Reply};
 use crate::http::precondition;
-use crate::http::robots::parse_robot_id;
 use crate::state::AppState;
 use crate::store::{learning, retired, robots, tags};
 
@@ -38,13 +39,11 @@ pub const GET: Doc = Doc::new("getEffectiveEntry", "The entry as this robot shou
 pub async fn get(
     State(state): State<AppState>,
     Caller(caller): Caller,
-    Path((robot, epc)): Path<(String, String)>,
+    InPath((robot, epc)): InPath<(RobotId, Epc)>,
     if_none_match: precondition::IfNoneMatch,
 ) -> Result<Response, ApiError> {
-    let robot = parse_robot_id(&robot)?;
-    let epc = parse_epc(&epc)?;
-    caller.require_robot_or_editor(robot.as_str())?;
-    let entry = entry_for(&state, &epc, robot.as_str()).await?;
+    caller.require_robot_or_editor(&robot)?;
+    let entry = entry_for(&state, &epc, &robot).await?;
     if if_none_match.names(&entry.etag) {
         return Ok((StatusCode::NOT_MODIFIED, [(ETAG, entry.etag.clone())]).into_response());
     }
@@ -60,10 +59,10 @@ pub async fn get(
 /// The effective entry of `epc` for `robot`, from memory when it can be.
 pub(crate) async fn entry_for(
     state: &AppState,
-    epc: &pps_schema::Epc,
-    robot: &str,
+    epc: &Epc,
+    robot: &RobotId,
 ) -> Result<Arc<CachedEffective>, ApiError> {
-    match state.effective.get(epc.as_hex(), robot) {
+    match state.effective.get(epc.as_hex(), robot.as_str()) {
         Some(entry) => Ok(entry),
         None => compute(state, epc, robot).await,
     }
@@ -72,8 +71,8 @@ pub(crate) async fn entry_for(
 /// Merges the entry from the database and caches it.
 async fn compute(
     state: &AppState,
-    parsed: &pps_schema::Epc,
-    robot: &str,
+    parsed: &Epc,
+    robot: &RobotId,
 ) -> Result<Arc<CachedEffective>, ApiError> {
     let generation = state.effective.generation();
     let pool = state.db.reader();
@@ -85,29 +84,30 @@ async fn compute(
                 "the tag {epc} is archived; a caretaker can restore it"
             )));
         }
-        None => return Err(unknown(state, epc, robot).await?),
+        None => return Err(unknown(state, parsed, robot).await?),
     };
     let stored_robot = robots::get(pool, robot).await?;
-    let class = stored_robot.as_ref().and_then(|r| r.class.clone()).unwrap_or_default();
-    let learned = learning::learned_for(pool, epc, &class).await?;
-    let merged = merge(epc, tag.revision, &tag.entry, robot, stored_robot.as_ref(), &learned);
+    let class = stored_robot.as_ref().and_then(|r| r.class.as_deref());
+    let learned = learning::learned_for(pool, parsed, class).await?;
+    let merged =
+        merge(epc, tag.revision, &tag.entry, robot.as_str(), stored_robot.as_ref(), &learned);
     let body = serde_json::to_vec(&merged).map_err(anyhow::Error::from)?;
     // The ETag is the content's hash, so it is stable across restarts and changes with it.
     let etag = format!("\"e{}\"", &hex::encode(Sha256::digest(&body))[..20]);
     let entry = Arc::new(CachedEffective { etag, body: body.into() });
-    state.effective.insert(generation, epc, robot, entry.clone());
+    state.effective.insert(generation, epc, robot.as_str(), entry.clone());
     Ok(entry)
 }
 
 /// The answer for an EPC no active tag has; a never-registered one goes to the inbox.
-async fn unknown(state: &AppState, epc: &str, robot: &str) -> Result<ApiError, ApiError> {
+async fn unknown(state: &AppState, epc: &Epc, robot: &RobotId) -> Result<ApiError, ApiError> {
     let mut conn = state.db.reader().acquire().await?;
     if let Some(successor) = retired::successor(&mut conn, epc).await? {
         return Ok(ApiError::NotFound(format!(
             "the EPC {epc} was retired when its worn tag was replaced; the tag now has the EPC {successor}"
         )));
     }
-    state.sightings.note(epc, robot);
+    state.sightings.note(epc.as_hex(), robot.as_str());
     Ok(ApiError::NotFound(format!(
         "no tag has the EPC {epc}; it is now in the inbox for a caretaker to register"
     )))

@@ -8,7 +8,6 @@ use axum::http::header::CONTENT_TYPE;
 use axum::http::request::Parts;
 use axum::http::{HeaderMap, StatusCode};
 use bytes::Bytes;
-use pps_schema::Epc;
 use serde::de::DeserializeOwned;
 use serde_json::Value;
 
@@ -68,27 +67,6 @@ fn body_error(rejection: BytesRejection) -> ApiError {
     } else {
         ApiError::BadRequest(format!("the body could not be read: {rejection}"))
     }
-}
-
-/// The `{epc}` path segment, parsed.
-#[derive(Debug)]
-pub struct EpcPath(pub Epc);
-
-impl<S: Send + Sync> FromRequestParts<S> for EpcPath {
-    type Rejection = ApiError;
-
-    async fn from_request_parts(parts: &mut Parts, state: &S) -> Result<Self, Self::Rejection> {
-        let axum::extract::Path(raw) =
-            axum::extract::Path::<String>::from_request_parts(parts, state)
-                .await
-                .map_err(|rejection| ApiError::BadRequest(rejection.body_text()))?;
-        parse_epc(&raw).map(Self)
-    }
-}
-
-/// Parses an EPC from a URL, naming the problem for the client.
-pub fn parse_epc(raw: &str) -> Result<Epc, ApiError> {
-    Epc::parse(raw).map_err(|error| ApiError::BadRequest(format!("{raw:?} is not an EPC: {error}")))
 }
 
 /// Query parameters, with a problem+json answer when they do not parse.

@@ -7,6 +7,7 @@ mod envelope;
 mod events;
 pub mod extract;
 mod fallback;
+pub mod ids;
 mod inbox;
 mod meta;
 pub mod openapi;

@@ -6,10 +6,12 @@ use axum::extract::State;
 use axum::http::HeaderMap;
 use axum::http::header::ETAG;
 use axum::response::{IntoResponse, Response};
+use pps_schema::Epc;
 use serde_json::{Value, json};
 
 use crate::error::ApiError;
-use crate::http::extract::{Caller, EpcPath, JsonBody, parse_epc};
+use crate::http::extract::{Caller, JsonBody};
+use crate::http::ids::{InPath, Segment};
 use crate::http::openapi::{Body, Doc, Header, Param, Reply};
 use crate::http::precondition;
 use crate::state::AppState;
@@ -33,7 +35,7 @@ pub const RETAG: Doc =
 pub async fn retag(
     State(state): State<AppState>,
     Caller(caller): Caller,
-    EpcPath(old): EpcPath,
+    InPath(old): InPath<Epc>,
     headers: HeaderMap,
     JsonBody(body): JsonBody,
 ) -> Result<Response, ApiError> {
@@ -43,7 +45,8 @@ pub async fn retag(
             "say which EPC the new tag has: {\"new_epc\": \"E2...\"}",
         ));
     };
-    let new = parse_epc(new).map_err(|e| ApiError::invalid_at("/new_epc", e.to_string()))?;
+    let new =
+        Epc::parse_segment(new).map_err(|e| ApiError::invalid_at("/new_epc", e.to_string()))?;
     if new == old {
         return Err(ApiError::invalid_at("/new_epc", "the new EPC is the one the tag already has"));
     }
@@ -63,16 +66,16 @@ pub async fn retag(
             "the EPC {new} already belongs to another tag; archive or retag that one first"
         )));
     }
-    if retired::successor(&mut tx, new.as_hex()).await?.is_some() {
+    if retired::successor(&mut tx, &new).await?.is_some() {
         return Err(ApiError::Conflict(format!(
             "the EPC {new} was retired; a retired EPC is never reused"
         )));
     }
     let moved = tags::move_to(&mut tx, &current, &new, &caller.name).await?;
-    let trials_moved = trials::move_to(&mut tx, old.as_hex(), new.as_hex()).await?;
-    learning::move_to(&mut tx, old.as_hex(), new.as_hex()).await?;
-    tasks::move_to(&mut tx, old.as_hex(), new.as_hex()).await?;
-    retired::retire(&mut tx, old.as_hex(), new.as_hex(), &caller.name).await?;
+    let trials_moved = trials::move_to(&mut tx, &old, &new).await?;
+    learning::move_to(&mut tx, &old, &new).await?;
+    tasks::move_to(&mut tx, &old, &new).await?;
+    retired::retire(&mut tx, &old, &new, &caller.name).await?;
     events::append(
         &mut tx,
         EventKind::TagRetagged,

@@ -1,7 +1,7 @@
 //! `/api/v1/robots`: the robot registry.
 
 use axum::Json;
-use axum::extract::{Path, State};
+use axum::extract::State;
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
 use pps_schema::{Robot, RobotId};
@@ -10,6 +10,7 @@ use serde_json::Value;
 use crate::accept::accept;
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, JsonBody};
+use crate::http::ids::InPath;
 use crate::http::openapi::{Body, Doc, Param, Reply};
 use crate::http::page::{self, Page, PageParams};
 use crate::state::AppState;
@@ -26,7 +27,7 @@ pub async fn list(
     let limit = page::limit(params.limit)?;
     let after = params.cursor.as_deref().map(page::decode_cursor).transpose()?;
     let rows = robots::list(state.db.reader(), after.as_deref(), limit + 1).await?;
-    let page = page::page(rows, limit, |robot| robot.id.clone());
+    let page = page::page(rows, limit, |robot| robot.id.to_string());
     let items = page.items.iter().map(|robot| with_presence(&state, robot)).collect();
     Ok(Json(Page { items, next_cursor: page.next_cursor }))
 }
@@ -39,10 +40,9 @@ pub const GET: Doc =
 
 pub async fn get(
     State(state): State<AppState>,
-    Path(robot): Path<String>,
+    InPath(robot): InPath<RobotId>,
 ) -> Result<Json<Value>, ApiError> {
-    let robot = parse_robot_id(&robot)?;
-    let stored = robots::get(state.db.reader(), robot.as_str()).await?.ok_or_else(|| {
+    let stored = robots::get(state.db.reader(), &robot).await?.ok_or_else(|| {
         ApiError::NotFound(format!(
             "no robot has the id {robot}; an admin registers it with PUT /api/v1/robots/{robot}"
         ))
@@ -62,19 +62,18 @@ pub const PUT: Doc = Doc::new("putRobot", "Register a robot or change it")
 pub async fn put(
     State(state): State<AppState>,
     Caller(caller): Caller,
-    Path(robot): Path<String>,
+    InPath(robot): InPath<RobotId>,
     JsonBody(body): JsonBody,
 ) -> Result<Response, ApiError> {
-    let robot = parse_robot_id(&robot)?;
     let (robot, body) = accept::<Robot>(Some(&robot), body)?;
-    let written = robots::put(&state.db, robot.as_str(), &body, &caller.name).await?;
+    let written = robots::put(&state.db, &robot, &body, &caller.name).await?;
     if written != RobotWrite::Unchanged {
         // Class, capabilities and limits shape every effective entry this robot reads.
         state.effective.clear();
         state.feed.committed();
     }
     let stored = StoredRobot {
-        id: robot.as_str().to_owned(),
+        id: robot,
         class: body.get("class").and_then(Value::as_str).map(str::to_owned),
         document: Some(body),
     };
@@ -83,11 +82,5 @@ pub async fn put(
 }
 
 fn with_presence(state: &AppState, robot: &StoredRobot) -> Value {
-    robot.to_json(state.presence.last_seen(&robot.id).as_deref())
-}
-
-/// Parses a robot id from a URL.
-pub fn parse_robot_id(raw: &str) -> Result<RobotId, ApiError> {
-    RobotId::parse(raw)
-        .map_err(|error| ApiError::BadRequest(format!("{raw:?} is not a robot id: {error}")))
+    robot.to_json(state.presence.last_seen(robot.id.as_str()).as_deref())
 }

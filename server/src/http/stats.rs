@@ -5,10 +5,11 @@ use axum::extract::State;
 use serde::Serialize;
 use serde_json::{Map, Value, json};
 
+use pps_schema::Epc;
 use pps_schema::pointer::escape;
 
 use crate::error::ApiError;
-use crate::http::extract::EpcPath;
+use crate::http::ids::InPath;
 use crate::http::openapi::{Doc, Param, Reply};
 use crate::learning::{RELIABILITY_WINDOW, is_reliable};
 use crate::state::AppState;
@@ -49,26 +50,21 @@ pub const GET: Doc = Doc::new("getTagStats", "How a tag's actions have gone, per
 
 pub async fn get(
     State(state): State<AppState>,
-    EpcPath(epc): EpcPath,
+    InPath(epc): InPath<Epc>,
 ) -> Result<Json<Value>, ApiError> {
     let pool = state.db.reader();
     let Some(tag) = tags::get(pool, &epc).await? else {
         return Err(ApiError::NotFound(format!("no tag has the EPC {epc}")));
     };
-    let rows = trials::group_counts(pool, epc.as_hex()).await?;
-    let learned = learning::learned_all(pool, epc.as_hex()).await?;
+    let rows = trials::group_counts(pool, &epc).await?;
+    let learned = learning::learned_all(pool, &epc).await?;
     let mut groups = Vec::with_capacity(rows.len());
     for (action, class, attempts, detected, confirmed, confirmed_ok, agreeing, successes, last) in
         rows
     {
-        let (recent, recent_ok) = trials::latest_outcomes(
-            pool,
-            epc.as_hex(),
-            &action,
-            class.as_deref(),
-            RELIABILITY_WINDOW,
-        )
-        .await?;
+        let (recent, recent_ok) =
+            trials::latest_outcomes(pool, &epc, &action, class.as_deref(), RELIABILITY_WINDOW)
+                .await?;
         // Only what the action's own behaviour uses: `close` has nothing of `pull_open`'s.
         let behavior = tag.entry.pointer(&format!("/actions/{}", escape(&action)));
         let prefix = behavior.and_then(Value::as_str).map(|b| format!("/behaviors/{}/", escape(b)));

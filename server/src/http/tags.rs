@@ -5,13 +5,14 @@ use axum::extract::State;
 use axum::http::header::{ETAG, LOCATION};
 use axum::http::{HeaderMap, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
-use pps_schema::TagEntry;
+use pps_schema::{Epc, TagEntry};
 use serde::Deserialize;
 use serde_json::{Value, json};
 
 use crate::accept::accept;
 use crate::error::ApiError;
-use crate::http::extract::{ApiQuery, Caller, EpcPath, JsonBody};
+use crate::http::extract::{ApiQuery, Caller, JsonBody};
+use crate::http::ids::InPath;
 use crate::http::openapi::{Body, Doc, Header, Param, ParamType, Reply};
 use crate::http::page::{self, Page, PageParams};
 use crate::http::precondition;
@@ -53,7 +54,7 @@ pub async fn list(
         archived: params.archived,
     };
     let rows = tags::list(state.db.reader(), &filter, after.as_deref(), limit + 1).await?;
-    let page = page::page(rows, limit, |tag| tag.epc.clone());
+    let page = page::page(rows, limit, |tag| tag.epc.as_hex().to_owned());
     Ok(Json(Page {
         items: page.items.iter().map(StoredTag::to_json).collect(),
         next_cursor: page.next_cursor,
@@ -70,7 +71,7 @@ pub const GET: Doc = Doc::new("getTag", "One stored entry with its read-only fie
 
 pub async fn get(
     State(state): State<AppState>,
-    EpcPath(epc): EpcPath,
+    InPath(epc): InPath<Epc>,
     headers: HeaderMap,
 ) -> Result<Response, ApiError> {
     let tag = tags::get(state.db.reader(), &epc).await?.ok_or_else(|| not_found(&epc))?;
@@ -104,7 +105,7 @@ pub const PUT: Doc = Doc::new("putTag", "Create or replace a tag entry")
 pub async fn put(
     State(state): State<AppState>,
     Caller(caller): Caller,
-    EpcPath(epc): EpcPath,
+    InPath(epc): InPath<Epc>,
     headers: HeaderMap,
     JsonBody(body): JsonBody,
 ) -> Result<Response, ApiError> {
@@ -145,7 +146,7 @@ pub const ARCHIVE: Doc = Doc::new("archiveTag", "Archive a tag; its trials are k
 pub async fn archive(
     State(state): State<AppState>,
     Caller(caller): Caller,
-    EpcPath(epc): EpcPath,
+    InPath(epc): InPath<Epc>,
     headers: HeaderMap,
 ) -> Result<Response, ApiError> {
     let condition = match precondition::write_condition(&headers)? {
@@ -177,7 +178,7 @@ pub const REVISIONS: Doc =
 
 pub async fn revisions(
     State(state): State<AppState>,
-    EpcPath(epc): EpcPath,
+    InPath(epc): InPath<Epc>,
     ApiQuery(params): ApiQuery<PageParams>,
 ) -> Result<Json<Page<tags::Revision>>, ApiError> {
     let limit = page::limit(params.limit)?;

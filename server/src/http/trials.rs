@@ -2,10 +2,10 @@
 //! UUID they choose) and read by caretakers, the UI and learning.
 
 use axum::Json;
-use axum::extract::{Path, State};
+use axum::extract::State;
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
-use pps_schema::{MAX_FORCE_SAMPLES, Trial};
+use pps_schema::{MAX_FORCE_SAMPLES, RobotId, Trial};
 use serde::Deserialize;
 use serde_json::{Value, json};
 use uuid::Uuid;
@@ -14,12 +14,14 @@ use crate::accept::accept;
 use crate::auth::{Principal, Role};
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, JsonBody};
+use crate::http::ids::{InPath, TrialId};
 use crate::http::openapi::{Body, Doc, Param, ParamType, Reply};
 use crate::http::page::{self, Page};
 use crate::learning::{self, TrialGroup};
 use crate::state::AppState;
 use crate::store::events::{self, EventKind};
-use crate::store::trials::{self, TrialFilter, TrialRow};
+use crate::store::trials::{self, TrialRow};
+use crate::trial_filter::{FilterText, TrialFilter};
 use crate::trial_writer::{CheckedTrial, Recorded, TrialRejection};
 
 /// A trial of robot `el-e-1` on the seeded ADA switch, under the id of [`Param::TRIAL_ID`]'s
@@ -53,10 +55,9 @@ pub const PUT: Doc = Doc::new("putTrial", "Record a trial, idempotently")
 pub async fn put(
     State(state): State<AppState>,
     Caller(caller): Caller,
-    Path(id): Path<String>,
+    InPath(TrialId(id)): InPath<TrialId>,
     JsonBody(body): JsonBody,
 ) -> Result<Response, ApiError> {
-    let id = parse_trial_id(&id)?;
     let samples = body.get("forces").and_then(Value::as_array).map_or(0, Vec::len);
     if samples > MAX_FORCE_SAMPLES {
         return Err(ApiError::PayloadTooLarge(format!(
@@ -68,10 +69,10 @@ pub async fn put(
     let trial: Trial = serde_json::from_value(body.clone()).map_err(|error| {
         ApiError::invalid_at("", format!("the trial does not fit its type: {error}"))
     })?;
-    if caller.robot.as_deref() != Some(trial.robot.as_str()) {
+    if caller.robot.as_ref() != Some(&trial.robot) {
         return Err(ApiError::Forbidden(format!(
             "a robot records only its own trials: this token is bound to {:?}, the trial names {:?}",
-            caller.robot.as_deref().unwrap_or(""),
+            caller.robot.as_ref().map_or("", RobotId::as_str),
             trial.robot.as_str()
         )));
     }
@@ -124,9 +125,9 @@ pub const GET: Doc = Doc::new("getTrial", "One trial").params(&[Param::TRIAL_ID]
 pub async fn get(
     State(state): State<AppState>,
     Caller(caller): Caller,
-    Path(id): Path<String>,
+    InPath(TrialId(id)): InPath<TrialId>,
 ) -> Result<Json<Value>, ApiError> {
-    let row = find_visible(&state, &caller, &parse_trial_id(&id)?).await?;
+    let row = find_visible(&state, &caller, &id).await?;
     Ok(Json(row.to_json()))
 }
 
@@ -159,10 +160,9 @@ pub const PATCH: Doc = Doc::new("confirmTrial", "Set the person's verdict on a t
 pub async fn patch(
     State(state): State<AppState>,
     Caller(caller): Caller,
-    Path(id): Path<String>,
+    InPath(TrialId(id)): InPath<TrialId>,
     JsonBody(body): JsonBody,
 ) -> Result<Json<Value>, ApiError> {
-    let id = parse_trial_id(&id)?;
     let row = find_visible(&state, &caller, &id).await?;
     let Some(patch) = body.as_object() else {
         return Err(ApiError::invalid_at(
@@ -215,7 +215,7 @@ pub async fn patch(
     let relearned = learning::update(&mut tx, &[group].into()).await?;
     tx.commit().await?;
     for epc in relearned {
-        state.effective.forget_tag(&epc);
+        state.effective.forget_tag(epc.as_hex());
     }
     state.feed.committed();
     Ok(Json(TrialRow { confirmed, ..row }.to_json()))
@@ -271,21 +271,20 @@ pub async fn list(
 ) -> Result<Response, ApiError> {
     let limit = page::limit(params.limit)?;
     let after = page::decode_position(params.cursor.as_deref())?;
-    let robot = match (caller.role, params.robot) {
-        (Role::Robot, Some(asked)) if Some(&asked) != caller.robot.as_ref() => {
+    let mut filter = TrialFilter::parse(FilterText {
+        epc: params.epc.as_deref(),
+        robot: params.robot.as_deref(),
+        action: params.action.as_deref(),
+        outcome: params.outcome.as_deref(),
+        since: params.since.as_deref(),
+    })
+    .map_err(|error| ApiError::BadRequest(error.to_string()))?;
+    if caller.role == Role::Robot {
+        if filter.robot.is_some() && filter.robot != caller.robot {
             return Err(ApiError::Forbidden("a robot lists only its own trials".into()));
         }
-        (Role::Robot, _) => caller.robot.clone(),
-        (_, asked) => asked,
-    };
-    let filter = TrialFilter::parse(
-        params.epc.as_deref(),
-        robot,
-        params.action,
-        params.outcome,
-        params.since.as_deref(),
-    )
-    .map_err(ApiError::BadRequest)?;
+        filter.robot = caller.robot.clone();
+    }
     let forces = match params.include.as_deref() {
         None => false,
         Some("forces") => true,
@@ -317,11 +316,4 @@ fn page_response(page: &Page<TrialRow>) -> Response {
     body.push_str(&Value::from(page.next_cursor.clone()).to_string());
     body.push('}');
     ([(axum::http::header::CONTENT_TYPE, "application/json")], body).into_response()
-}
-
-/// Parses a trial id (a UUID) from a URL.
-fn parse_trial_id(raw: &str) -> Result<Uuid, ApiError> {
-    Uuid::parse_str(raw).map_err(|error| {
-        ApiError::BadRequest(format!("{raw:?} is not a trial id (a UUID): {error}"))
-    })
 }

@@ -2,7 +2,7 @@
 //! own with the current password or anyone's as an admin.
 
 use axum::Json;
-use axum::extract::{Path, State};
+use axum::extract::State;
 use axum::http::header::LOCATION;
 use axum::http::{HeaderMap, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
@@ -12,6 +12,7 @@ use serde::Deserialize;
 use crate::auth::{Role, UserName, login_throttle, password, secret, session};
 use crate::error::{ApiError, is_unique_violation};
 use crate::http::extract::{ApiQuery, Caller};
+use crate::http::ids::InPath;
 use crate::http::page::{self, Page};
 use crate::http::session::too_many_attempts;
 use crate::http::typed_json::TypedJson;
@@ -91,9 +92,8 @@ pub async fn create(
 /// `DELETE /api/v1/users/{name}`: removes a login and ends its sessions.
 pub async fn delete(
     State(state): State<AppState>,
-    Path(name): Path<String>,
+    InPath(name): InPath<UserName>,
 ) -> Result<StatusCode, ApiError> {
-    let name = parse_path_name(&name)?;
     if users::delete(&state.db, &name).await? {
         Ok(StatusCode::NO_CONTENT)
     } else {
@@ -113,11 +113,10 @@ pub struct PasswordChange {
 pub async fn set_password(
     State(state): State<AppState>,
     Caller(caller): Caller,
-    Path(name): Path<String>,
+    InPath(name): InPath<UserName>,
     headers: HeaderMap,
     TypedJson(change): TypedJson<PasswordChange>,
 ) -> Result<Response, ApiError> {
-    let name = parse_path_name(&name)?;
     let own = caller.name == name.as_str() && caller.role != Role::Robot;
     if caller.role != Role::Admin && !own {
         return Err(ApiError::Forbidden(format!(
@@ -175,11 +174,6 @@ async fn check_current_password(
         Err(ApiError::invalid_at("/current_password", "this is not your current password")
             .into_response())
     }
-}
-
-fn parse_path_name(raw: &str) -> Result<UserName, ApiError> {
-    UserName::parse(raw)
-        .map_err(|message| ApiError::BadRequest(format!("{raw:?} is not a user name: {message}")))
 }
 
 fn no_such_user(name: &UserName) -> ApiError {

@@ -3,7 +3,9 @@
 //! Yes/no columns are integers, 0 or 1: the `Any` driver reads an SQLite integer as a number,
 //! never as a boolean, so one schema type keeps one decoding. Rows decode a flag through
 //! [`Flag`] (`#[sqlx(try_from = "Flag")]`); statements bind `i64::from(flag)`. Documents (an
-//! entry, a trial) are JSON text, parsed by [`JsonText`].
+//! entry, a trial) are JSON text, parsed by [`JsonText`]. Ids (an EPC in hex, a robot id, a
+//! UUID) are text, parsed as they are read through [`Id`] and [`MaybeId`]
+//! (`#[sqlx(try_from = "Id<Epc>")]`), so a row hands out the same types the API parsed.
 
 use sqlx::any::AnyValueRef;
 use sqlx::decode::Decode;
@@ -83,3 +85,73 @@ impl From<JsonText> for serde_json::Value {
         text.0
     }
 }
+
+/// A non-null id column, parsed as it is read.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Id<T>(pub T);
+
+/// An id column that may be null (a task for anyone, a trial not recorded yet).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MaybeId<T>(pub Option<T>);
+
+impl<T> Type<Any> for Id<T> {
+    fn type_info() -> sqlx::any::AnyTypeInfo {
+        <String as Type<Any>>::type_info()
+    }
+
+    fn compatible(ty: &sqlx::any::AnyTypeInfo) -> bool {
+        <String as Type<Any>>::compatible(ty)
+    }
+}
+
+impl<T> Type<Any> for MaybeId<T> {
+    fn type_info() -> sqlx::any::AnyTypeInfo {
+        <String as Type<Any>>::type_info()
+    }
+
+    fn compatible(ty: &sqlx::any::AnyTypeInfo) -> bool {
+        <String as Type<Any>>::compatible(ty)
+    }
+}
+
+impl<'r, T> Decode<'r, Any> for Id<T>
+where
+    T: std::str::FromStr,
+    T::Err: std::error::Error + Send + Sync + 'static,
+{
+    fn decode(value: AnyValueRef<'r>) -> Result<Self, BoxDynError> {
+        Ok(Self(<&str as Decode<Any>>::decode(value)?.parse()?))
+    }
+}
+
+impl<'r, T> Decode<'r, Any> for MaybeId<T>
+where
+    T: std::str::FromStr,
+    T::Err: std::error::Error + Send + Sync + 'static,
+{
+    fn decode(value: AnyValueRef<'r>) -> Result<Self, BoxDynError> {
+        if value.is_null() {
+            return Ok(Self(None));
+        }
+        Ok(Self(Some(<&str as Decode<Any>>::decode(value)?.parse()?)))
+    }
+}
+
+/// `From` for each id type a row holds (one generic impl would break the orphan rule).
+macro_rules! id_column {
+    ($($id:ty),*) => {$(
+        impl From<Id<$id>> for $id {
+            fn from(column: Id<$id>) -> Self {
+                column.0
+            }
+        }
+
+        impl From<MaybeId<$id>> for Option<$id> {
+            fn from(column: MaybeId<$id>) -> Self {
+                column.0
+            }
+        }
+    )*};
+}
+
+id_column!(pps_schema::Epc, pps_schema::RobotId, uuid::Uuid);

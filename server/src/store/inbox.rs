@@ -1,5 +1,6 @@
 //! EPCs robots read that nobody registered, so a caretaker can register them in one click.
 
+use pps_schema::Epc;
 use serde::Serialize;
 use serde_json::{Value, json};
 use sqlx::{AnyConnection, AnyPool};
@@ -103,12 +104,18 @@ pub async fn record(tx: &mut AnyConnection, sightings: &[Sighting]) -> sqlx::Res
 }
 
 /// Drops an EPC from the inbox once it is registered.
-pub async fn forget(tx: &mut AnyConnection, epc: &str) -> sqlx::Result<()> {
-    let removed =
-        sqlx::query("delete from inbox where epc = $1").bind(epc).execute(&mut *tx).await?;
+pub async fn forget(tx: &mut AnyConnection, epc: &Epc) -> sqlx::Result<()> {
+    let removed = sqlx::query("delete from inbox where epc = $1")
+        .bind(epc.as_hex())
+        .execute(&mut *tx)
+        .await?;
     if removed.rows_affected() > 0 {
-        events::append(tx, EventKind::InboxChanged, json!({ "epc": epc, "registered": true }))
-            .await?;
+        events::append(
+            tx,
+            EventKind::InboxChanged,
+            json!({ "epc": epc.as_hex(), "registered": true }),
+        )
+        .await?;
     }
     Ok(())
 }

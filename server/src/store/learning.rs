@@ -1,6 +1,7 @@
 //! What the registry learned from trials: learned parameter values and the last reliability
 //! verdict per action and robot class.
 
+use pps_schema::Epc;
 use sqlx::{AnyConnection, AnyPool};
 
 use crate::store::columns::Flag;
@@ -14,17 +15,17 @@ fn class_key(robot_class: Option<&str>) -> &str {
     robot_class.unwrap_or("")
 }
 
-/// Learned values for one tag and robot class (`""` for robots without a class).
+/// Learned values for one tag and robot class (`None` for robots without one).
 pub async fn learned_for(
     pool: &AnyPool,
-    epc: &str,
-    robot_class: &str,
+    epc: &Epc,
+    robot_class: Option<&str>,
 ) -> sqlx::Result<Vec<Learned>> {
     let rows: Vec<(String, f64)> = sqlx::query_as(
         "select pointer, value from learned_values where epc = $1 and robot_class = $2 order by pointer",
     )
-    .bind(epc)
-    .bind(robot_class)
+    .bind(epc.as_hex())
+    .bind(class_key(robot_class))
     .fetch_all(pool)
     .await?;
     Ok(rows.into_iter().map(|(pointer, value)| Learned { pointer, value }).collect())
@@ -33,12 +34,12 @@ pub async fn learned_for(
 /// Every learned value of a tag: (robot class, pointer, value, trials).
 pub async fn learned_all(
     pool: &AnyPool,
-    epc: &str,
+    epc: &Epc,
 ) -> sqlx::Result<Vec<(Option<String>, String, f64, i64)>> {
     let rows: Vec<(String, String, f64, i64)> = sqlx::query_as(
         "select robot_class, pointer, value, trials from learned_values where epc = $1 order by robot_class, pointer",
     )
-    .bind(epc)
+    .bind(epc.as_hex())
     .fetch_all(pool)
     .await?;
     Ok(rows
@@ -52,7 +53,7 @@ pub async fn learned_all(
 /// Stores a learned value; true when it differs from what was stored.
 pub async fn store_learned(
     conn: &mut AnyConnection,
-    epc: &str,
+    epc: &Epc,
     robot_class: Option<&str>,
     pointer: &str,
     value: f64,
@@ -61,7 +62,7 @@ pub async fn store_learned(
     let previous: Option<f64> = sqlx::query_scalar(
         "select value from learned_values where epc = $1 and robot_class = $2 and pointer = $3",
     )
-    .bind(epc)
+    .bind(epc.as_hex())
     .bind(class_key(robot_class))
     .bind(pointer)
     .fetch_optional(&mut *conn)
@@ -72,7 +73,7 @@ pub async fn store_learned(
          on conflict (epc, robot_class, pointer) do update set value = excluded.value,
              trials = excluded.trials, updated_at = excluded.updated_at",
     )
-    .bind(epc)
+    .bind(epc.as_hex())
     .bind(class_key(robot_class))
     .bind(pointer)
     .bind(value)
@@ -86,14 +87,14 @@ pub async fn store_learned(
 /// Drops a learned value no trial supports any more; true when one was dropped.
 pub async fn forget_learned(
     conn: &mut AnyConnection,
-    epc: &str,
+    epc: &Epc,
     robot_class: Option<&str>,
     pointer: &str,
 ) -> sqlx::Result<bool> {
     let done = sqlx::query(
         "delete from learned_values where epc = $1 and robot_class = $2 and pointer = $3",
     )
-    .bind(epc)
+    .bind(epc.as_hex())
     .bind(class_key(robot_class))
     .bind(pointer)
     .execute(conn)
@@ -104,14 +105,14 @@ pub async fn forget_learned(
 /// The stored reliability verdict, if one was ever made.
 pub async fn reliability(
     conn: &mut AnyConnection,
-    epc: &str,
+    epc: &Epc,
     action: &str,
     robot_class: Option<&str>,
 ) -> sqlx::Result<Option<bool>> {
     let reliable: Option<Flag> = sqlx::query_scalar(
         "select reliable from reliability where epc = $1 and action = $2 and robot_class = $3",
     )
-    .bind(epc)
+    .bind(epc.as_hex())
     .bind(action)
     .bind(class_key(robot_class))
     .fetch_optional(conn)
@@ -122,13 +123,13 @@ pub async fn reliability(
 /// Robot classes whose trials made `action` on `epc` reliable (the stats' reliable flag).
 pub async fn reliable_classes(
     pool: &AnyPool,
-    epc: &str,
+    epc: &Epc,
     action: &str,
 ) -> sqlx::Result<Vec<String>> {
     sqlx::query_scalar(
         "select robot_class from reliability where epc = $1 and action = $2 and reliable = 1",
     )
-    .bind(epc)
+    .bind(epc.as_hex())
     .bind(action)
     .fetch_all(pool)
     .await
@@ -136,7 +137,7 @@ pub async fn reliable_classes(
 
 pub async fn store_reliability(
     conn: &mut AnyConnection,
-    epc: &str,
+    epc: &Epc,
     action: &str,
     robot_class: Option<&str>,
     reliable: bool,
@@ -145,7 +146,7 @@ pub async fn store_reliability(
         "insert into reliability (epc, action, robot_class, reliable) values ($1, $2, $3, $4)
          on conflict (epc, action, robot_class) do update set reliable = excluded.reliable",
     )
-    .bind(epc)
+    .bind(epc.as_hex())
     .bind(action)
     .bind(class_key(robot_class))
     .bind(i64::from(reliable))
@@ -155,12 +156,12 @@ pub async fn store_reliability(
 }
 
 /// Moves learned values and verdicts of a retagged tag to its new EPC.
-pub async fn move_to(conn: &mut AnyConnection, from: &str, to: &str) -> sqlx::Result<()> {
+pub async fn move_to(conn: &mut AnyConnection, from: &Epc, to: &Epc) -> sqlx::Result<()> {
     for statement in [
         "update learned_values set epc = $1 where epc = $2",
         "update reliability set epc = $1 where epc = $2",
     ] {
-        sqlx::query(statement).bind(to).bind(from).execute(&mut *conn).await?;
+        sqlx::query(statement).bind(to.as_hex()).bind(from.as_hex()).execute(&mut *conn).await?;
     }
     Ok(())
 }

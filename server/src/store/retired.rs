@@ -1,13 +1,14 @@
 //! EPCs retired when a worn tag was replaced, each pointing at its successor.
 
+use pps_schema::Epc;
 use sqlx::AnyConnection;
 
 use crate::clock;
 
 /// The EPC that replaced `epc`, following a chain of replacements to the current one.
-pub async fn successor(conn: &mut AnyConnection, epc: &str) -> sqlx::Result<Option<String>> {
+pub async fn successor(conn: &mut AnyConnection, epc: &Epc) -> sqlx::Result<Option<Epc>> {
     let mut current: Option<String> = None;
-    let mut next = epc.to_owned();
+    let mut next = epc.as_hex().to_owned();
     // A chain longer than this would mean a cycle, which retagging never creates.
     for _ in 0..64 {
         let found: Option<String> =
@@ -23,20 +24,22 @@ pub async fn successor(conn: &mut AnyConnection, epc: &str) -> sqlx::Result<Opti
             None => break,
         }
     }
-    Ok(current)
+    current
+        .map(|hex| Epc::parse(&hex).map_err(|error| sqlx::Error::Decode(error.into())))
+        .transpose()
 }
 
 pub async fn retire(
     conn: &mut AnyConnection,
-    epc: &str,
-    successor: &str,
+    epc: &Epc,
+    successor: &Epc,
     by: &str,
 ) -> sqlx::Result<()> {
     sqlx::query(
         "insert into retired_epcs (epc, successor, retired_at, retired_by) values ($1, $2, $3, $4)",
     )
-    .bind(epc)
-    .bind(successor)
+    .bind(epc.as_hex())
+    .bind(successor.as_hex())
     .bind(clock::now())
     .bind(by)
     .execute(conn)

@@ -4,7 +4,7 @@ use pps_schema::RobotId;
 use serde_json::{Value, json};
 use sqlx::AnyPool;
 
-use crate::store::columns::Flag;
+use crate::store::columns::{Flag, Id};
 
 use crate::clock;
 use crate::db::Db;
@@ -13,7 +13,7 @@ use crate::store::events::{self, EventKind};
 /// A robot as the registry knows it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StoredRobot {
-    pub id: String,
+    pub id: RobotId,
     pub class: Option<String>,
     /// The robot as PUT; `None` for a robot known only from its token, not yet registered.
     pub document: Option<Value>,
@@ -41,16 +41,20 @@ pub enum RobotWrite {
     Unchanged,
 }
 
-type Row = (String, Option<String>, Option<String>);
+type Row = (Id<RobotId>, Option<String>, Option<String>);
 
 fn from_row((id, class, document): Row) -> StoredRobot {
-    StoredRobot { id, class, document: document.and_then(|d| serde_json::from_str(&d).ok()) }
+    StoredRobot {
+        id: id.into(),
+        class,
+        document: document.and_then(|d| serde_json::from_str(&d).ok()),
+    }
 }
 
 #[tracing::instrument(skip_all)]
-pub async fn get(pool: &AnyPool, id: &str) -> sqlx::Result<Option<StoredRobot>> {
+pub async fn get(pool: &AnyPool, id: &RobotId) -> sqlx::Result<Option<StoredRobot>> {
     let row: Option<Row> = sqlx::query_as("select id, class, document from robots where id = $1")
-        .bind(id)
+        .bind(id.as_str())
         .fetch_optional(pool)
         .await?;
     if let Some(row) = row {
@@ -60,14 +64,10 @@ pub async fn get(pool: &AnyPool, id: &str) -> sqlx::Result<Option<StoredRobot>> 
         "select case when exists (select 1 from tokens where robot_id = $1 and revoked_at is null)
                 then 1 else 0 end",
     )
-    .bind(id)
+    .bind(id.as_str())
     .fetch_one(pool)
     .await?;
-    Ok(bool::from(has_token).then(|| StoredRobot {
-        id: id.to_owned(),
-        class: None,
-        document: None,
-    }))
+    Ok(bool::from(has_token).then(|| StoredRobot { id: id.clone(), class: None, document: None }))
 }
 
 /// The class of the robot `id`; `None` when it has none or is not registered.
@@ -118,11 +118,11 @@ pub async fn of_class(pool: &AnyPool, class: &str) -> sqlx::Result<Vec<StoredRob
 }
 
 /// Registers or changes a robot; the same document again changes nothing.
-#[tracing::instrument(skip_all, fields(robot = id))]
-pub async fn put(db: &Db, id: &str, document: &Value, by: &str) -> sqlx::Result<RobotWrite> {
+#[tracing::instrument(skip_all, fields(robot = id.as_str()))]
+pub async fn put(db: &Db, id: &RobotId, document: &Value, by: &str) -> sqlx::Result<RobotWrite> {
     let mut tx = db.begin_write().await?;
     let current: Option<String> = sqlx::query_scalar("select document from robots where id = $1")
-        .bind(id)
+        .bind(id.as_str())
         .fetch_optional(&mut *tx)
         .await?;
     let current: Option<Value> = current.and_then(|d| serde_json::from_str(&d).ok());
@@ -135,14 +135,14 @@ pub async fn put(db: &Db, id: &str, document: &Value, by: &str) -> sqlx::Result<
          on conflict (id) do update set class = excluded.class, document = excluded.document,
              updated_at = excluded.updated_at, updated_by = excluded.updated_by",
     )
-    .bind(id)
+    .bind(id.as_str())
     .bind(class)
     .bind(document.to_string())
     .bind(clock::now())
     .bind(by)
     .execute(&mut *tx)
     .await?;
-    events::append(&mut tx, EventKind::RobotChanged, json!({ "robot": id })).await?;
+    events::append(&mut tx, EventKind::RobotChanged, json!({ "robot": id.as_str() })).await?;
     tx.commit().await?;
     Ok(if current.is_some() { RobotWrite::Replaced } else { RobotWrite::Created })
 }

@@ -10,14 +10,14 @@ use sqlx::AnyPool;
 use super::WriteCondition;
 use crate::clock;
 use crate::db::Db;
-use crate::store::columns::{Flag, JsonText};
+use crate::store::columns::{Flag, Id, JsonText};
 use crate::store::events::{self, EventKind};
 use crate::store::{inbox, retired};
 
 /// A tag as stored, with the metadata the registry keeps about it.
 #[derive(Debug, Clone)]
 pub struct StoredTag {
-    pub epc: String,
+    pub epc: Epc,
     pub entry: Value,
     pub revision: i64,
     pub archived: bool,
@@ -32,7 +32,7 @@ impl StoredTag {
             Value::Object(map) => map.clone(),
             _ => Map::new(),
         };
-        if let Some(uri) = Epc::parse(&self.epc).ok().and_then(|epc| epc.pure_identity_uri()) {
+        if let Some(uri) = self.epc.pure_identity_uri() {
             object.insert("epc_uri".into(), uri.into());
         }
         object.insert("revision".into(), self.revision.into());
@@ -45,7 +45,8 @@ impl StoredTag {
 
 #[derive(sqlx::FromRow)]
 struct TagRow {
-    epc: String,
+    #[sqlx(try_from = "Id<Epc>")]
+    epc: Epc,
     entry: String,
     revision: i64,
     #[sqlx(try_from = "Flag")]
@@ -78,7 +79,7 @@ pub enum TagWriteError {
     #[error("the tag changed since the revision the request names")]
     Stale { current: StoredTag },
     #[error("the EPC was retired when its tag was replaced; the tag now has the EPC {successor}")]
-    Retired { successor: String },
+    Retired { successor: Epc },
     #[error(transparent)]
     Database(#[from] sqlx::Error),
 }
@@ -163,7 +164,7 @@ pub async fn put_in(
         }
         (None, WriteCondition::Absent) => {
             // A retired EPC stays retired: robots reading it are sent on to its successor.
-            if let Some(successor) = retired::successor(tx, epc.as_hex()).await? {
+            if let Some(successor) = retired::successor(tx, epc).await? {
                 return Err(TagWriteError::Retired { successor });
             }
             (1, "create")
@@ -177,7 +178,7 @@ pub async fn put_in(
         }
     };
     let stored = StoredTag {
-        epc: epc.as_hex().to_owned(),
+        epc: epc.clone(),
         entry: entry.clone(),
         revision,
         archived: false,
@@ -232,20 +233,20 @@ pub async fn archive_in(
     Ok(stored)
 }
 
-/// The stored entry of the tag with this EPC (hex), `None` when there is none or it does not
-/// parse; for the trial writer's learning, inside its transaction.
+/// The stored entry of the tag with this EPC, `None` when there is none or it does not parse;
+/// for the trial writer's learning, inside its transaction.
 pub async fn entry_of(
     conn: &mut sqlx::AnyConnection,
-    epc: &str,
+    epc: &Epc,
 ) -> sqlx::Result<Option<serde_json::Value>> {
     let entry: Option<String> = sqlx::query_scalar("select entry from tags where epc = $1")
-        .bind(epc)
+        .bind(epc.as_hex())
         .fetch_optional(conn)
         .await?;
     Ok(entry.and_then(|e| serde_json::from_str(&e).ok()))
 }
 
-/// Whether the tag with this EPC (hex) is archived; `None` when no tag has it.
+/// Whether the tag with this EPC is archived; `None` when no tag has it.
 pub async fn is_archived(conn: &mut sqlx::AnyConnection, epc: &Epc) -> sqlx::Result<Option<bool>> {
     let archived: Option<Flag> = sqlx::query_scalar("select archived from tags where epc = $1")
         .bind(epc.as_hex())
@@ -277,7 +278,7 @@ async fn write(tx: &mut sqlx::AnyConnection, tag: &StoredTag, change: &str) -> s
              name = excluded.name, revision = excluded.revision, archived = excluded.archived,
              updated_at = excluded.updated_at, updated_by = excluded.updated_by",
     )
-    .bind(&tag.epc)
+    .bind(tag.epc.as_hex())
     .bind(&entry)
     .bind(text("type"))
     .bind(text("name"))
@@ -291,7 +292,7 @@ async fn write(tx: &mut sqlx::AnyConnection, tag: &StoredTag, change: &str) -> s
         "insert into tag_revisions (epc, revision, change, entry, archived, changed_at, changed_by)
          values ($1, $2, $3, $4, $5, $6, $7)",
     )
-    .bind(&tag.epc)
+    .bind(tag.epc.as_hex())
     .bind(tag.revision)
     .bind(change)
     .bind(&entry)
@@ -365,16 +366,19 @@ pub async fn move_to(
 ) -> sqlx::Result<StoredTag> {
     sqlx::query("update tag_revisions set epc = $1 where epc = $2")
         .bind(new.as_hex())
-        .bind(&current.epc)
+        .bind(current.epc.as_hex())
         .execute(&mut *tx)
         .await?;
-    sqlx::query("delete from tags where epc = $1").bind(&current.epc).execute(&mut *tx).await?;
+    sqlx::query("delete from tags where epc = $1")
+        .bind(current.epc.as_hex())
+        .execute(&mut *tx)
+        .await?;
     let mut entry = current.entry.clone();
     if let Some(object) = entry.as_object_mut() {
         object.insert("epc".into(), new.as_hex().into());
     }
     let moved = StoredTag {
-        epc: new.as_hex().to_owned(),
+        epc: new.clone(),
         entry,
         revision: current.revision + 1,
         archived: current.archived,
@@ -382,6 +386,6 @@ pub async fn move_to(
         updated_by: by.to_owned(),
     };
     write(tx, &moved, "retag").await?;
-    inbox::forget(tx, new.as_hex()).await?;
+    inbox::forget(tx, new).await?;
     Ok(moved)
 }

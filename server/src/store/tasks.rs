@@ -8,12 +8,13 @@
 //! Long because every change of a task's state is one guarded `update … returning` with its
 //! event, and the guards (which state each change requires) are read against each other here.
 
+use pps_schema::{Epc, RobotId};
 use serde_json::{Value, json};
 use sqlx::{AnyConnection, AnyPool};
 use uuid::Uuid;
 
 use crate::db::Dialect;
-use crate::store::columns::Flag;
+use crate::store::columns::{Flag, Id, MaybeId};
 
 use crate::clock;
 use crate::store::events::{self, EventKind};
@@ -26,21 +27,26 @@ pub const MAX_ATTEMPTS: i64 = 3;
 #[derive(Debug, Clone, PartialEq, sqlx::FromRow)]
 pub struct TaskRow {
     pub seq: i64,
-    pub id: String,
-    pub epc: String,
+    #[sqlx(try_from = "Id<Uuid>")]
+    pub id: Uuid,
+    #[sqlx(try_from = "Id<Epc>")]
+    pub epc: Epc,
     pub action: String,
-    pub robot: Option<String>,
+    #[sqlx(try_from = "MaybeId<RobotId>")]
+    pub robot: Option<RobotId>,
     pub class: Option<String>,
     pub note: Option<String>,
     pub state: String,
     pub created_by: String,
     pub created_at: String,
-    pub claimed_by: Option<String>,
+    #[sqlx(try_from = "MaybeId<RobotId>")]
+    pub claimed_by: Option<RobotId>,
     pub lease_until: Option<String>,
     pub attempts: i64,
     /// JSON array of every robot that held the task, in order.
     pub holders: String,
-    pub trial: Option<String>,
+    #[sqlx(try_from = "MaybeId<Uuid>")]
+    pub trial: Option<Uuid>,
     pub reason: Option<String>,
     pub updated_at: String,
 }
@@ -69,7 +75,7 @@ impl TaskRow {
     }
 
     /// Every robot that held the task.
-    pub fn holders(&self) -> Vec<String> {
+    pub fn holders(&self) -> Vec<RobotId> {
         serde_json::from_str(&self.holders).unwrap_or_default()
     }
 
@@ -98,10 +104,10 @@ macro_rules! columns {
 /// A task as a caretaker asked for it, checked.
 #[derive(Debug, Clone)]
 pub struct NewTask {
-    pub id: String,
-    pub epc: String,
+    pub id: Uuid,
+    pub epc: Epc,
     pub action: String,
-    pub robot: Option<String>,
+    pub robot: Option<RobotId>,
     pub class: Option<String>,
     pub note: Option<String>,
     pub created_by: String,
@@ -128,10 +134,10 @@ pub async fn create(tx: &mut AnyConnection, task: &NewTask) -> sqlx::Result<Task
          updated_at) values ($1, $2, $3, $4, $5, $6, 'queued', $7, $8, $9) returning ",
         columns!()
     ))
-    .bind(&task.id)
-    .bind(&task.epc)
+    .bind(task.id.hyphenated().to_string())
+    .bind(task.epc.as_hex())
     .bind(&task.action)
-    .bind(&task.robot)
+    .bind(task.robot.as_ref().map(RobotId::as_str))
     .bind(&task.class)
     .bind(&task.note)
     .bind(&task.created_by)
@@ -144,9 +150,9 @@ pub async fn create(tx: &mut AnyConnection, task: &NewTask) -> sqlx::Result<Task
 }
 
 #[tracing::instrument(skip_all)]
-pub async fn get(pool: &AnyPool, id: &str) -> sqlx::Result<Option<TaskRow>> {
+pub async fn get(pool: &AnyPool, id: &Uuid) -> sqlx::Result<Option<TaskRow>> {
     sqlx::query_as(concat!("select ", columns!(), " from tasks where id = $1"))
-        .bind(id)
+        .bind(id.hyphenated().to_string())
         .fetch_optional(pool)
         .await
 }
@@ -155,12 +161,12 @@ pub async fn get(pool: &AnyPool, id: &str) -> sqlx::Result<Option<TaskRow>> {
 #[derive(Debug, Default, Clone)]
 pub struct TaskFilter {
     pub state: Option<String>,
-    pub epc: Option<String>,
+    pub epc: Option<Epc>,
     /// Tasks this robot holds, did, or that name it as their target.
-    pub robot: Option<String>,
+    pub robot: Option<RobotId>,
     /// Only what this robot (of this class) may see: what it holds or held, and queued tasks
     /// that target it, its class or anyone.
-    pub visible_to: Option<(String, Option<String>)>,
+    pub visible_to: Option<(RobotId, Option<String>)>,
 }
 
 /// Up to `limit` tasks before `before` (a `seq`; 0 for the newest), newest first.
@@ -204,8 +210,8 @@ pub async fn list(
     sqlx::query_as(statement)
         .bind(before)
         .bind(filter.state.as_deref())
-        .bind(filter.epc.as_deref())
-        .bind(filter.robot.as_deref())
+        .bind(filter.epc.as_ref().map(Epc::as_hex))
+        .bind(filter.robot.as_ref().map(RobotId::as_str))
         .bind(visible_robot)
         .bind(visible_class)
         .bind(i64::from(limit))
@@ -218,7 +224,7 @@ pub async fn list(
 #[tracing::instrument(skip_all)]
 pub async fn claimable(
     pool: &AnyPool,
-    robot: &str,
+    robot: &RobotId,
     class: Option<&str>,
     now: &str,
     limit: u32,
@@ -233,7 +239,7 @@ pub async fn claimable(
     ))
     .bind(now)
     .bind(MAX_ATTEMPTS)
-    .bind(robot)
+    .bind(robot.as_str())
     .bind(class)
     .bind(i64::from(limit))
     .fetch_all(pool)
@@ -261,8 +267,8 @@ pub async fn any_claimable(pool: &AnyPool, now: &str) -> sqlx::Result<bool> {
 #[tracing::instrument(skip_all)]
 pub async fn claim(
     tx: &mut AnyConnection,
-    id: &str,
-    robot: &str,
+    id: &Uuid,
+    robot: &RobotId,
     lease_until: &str,
 ) -> sqlx::Result<Option<TaskRow>> {
     let now = clock::now();
@@ -285,10 +291,10 @@ pub async fn claim(
         claim_appending!("(holders::jsonb || jsonb_build_array($1::text))::text"),
     );
     let row: Option<TaskRow> = sqlx::query_as(statement)
-        .bind(robot)
+        .bind(robot.as_str())
         .bind(lease_until)
         .bind(&now)
-        .bind(id)
+        .bind(id.hyphenated().to_string())
         .bind(MAX_ATTEMPTS)
         .fetch_optional(&mut *tx)
         .await?;
@@ -299,8 +305,8 @@ pub async fn claim(
 #[tracing::instrument(skip_all)]
 pub async fn extend_lease(
     tx: &mut AnyConnection,
-    id: &str,
-    robot: &str,
+    id: &Uuid,
+    robot: &RobotId,
     lease_until: &str,
 ) -> sqlx::Result<Option<TaskRow>> {
     // Not announced: only the lease moved, and every holder's heartbeat would flood the feed.
@@ -311,8 +317,8 @@ pub async fn extend_lease(
         columns!()
     ))
     .bind(lease_until)
-    .bind(id)
-    .bind(robot)
+    .bind(id.hyphenated().to_string())
+    .bind(robot.as_str())
     .bind(clock::now())
     .fetch_optional(&mut *tx)
     .await
@@ -322,8 +328,8 @@ pub async fn extend_lease(
 #[tracing::instrument(skip_all)]
 pub async fn finish(
     tx: &mut AnyConnection,
-    id: &str,
-    robot: &str,
+    id: &Uuid,
+    robot: &RobotId,
     trial: &Uuid,
     succeeded: bool,
     reason: Option<&str>,
@@ -339,8 +345,8 @@ pub async fn finish(
     .bind(trial.hyphenated().to_string())
     .bind(reason)
     .bind(&now)
-    .bind(id)
-    .bind(robot)
+    .bind(id.hyphenated().to_string())
+    .bind(robot.as_str())
     .fetch_optional(&mut *tx)
     .await?;
     announced(tx, row).await
@@ -350,10 +356,10 @@ pub async fn finish(
 #[tracing::instrument(skip_all)]
 pub async fn cancel(
     tx: &mut AnyConnection,
-    id: &str,
+    id: &Uuid,
     reason: &str,
 ) -> sqlx::Result<Option<TaskRow>> {
-    let rows = cancel_where(tx, false, id, reason).await?;
+    let rows = cancel_where(tx, false, &id.hyphenated().to_string(), reason).await?;
     Ok(rows.into_iter().next())
 }
 
@@ -361,10 +367,10 @@ pub async fn cancel(
 #[tracing::instrument(skip_all)]
 pub async fn cancel_on_tag(
     tx: &mut AnyConnection,
-    epc: &str,
+    epc: &Epc,
     reason: &str,
 ) -> sqlx::Result<Vec<TaskRow>> {
-    cancel_where(tx, true, epc, reason).await
+    cancel_where(tx, true, epc.as_hex(), reason).await
 }
 
 /// Cancels the open tasks with this id (`by_tag` false) or on this tag (`by_tag` true).
@@ -449,10 +455,10 @@ pub async fn any_lease_expired(pool: &AnyPool, now: &str) -> sqlx::Result<bool> 
 }
 
 /// Moves a tag's tasks to its new EPC (a worn tag replaced); returns how many moved.
-pub async fn move_to(conn: &mut AnyConnection, from: &str, to: &str) -> sqlx::Result<u64> {
+pub async fn move_to(conn: &mut AnyConnection, from: &Epc, to: &Epc) -> sqlx::Result<u64> {
     let done = sqlx::query("update tasks set epc = $1 where epc = $2")
-        .bind(to)
-        .bind(from)
+        .bind(to.as_hex())
+        .bind(from.as_hex())
         .execute(&mut *conn)
         .await?;
     Ok(done.rows_affected())

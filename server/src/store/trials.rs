@@ -1,21 +1,22 @@
 //! Trials in the database: one row per attempt, in the order the registry received them.
 
-use pps_schema::Trial;
+use pps_schema::{Epc, Outcome, RobotId, Trial};
 use serde_json::{Value, json};
 use sqlx::{AnyConnection, AnyExecutor, AnyPool};
 use uuid::Uuid;
 
 use crate::clock;
 use crate::db::Dialect;
-use crate::store::columns::MaybeFlag;
+use crate::store::columns::{Id, MaybeFlag};
 use crate::store::placeholders;
+use crate::trial_filter::TrialFilter;
 
 /// How a group (a tag, an action, a robot class or none) went lately: the
 /// attempts and successes among its latest `window` trials, a person's verdict overriding the
 /// detector's. What *reliable* is judged on.
 pub async fn latest_outcomes(
     executor: impl AnyExecutor<'_>,
-    epc: &str,
+    epc: &Epc,
     action: &str,
     robot_class: Option<&str>,
     window: i64,
@@ -28,7 +29,7 @@ pub async fn latest_outcomes(
              where epc = $1 and action = $2 and coalesce(robot_class, '') = coalesce($3, '')
              order by seq desc limit $4) as latest",
     )
-    .bind(epc)
+    .bind(epc.as_hex())
     .bind(action)
     .bind(robot_class)
     .bind(window)
@@ -42,7 +43,7 @@ pub async fn latest_outcomes(
 pub type GroupCounts = (String, Option<String>, i64, i64, i64, i64, i64, i64, Option<String>);
 
 /// Every action × robot class group of a tag's trials, ordered by action and class.
-pub async fn group_counts(pool: &AnyPool, epc: &str) -> sqlx::Result<Vec<GroupCounts>> {
+pub async fn group_counts(pool: &AnyPool, epc: &Epc) -> sqlx::Result<Vec<GroupCounts>> {
     sqlx::query_as(
         "select action, robot_class, count(*),
                 sum(case when outcome = 'success' then 1 else 0 end),
@@ -56,7 +57,7 @@ pub async fn group_counts(pool: &AnyPool, epc: &str) -> sqlx::Result<Vec<GroupCo
          from trials where epc = $1 group by action, robot_class
          order by action, coalesce(robot_class, '')",
     )
-    .bind(epc)
+    .bind(epc.as_hex())
     .fetch_all(pool)
     .await
 }
@@ -68,7 +69,7 @@ pub async fn group_counts(pool: &AnyPool, epc: &str) -> sqlx::Result<Vec<GroupCo
 pub async fn latest_measurements(
     conn: &mut AnyConnection,
     path: &str,
-    epc: &str,
+    epc: &Epc,
     robot_class: Option<&str>,
     behavior: &str,
     window: i64,
@@ -89,7 +90,7 @@ pub async fn latest_measurements(
          order by seq desc limit $5",
     ))
     .bind(path)
-    .bind(epc)
+    .bind(epc.as_hex())
     .bind(robot_class)
     .bind(behavior)
     .bind(window)
@@ -102,9 +103,12 @@ pub async fn latest_measurements(
 #[derive(Debug, Clone, PartialEq, sqlx::FromRow)]
 pub struct TrialRow {
     pub seq: i64,
-    pub id: String,
-    pub epc: String,
-    pub robot: String,
+    #[sqlx(try_from = "Id<Uuid>")]
+    pub id: Uuid,
+    #[sqlx(try_from = "Id<Epc>")]
+    pub epc: Epc,
+    #[sqlx(try_from = "Id<RobotId>")]
+    pub robot: RobotId,
     pub robot_class: Option<String>,
     pub action: String,
     pub outcome: String,
@@ -187,17 +191,6 @@ pub async fn insert_new(
         .collect()
 }
 
-/// Which trials a list wants.
-#[derive(Debug, Default, Clone)]
-pub struct TrialFilter {
-    pub epc: Option<String>,
-    pub robot: Option<String>,
-    pub action: Option<String>,
-    pub outcome: Option<String>,
-    /// Trials that started at or after this RFC 3339 time.
-    pub since: Option<String>,
-}
-
 pub async fn find(conn: &mut AnyConnection, id: &Uuid) -> sqlx::Result<Option<TrialRow>> {
     sqlx::query_as(
         "select seq, id, epc, robot, robot_class, action, outcome, confirmed, received_at, body
@@ -261,11 +254,11 @@ pub async fn list(
          limit $7",
     ))
     .bind(window.after)
-    .bind(&filter.epc)
-    .bind(&filter.robot)
-    .bind(&filter.action)
-    .bind(&filter.outcome)
-    .bind(&filter.since)
+    .bind(filter.epc.as_ref().map(Epc::as_hex))
+    .bind(filter.robot.as_ref().map(RobotId::as_str))
+    .bind(filter.action.as_deref())
+    .bind(filter.outcome.map(Outcome::as_str))
+    .bind(filter.since.map(clock::format))
     .bind(i64::from(window.limit))
     .bind(window.forces)
     .fetch(pool);
@@ -295,50 +288,13 @@ pub async fn set_confirmed(
 }
 
 /// Moves every trial of a retagged tag to its new EPC.
-pub async fn move_to(conn: &mut AnyConnection, from: &str, to: &str) -> sqlx::Result<u64> {
+pub async fn move_to(conn: &mut AnyConnection, from: &Epc, to: &Epc) -> sqlx::Result<u64> {
     Ok(sqlx::query("update trials set epc = $1 where epc = $2")
-        .bind(to)
-        .bind(from)
+        .bind(to.as_hex())
+        .bind(from.as_hex())
         .execute(conn)
         .await?
         .rows_affected())
-}
-
-impl TrialFilter {
-    /// A filter as a person spells it (query string or command line), checked: the EPC in any
-    /// accepted form, one of the four outcomes, `since` in RFC 3339. The error says what to fix.
-    pub fn parse(
-        epc: Option<&str>,
-        robot: Option<String>,
-        action: Option<String>,
-        outcome: Option<String>,
-        since: Option<&str>,
-    ) -> Result<Self, String> {
-        let epc = epc
-            .map(|raw| {
-                pps_schema::Epc::parse(raw)
-                    .map(|epc| epc.as_hex().to_owned())
-                    .map_err(|error| format!("{raw:?} is not an EPC: {error}"))
-            })
-            .transpose()?;
-        if let Some(outcome) = &outcome
-            && !pps_schema::Outcome::ALL.iter().any(|o| o.as_str() == outcome)
-        {
-            return Err(format!(
-                "outcome is one of success, failure, aborted, error; not {outcome:?}"
-            ));
-        }
-        let since = since
-            .map(|text| {
-                crate::clock::parse(text).map(crate::clock::format).ok_or_else(|| {
-                    format!(
-                        "since must be an RFC 3339 time such as 2026-11-22T09:00:00Z, not {text:?}"
-                    )
-                })
-            })
-            .transpose()?;
-        Ok(Self { epc, robot, action, outcome, since })
-    }
 }
 
 /// Trials received before `cutoff` that still carry force samples, after sequence number

@@ -3,7 +3,7 @@
 
 use std::collections::BTreeMap;
 
-use pps_schema::Epc;
+use pps_schema::{Epc, RobotId};
 use serde::Deserialize;
 use serde_json::Value;
 
@@ -34,14 +34,11 @@ struct Unavailable {
 /// Why `robot` cannot run `action` on `epc`, or `None` when it can.
 pub async fn why_not(
     state: &AppState,
-    epc: &str,
+    epc: &Epc,
     action: &str,
-    robot: &str,
+    robot: &RobotId,
 ) -> Result<Option<String>, ApiError> {
-    let epc = Epc::parse(epc).map_err(|error| {
-        ApiError::Internal(anyhow::anyhow!("a stored task has a bad EPC {epc}: {error}"))
-    })?;
-    let cached = match entry_for(state, &epc, robot).await {
+    let cached = match entry_for(state, epc, robot).await {
         Ok(cached) => cached,
         // An archived or retired tag: nothing on it can be done.
         Err(ApiError::NotFound(why)) => return Ok(Some(why)),
@@ -59,7 +56,7 @@ pub async fn why_not(
 /// Why no registered robot of `class` can run `action` on `epc`, or `None` when one can.
 pub async fn why_no_robot_of_class(
     state: &AppState,
-    epc: &str,
+    epc: &Epc,
     action: &str,
     class: &str,
 ) -> Result<Option<String>, ApiError> {

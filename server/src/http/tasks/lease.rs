@@ -9,19 +9,19 @@
 use std::time::Duration;
 
 use axum::Json;
-use axum::extract::{Path, State};
+use axum::extract::State;
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
-use pps_schema::FieldError;
+use pps_schema::{FieldError, RobotId};
 use serde::Deserialize;
 use serde_json::Value;
 use uuid::Uuid;
 
-use super::{TASK_ID, find, offer, parse_task_id};
+use super::{TASK_ID, find, offer};
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, JsonBody};
+use crate::http::ids::{InPath, TaskId};
 use crate::http::openapi::{Body, Doc, Param, ParamType, Reply};
-use crate::http::robots::parse_robot_id;
 use crate::state::AppState;
 use crate::store::tasks::{self, TaskRow};
 use crate::store::{robots, trials};
@@ -60,15 +60,14 @@ pub const CLAIM: Doc = Doc::new("claimTask", "Take the next task this robot shou
 pub async fn claim(
     State(state): State<AppState>,
     Caller(caller): Caller,
-    Path(robot): Path<String>,
+    InPath(robot): InPath<RobotId>,
     ApiQuery(params): ApiQuery<ClaimParams>,
 ) -> Result<Response, ApiError> {
-    let robot = parse_robot_id(&robot)?;
-    let robot = robot.as_str();
-    if caller.robot.as_deref() != Some(robot) {
+    if caller.robot.as_ref() != Some(&robot) {
         return Err(ApiError::Forbidden(format!(
-            "a robot claims tasks only for itself: this token is bound to {:?}, not {robot:?}",
-            caller.robot.as_deref().unwrap_or("")
+            "a robot claims tasks only for itself: this token is bound to {:?}, not {:?}",
+            caller.robot.as_ref().map_or("", RobotId::as_str),
+            robot.as_str()
         )));
     }
     let wait = match params.wait.unwrap_or(0.0) {
@@ -83,10 +82,10 @@ pub async fn claim(
         }
     };
     let deadline = tokio::time::Instant::now() + wait;
-    let class = robots::get(state.db.reader(), robot).await?.and_then(|r| r.class);
-    let place = state.tasks.join(robot, class.as_deref(), !wait.is_zero());
+    let class = robots::get(state.db.reader(), &robot).await?.and_then(|r| r.class);
+    let place = state.tasks.join(&robot, class.as_deref(), !wait.is_zero());
     loop {
-        if let Some(task) = offer::claim_next(&state, &place, robot, class.as_deref()).await? {
+        if let Some(task) = offer::claim_next(&state, &place, &robot, class.as_deref()).await? {
             return Ok(Json(task.to_json()).into_response());
         }
         // Nothing for this robot: the robot behind it may have better luck.
@@ -118,9 +117,8 @@ pub const HEARTBEAT: Doc = Doc::new("heartbeatTask", "Extend the lease on a task
 pub async fn heartbeat(
     State(state): State<AppState>,
     Caller(caller): Caller,
-    Path(id): Path<String>,
+    InPath(TaskId(id)): InPath<TaskId>,
 ) -> Result<Json<Value>, ApiError> {
-    let id = parse_task_id(&id)?;
     let robot = holder(&caller)?;
     let lease_until = clock::format(time::OffsetDateTime::now_utc() + state.tasks.lease());
     let mut tx = state.db.begin_write().await?;
@@ -156,20 +154,17 @@ const OUTCOMES: [&str; 4] = ["success", "failure", "aborted", "error"];
 pub async fn finish(
     State(state): State<AppState>,
     Caller(caller): Caller,
-    Path(id): Path<String>,
+    InPath(TaskId(id)): InPath<TaskId>,
     JsonBody(body): JsonBody,
 ) -> Result<Json<Value>, ApiError> {
-    let id = parse_task_id(&id)?;
     let robot = holder(&caller)?;
     let (trial_id, outcome) = parse_finish(&body)?;
     let task = find(&state, &id).await?;
-    if task.trial.as_deref() == Some(&*trial_id.hyphenated().to_string())
-        && task.claimed_by.as_deref() == Some(robot)
-    {
+    if task.trial == Some(trial_id) && task.claimed_by.as_ref() == Some(robot) {
         // A retry whose first answer was lost.
         return Ok(Json(task.to_json()));
     }
-    if task.state != "claimed" || task.claimed_by.as_deref() != Some(robot) {
+    if task.state != "claimed" || task.claimed_by.as_ref() != Some(robot) {
         return Err(not_held(&task, robot));
     }
     let Some(trial) = trials::get(state.db.reader(), &trial_id).await? else {
@@ -181,7 +176,7 @@ pub async fn finish(
             ),
         ));
     };
-    if trial.robot != robot {
+    if trial.robot != *robot {
         return Err(ApiError::Forbidden(format!(
             "trial {trial_id} was recorded by robot {}; a robot finishes a task with its own trial",
             trial.robot
@@ -263,25 +258,24 @@ fn parse_finish(body: &Value) -> Result<(Uuid, String), ApiError> {
 }
 
 /// The robot a holder's route acts for.
-fn holder(caller: &Principal) -> Result<&str, ApiError> {
+fn holder(caller: &Principal) -> Result<&RobotId, ApiError> {
     caller
         .robot
-        .as_deref()
+        .as_ref()
         .ok_or_else(|| ApiError::Internal(anyhow::anyhow!("a robot credential without a robot id")))
 }
 
 /// Why `robot` may not heartbeat or finish `task`: 409 when it held it and lost the lease, 403
 /// when it never held it.
-fn not_held(task: &TaskRow, robot: &str) -> ApiError {
-    let held =
-        task.claimed_by.as_deref() == Some(robot) || task.holders().iter().any(|h| h == robot);
+fn not_held(task: &TaskRow, robot: &RobotId) -> ApiError {
+    let held = task.claimed_by.as_ref() == Some(robot) || task.holders().iter().any(|h| h == robot);
     if !held {
         return ApiError::Forbidden(format!(
             "robot {robot} does not hold task {}; only its holder may heartbeat or finish it",
             task.id
         ));
     }
-    let now = match (task.state.as_str(), task.claimed_by.as_deref()) {
+    let now = match (task.state.as_str(), task.claimed_by.as_ref()) {
         ("claimed", Some(holder)) if holder == robot => format!(
             "its lease ran out at {}; it goes back to the queue",
             task.lease_until.as_deref().unwrap_or("?")

@@ -7,17 +7,19 @@ mod offer;
 mod request;
 
 use axum::Json;
-use axum::extract::{Path, State};
+use axum::extract::State;
 use axum::http::StatusCode;
 use axum::http::header::LOCATION;
 use axum::response::{IntoResponse, Response};
+use pps_schema::{Epc, RobotId};
 use serde::Deserialize;
 use serde_json::Value;
 use uuid::Uuid;
 
 use crate::auth::{Principal, Role};
 use crate::error::ApiError;
-use crate::http::extract::{ApiQuery, Caller, JsonBody, parse_epc};
+use crate::http::extract::{ApiQuery, Caller, JsonBody};
+use crate::http::ids::{InPath, Segment, TaskId};
 use crate::http::openapi::{Body, Doc, Header, Param, ParamType, Reply};
 use crate::http::page;
 use crate::state::AppState;
@@ -54,10 +56,10 @@ pub async fn create(
     let asked = TaskRequest::parse(&body)?;
     asked.check(&state).await?;
     let task = NewTask {
-        id: Uuid::new_v4().to_string(),
-        epc: asked.epc.as_hex().to_owned(),
+        id: Uuid::new_v4(),
+        epc: asked.epc,
         action: asked.action,
-        robot: asked.robot.map(|r| r.as_str().to_owned()),
+        robot: asked.robot,
         class: asked.class,
         note: asked.note,
         created_by: caller.name.clone(),
@@ -117,11 +119,9 @@ pub async fn list(
             STATES.join(", ")
         )));
     }
-    let epc = params.epc.as_deref().map(parse_epc).transpose()?;
-    if let Some(robot) = &params.robot {
-        crate::http::robots::parse_robot_id(robot)?;
-    }
-    let visible_to = match (caller.role, &params.robot) {
+    let epc = params.epc.as_deref().map(Epc::parse_segment).transpose()?;
+    let robot = params.robot.as_deref().map(RobotId::parse_segment).transpose()?;
+    let visible_to = match (caller.role, &robot) {
         (Role::Robot, Some(asked)) if Some(asked) != caller.robot.as_ref() => {
             return Err(ApiError::Forbidden(
                 "a robot lists only tasks it holds or may claim; leave robot out or name yourself"
@@ -131,12 +131,7 @@ pub async fn list(
         (Role::Robot, _) => Some(robot_and_class(&state, &caller).await?),
         _ => None,
     };
-    let filter = TaskFilter {
-        state: params.state,
-        epc: epc.map(|e| e.as_hex().to_owned()),
-        robot: params.robot,
-        visible_to,
-    };
+    let filter = TaskFilter { state: params.state, epc, robot, visible_to };
     let rows = tasks::list(state.db.reader(), &filter, before, limit + 1).await?;
     let mut page = page::page(rows, limit, |row| row.seq.to_string());
     if let Some((robot, _)) = &filter.visible_to {
@@ -161,10 +156,10 @@ pub const GET: Doc = Doc::new("getTask", "One task")
 pub async fn get(
     State(state): State<AppState>,
     Caller(caller): Caller,
-    Path(id): Path<String>,
+    InPath(TaskId(id)): InPath<TaskId>,
 ) -> Result<Json<Value>, ApiError> {
     let row = find(&state, &id).await?;
-    if let Some(robot) = caller.robot.as_deref().filter(|_| caller.role == Role::Robot)
+    if let Some(robot) = caller.robot.as_ref().filter(|_| caller.role == Role::Robot)
         && !may_see(&state, robot, &row).await?
     {
         return Err(ApiError::Forbidden(format!(
@@ -187,9 +182,8 @@ pub const CANCEL: Doc = Doc::new("cancelTask", "Cancel a queued or claimed task"
 pub async fn cancel(
     State(state): State<AppState>,
     Caller(caller): Caller,
-    Path(id): Path<String>,
+    InPath(TaskId(id)): InPath<TaskId>,
 ) -> Result<Json<Value>, ApiError> {
-    let id = parse_task_id(&id)?;
     let mut tx = state.db.begin_write().await?;
     let cancelled = tasks::cancel(&mut tx, &id, &format!("cancelled by {}", caller.name)).await?;
     tx.commit().await?;
@@ -203,22 +197,14 @@ pub async fn cancel(
         ended => Err(ApiError::Conflict(format!(
             "task {id} is {ended} already (trial {}); only queued or claimed tasks can be \
              cancelled — ask for a new task to undo it",
-            row.trial.as_deref().unwrap_or("none")
+            row.trial.map_or("none".to_owned(), |trial| trial.to_string())
         ))),
     }
 }
 
-/// Task ids are UUIDs, stored in their lower-case hyphenated form.
-pub fn parse_task_id(raw: &str) -> Result<String, ApiError> {
-    Uuid::parse_str(raw).map(|id| id.hyphenated().to_string()).map_err(|error| {
-        ApiError::BadRequest(format!("{raw:?} is not a task id (a UUID): {error}"))
-    })
-}
-
 /// The task with this id, or 404.
-async fn find(state: &AppState, id: &str) -> Result<TaskRow, ApiError> {
-    let id = parse_task_id(id)?;
-    tasks::get(state.db.reader(), &id)
+async fn find(state: &AppState, id: &Uuid) -> Result<TaskRow, ApiError> {
+    tasks::get(state.db.reader(), id)
         .await?
         .ok_or_else(|| ApiError::NotFound(format!("no task has the id {id}")))
 }
@@ -227,7 +213,7 @@ async fn find(state: &AppState, id: &str) -> Result<TaskRow, ApiError> {
 async fn robot_and_class(
     state: &AppState,
     caller: &Principal,
-) -> Result<(String, Option<String>), ApiError> {
+) -> Result<(RobotId, Option<String>), ApiError> {
     let robot = caller.robot.clone().ok_or_else(|| {
         ApiError::Internal(anyhow::anyhow!("a robot credential without a robot id"))
     })?;
@@ -236,11 +222,11 @@ async fn robot_and_class(
 }
 
 /// A robot sees the tasks it holds or held, and the queued ones it could claim.
-async fn may_see(state: &AppState, robot: &str, row: &TaskRow) -> Result<bool, ApiError> {
-    if row.claimed_by.as_deref() == Some(robot) || row.holders().iter().any(|h| h == robot) {
+async fn may_see(state: &AppState, robot: &RobotId, row: &TaskRow) -> Result<bool, ApiError> {
+    if row.claimed_by.as_ref() == Some(robot) || row.holders().iter().any(|h| h == robot) {
         return Ok(true);
     }
-    if row.state != "queued" || row.robot.as_deref().is_some_and(|r| r != robot) {
+    if row.state != "queued" || row.robot.as_ref().is_some_and(|r| r != robot) {
         return Ok(false);
     }
     let class = robots::get(state.db.reader(), robot).await?.and_then(|r| r.class);

@@ -10,6 +10,7 @@
 
 use std::collections::HashMap;
 
+use pps_schema::{Epc, RobotId};
 use time::OffsetDateTime;
 
 use super::availability::why_not;
@@ -30,16 +31,16 @@ fn rank(reliable_classes: &[String], class: Option<&str>, arrival: u64) -> (bool
 }
 
 /// Whether the task is meant for this robot at all (its targets; not yet its abilities).
-fn targets(task: &TaskRow, robot: &str, class: Option<&str>) -> bool {
-    task.robot.as_deref().is_none_or(|r| r == robot)
+fn targets(task: &TaskRow, robot: &RobotId, class: Option<&str>) -> bool {
+    task.robot.as_ref().is_none_or(|r| r == robot)
         && task.class.as_deref().is_none_or(|c| Some(c) == class)
 }
 
 /// What one look found out, so many tasks on the same tag and action cost one check each.
 #[derive(Default)]
 struct Memo {
-    can: HashMap<(String, String, String), bool>,
-    reliable: HashMap<(String, String), Vec<String>>,
+    can: HashMap<(Epc, String, RobotId), bool>,
+    reliable: HashMap<(Epc, String), Vec<String>>,
 }
 
 impl Memo {
@@ -48,9 +49,9 @@ impl Memo {
         &mut self,
         state: &AppState,
         task: &TaskRow,
-        robot: &str,
+        robot: &RobotId,
     ) -> Result<bool, ApiError> {
-        let key = (task.epc.clone(), task.action.clone(), robot.to_owned());
+        let key = (task.epc.clone(), task.action.clone(), robot.clone());
         if let Some(&can) = self.can.get(&key) {
             return Ok(can);
         }
@@ -80,7 +81,7 @@ impl Memo {
 pub async fn claim_next(
     state: &AppState,
     place: &Place,
-    robot: &str,
+    robot: &RobotId,
     class: Option<&str>,
 ) -> Result<Option<TaskRow>, ApiError> {
     let reader = state.db.reader();

@@ -107,7 +107,7 @@ impl TaskRequest {
             Some(tag) => tag,
             None => {
                 let mut conn = state.db.reader().acquire().await?;
-                let message = match retired::successor(&mut conn, epc).await? {
+                let message = match retired::successor(&mut conn, &self.epc).await? {
                     Some(successor) => format!(
                         "the EPC {epc} was retired when its tag was replaced; ask for the task \
                          on {successor}"
@@ -132,7 +132,7 @@ impl TaskRequest {
         }
         let mut errors = Vec::new();
         if let Some(robot) = &self.robot {
-            let stored = robots::get(state.db.reader(), robot.as_str()).await?;
+            let stored = robots::get(state.db.reader(), robot).await?;
             match (&stored, &self.class) {
                 (None, _) => errors.push(FieldError::new(
                     "/robot",
@@ -150,13 +150,13 @@ impl TaskRequest {
             }
             if stored.is_some()
                 && let Some(reason) =
-                    availability::why_not(state, epc, &self.action, robot.as_str()).await?
+                    availability::why_not(state, &self.epc, &self.action, robot).await?
             {
                 errors.push(FieldError::new("/robot", reason));
             }
         } else if let Some(class) = &self.class
             && let Some(reason) =
-                availability::why_no_robot_of_class(state, epc, &self.action, class).await?
+                availability::why_no_robot_of_class(state, &self.epc, &self.action, class).await?
         {
             errors.push(FieldError::new("/class", reason));
         }
