@@ -1,22 +1,18 @@
 //! Tasks in the database: what caretakers asked for, who holds each under a lease, how it ended.
 //!
 //! Every change to a task appends its `task_changed` event in the same transaction, so the feed
-//! never misses one and never announces one that did not commit. State changes are single
-//! `update … where <the state it must be in> … returning`, so two robots racing for one task
-//! cannot both get it.
-//!
-//! Long because every change of a task's state is one guarded `update … returning` with its
-//! event, and the guards (which state each change requires) are read against each other here.
+//! never misses one and never announces one that did not commit. Here: the row, asking for a
+//! task, reading and listing tasks, cancelling; the lease (claim, heartbeat, finish, the sweep)
+//! is [`lease`].
 
 use pps_schema::{Epc, RobotId};
 use serde_json::{Value, json};
 use sqlx::{AnyConnection, AnyPool};
 use uuid::Uuid;
 
-use crate::db::Dialect;
-use crate::store::columns::{Flag, Id, MaybeId};
-
 use crate::clock;
+use crate::db::Dialect;
+use crate::store::columns::{Id, MaybeId};
 use crate::store::events::{self, EventKind};
 
 /// A robot's lease running out this many times fails the task: a task that keeps killing (or
@@ -100,6 +96,12 @@ macro_rules! columns {
          lease_until, attempts, holders, trial, reason, updated_at"
     };
 }
+
+mod lease;
+
+pub use lease::{
+    any_claimable, any_lease_expired, claim, claimable, expire_leases, extend_lease, finish,
+};
 
 /// A task as a caretaker asked for it, checked.
 #[derive(Debug, Clone)]
@@ -219,139 +221,6 @@ pub async fn list(
         .await
 }
 
-/// Tasks `robot` (of `class`) could claim now, oldest first: queued ones, and claimed ones whose
-/// lease ran out but that have attempts left, that target it, its class or anyone.
-#[tracing::instrument(skip_all)]
-pub async fn claimable(
-    pool: &AnyPool,
-    robot: &RobotId,
-    class: Option<&str>,
-    now: &str,
-    limit: u32,
-) -> sqlx::Result<Vec<TaskRow>> {
-    sqlx::query_as(concat!(
-        "select ",
-        columns!(),
-        " from tasks
-         where (state = 'queued' or (state = 'claimed' and lease_until <= $1 and attempts < $2))
-           and (robot is null or robot = $3) and (class is null or class = $4)
-         order by seq limit $5"
-    ))
-    .bind(now)
-    .bind(MAX_ATTEMPTS)
-    .bind(robot.as_str())
-    .bind(class)
-    .bind(i64::from(limit))
-    .fetch_all(pool)
-    .await
-}
-
-/// Whether any task could be claimed now by some robot: queued, or its lease ran out with
-/// attempts left.
-pub async fn any_claimable(pool: &AnyPool, now: &str) -> sqlx::Result<bool> {
-    let found: Flag = sqlx::query_scalar(
-        "select case when exists (select 1 from tasks where state = 'queued')
-             or exists (select 1 from tasks
-                        where state = 'claimed' and lease_until <= $1 and attempts < $2)
-             then 1 else 0 end",
-    )
-    .bind(now)
-    .bind(MAX_ATTEMPTS)
-    .fetch_one(pool)
-    .await?;
-    Ok(found.into())
-}
-
-/// Gives the task to `robot` until `lease_until`, if it is still there for the taking (queued,
-/// or its holder's lease ran out with attempts left); `None` when another robot was faster.
-#[tracing::instrument(skip_all)]
-pub async fn claim(
-    tx: &mut AnyConnection,
-    id: &Uuid,
-    robot: &RobotId,
-    lease_until: &str,
-) -> sqlx::Result<Option<TaskRow>> {
-    let now = clock::now();
-    macro_rules! claim_appending {
-        ($holders:literal) => {
-            concat!(
-                "update tasks set state = 'claimed', claimed_by = $1, lease_until = $2,
-                     attempts = attempts + 1, holders = ",
-                $holders,
-                ", updated_at = $3
-                 where id = $4
-                   and (state = 'queued' or (state = 'claimed' and lease_until <= $3 and attempts < $5))
-                 returning ",
-                columns!()
-            )
-        };
-    }
-    let statement = Dialect::of(tx).pick(
-        claim_appending!("json_insert(holders, '$[#]', $1)"),
-        claim_appending!("(holders::jsonb || jsonb_build_array($1::text))::text"),
-    );
-    let row: Option<TaskRow> = sqlx::query_as(statement)
-        .bind(robot.as_str())
-        .bind(lease_until)
-        .bind(&now)
-        .bind(id.hyphenated().to_string())
-        .bind(MAX_ATTEMPTS)
-        .fetch_optional(&mut *tx)
-        .await?;
-    announced(tx, row).await
-}
-
-/// Extends `robot`'s lease on a task it holds and whose lease has not run out.
-#[tracing::instrument(skip_all)]
-pub async fn extend_lease(
-    tx: &mut AnyConnection,
-    id: &Uuid,
-    robot: &RobotId,
-    lease_until: &str,
-) -> sqlx::Result<Option<TaskRow>> {
-    // Not announced: only the lease moved, and every holder's heartbeat would flood the feed.
-    sqlx::query_as(concat!(
-        "update tasks set lease_until = $1
-         where id = $2 and state = 'claimed' and claimed_by = $3 and lease_until > $4
-         returning ",
-        columns!()
-    ))
-    .bind(lease_until)
-    .bind(id.hyphenated().to_string())
-    .bind(robot.as_str())
-    .bind(clock::now())
-    .fetch_optional(&mut *tx)
-    .await
-}
-
-/// Ends a task `robot` holds under a live lease with `trial`: `done` or `failed`.
-#[tracing::instrument(skip_all)]
-pub async fn finish(
-    tx: &mut AnyConnection,
-    id: &Uuid,
-    robot: &RobotId,
-    trial: &Uuid,
-    succeeded: bool,
-    reason: Option<&str>,
-) -> sqlx::Result<Option<TaskRow>> {
-    let now = clock::now();
-    let row: Option<TaskRow> = sqlx::query_as(concat!(
-        "update tasks set state = $1, trial = $2, reason = $3, lease_until = null, updated_at = $4
-         where id = $5 and state = 'claimed' and claimed_by = $6 and lease_until > $4
-         returning ",
-        columns!()
-    ))
-    .bind(if succeeded { "done" } else { "failed" })
-    .bind(trial.hyphenated().to_string())
-    .bind(reason)
-    .bind(&now)
-    .bind(id.hyphenated().to_string())
-    .bind(robot.as_str())
-    .fetch_optional(&mut *tx)
-    .await?;
-    announced(tx, row).await
-}
-
 /// Cancels a queued or claimed task; `None` when it had ended already.
 #[tracing::instrument(skip_all)]
 pub async fn cancel(
@@ -400,58 +269,6 @@ async fn cancel_where(
         .await?;
     announce(tx, &rows).await?;
     Ok(rows)
-}
-
-/// Tasks whose holder's lease ran out by `now`: back in the queue, or `failed` once
-/// [`MAX_ATTEMPTS`] leases have run out. Returns what changed.
-#[tracing::instrument(skip_all)]
-pub async fn expire_leases(tx: &mut AnyConnection, now: &str) -> sqlx::Result<Vec<TaskRow>> {
-    macro_rules! fail_naming {
-        ($holders:literal) => {
-            concat!(
-                "update tasks set state = 'failed', lease_until = null, updated_at = $1,
-                     reason = 'the lease ran out ' || attempts || ' times (held by ' || ",
-                $holders,
-                " || '); no robot finished it'
-                 where state = 'claimed' and lease_until <= $1 and attempts >= $2
-                 returning ",
-                columns!()
-            )
-        };
-    }
-    let statement = Dialect::of(tx).pick(
-        fail_naming!("(select group_concat(value, ', ') from json_each(holders))"),
-        fail_naming!(
-            "(select string_agg(held.value, ', ') \
-              from jsonb_array_elements_text(holders::jsonb) as held(value))"
-        ),
-    );
-    let mut changed: Vec<TaskRow> =
-        sqlx::query_as(statement).bind(now).bind(MAX_ATTEMPTS).fetch_all(&mut *tx).await?;
-    let requeued: Vec<TaskRow> = sqlx::query_as(concat!(
-        "update tasks set state = 'queued', claimed_by = null, lease_until = null, updated_at = $1
-         where state = 'claimed' and lease_until <= $1
-         returning ",
-        columns!()
-    ))
-    .bind(now)
-    .fetch_all(&mut *tx)
-    .await?;
-    changed.extend(requeued);
-    announce(tx, &changed).await?;
-    Ok(changed)
-}
-
-/// Whether any claimed task's lease runs out by `now` (the sweep's cheap look before it writes).
-pub async fn any_lease_expired(pool: &AnyPool, now: &str) -> sqlx::Result<bool> {
-    let found: Flag = sqlx::query_scalar(
-        "select case when exists (select 1 from tasks where state = 'claimed' and lease_until <= $1)
-             then 1 else 0 end",
-    )
-    .bind(now)
-    .fetch_one(pool)
-    .await?;
-    Ok(found.into())
 }
 
 /// Moves a tag's tasks to its new EPC (a worn tag replaced); returns how many moved.
