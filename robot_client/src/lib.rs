@@ -13,10 +13,11 @@
 //! - [`sim`]: a seeded room with the paper's five tagged devices, rendered for the sensors.
 //! - [`experiment`]: the paper's §V experiment (Table I) in the simulator: the trials, the
 //!   simulated person, the scoring, the runner.
+//! - [`worker`]: a simulated robot working the registry's task queue (`pps-robot work`).
 //! - [`cli`]: the `pps-robot` and `pps-trials` command lines, which only parse and print.
 //!
 //! The robot's own code (`hal` to `task`) never uses [`sim`] or [`cli`], so it runs on a real
-//! robot unchanged; [`experiment`] uses the simulator but not the command line.
+//! robot unchanged; [`experiment`] and [`worker`] use the simulator but not the command line.
 
 pub mod behaviors;
 pub mod cli;
@@ -30,3 +31,4 @@ pub mod rfid;
 pub mod sim;
 pub mod task;
 pub mod timings;
+pub mod worker;

@@ -1,22 +1,18 @@
 //! `pps-robot work`: a simulated robot that does what caretakers ask (DESIGN §8).
 //!
-//! It claims the next task the registry offers it, runs it in the simulator exactly as
-//! `pps-robot run` does (the four phases, the trial through the outbox, the task's id in the
-//! trial's `measurements.task`), heartbeats while it works, finishes the task with the trial
-//! and claims the next. SIGTERM or Ctrl-C lets the task at hand finish first.
+//! The loop is [`crate::worker`]; here are its settings, the signals (SIGTERM or Ctrl-C lets the
+//! task at hand finish first) and the printing: a line per task on stdout, pauses on stderr.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use clap::Args;
-use pps_schema::Outcome;
 
 use super::registry_args::RegistryArgs;
-use crate::experiment::{SimulatedTrial, flush_until_stored, run_simulated, start_up};
-use crate::registry::{RegistryClient, RegistryError, Task};
-use crate::sim::{DeviceKind, RoomOptions, SimBody};
-use crate::task::TaskConfig;
+use crate::experiment::start_up;
+use crate::sim::RoomOptions;
+use crate::worker::{Said, Worker};
 
 #[derive(Debug, Args)]
 pub struct WorkArgs {
@@ -36,15 +32,6 @@ pub struct WorkArgs {
     pub room: RoomOptions,
 }
 
-/// The longest one claim waits for a task: short enough that a stop request is answered soon,
-/// since a claim the registry answers is never dropped half-way (its task would be stranded
-/// until its lease ran out).
-const CLAIM_WAIT: Duration = Duration::from_secs(5);
-/// How long to wait before trying again when the registry is unreachable.
-const RETRY_AFTER: Duration = Duration::from_secs(2);
-/// Finishing a done task is tried this often (RETRY_AFTER apart) while the registry is away.
-const FINISH_TRIES: u32 = 10;
-
 pub fn run(args: &WorkArgs) -> anyhow::Result<()> {
     if args.idle_exit.is_some_and(|s| !(s >= 0.0 && s.is_finite())) {
         anyhow::bail!("--idle-exit takes a number of seconds, 0 or more");
@@ -55,38 +42,20 @@ pub fn run(args: &WorkArgs) -> anyhow::Result<()> {
         tokio::runtime::Builder::new_multi_thread().worker_threads(2).enable_all().build()?;
     runtime.block_on(async {
         let stopping = stop_on_signal()?;
-        let body = start_up(&registry).await?;
-        let mut done = 0u64;
-        let mut idle_since = Instant::now();
-        while !stopping.load(Ordering::Acquire) && args.max_tasks.is_none_or(|max| done < max) {
-            let idle_left = args
-                .idle_exit
-                .map(|s| Duration::from_secs_f64(s).saturating_sub(idle_since.elapsed()));
-            let task = match registry
-                .claim_task(idle_left.map_or(CLAIM_WAIT, |left| left.min(CLAIM_WAIT)))
-                .await
-            {
-                Ok(Some(task)) => task,
-                Ok(None) if idle_left.is_some_and(|left| left <= CLAIM_WAIT) => {
-                    eprintln!(
-                        "no task came for {} s; stopping",
-                        args.idle_exit.unwrap_or_default()
-                    );
-                    break;
-                }
-                Ok(None) => continue,
-                Err(error @ RegistryError::Unreachable(_)) => {
-                    eprintln!("{error}; claiming again in {} s", RETRY_AFTER.as_secs());
-                    tokio::time::sleep(RETRY_AFTER).await;
-                    continue;
-                }
-                Err(error) => return Err(anyhow::anyhow!("cannot claim a task: {error}")),
-            };
-            let seed = args.seed.wrapping_add(done);
-            println!("{}", work_on(&registry, &task, body, args.room, seed).await?);
-            done += 1;
-            idle_since = Instant::now();
-        }
+        let worker = Worker {
+            body: start_up(&registry).await?,
+            registry,
+            room: args.room,
+            seed: args.seed,
+            max_tasks: args.max_tasks,
+            idle_exit: args.idle_exit.map(Duration::from_secs_f64),
+        };
+        let done = worker
+            .work(&stopping, |said| match said {
+                Said::Task(line) => println!("{line}"),
+                Said::Pause(line) => eprintln!("{line}"),
+            })
+            .await?;
         eprintln!("did {done} task(s)");
         anyhow::Ok(())
     })
@@ -106,88 +75,4 @@ fn stop_on_signal() -> anyhow::Result<Arc<AtomicBool>> {
         flag.store(true, Ordering::Release);
     });
     Ok(stopping)
-}
-
-/// Runs one claimed task in a fresh simulated room and ends it; returns a line saying how.
-async fn work_on(
-    registry: &RegistryClient,
-    task: &Task,
-    body: SimBody,
-    room: RoomOptions,
-    seed: u64,
-) -> anyhow::Result<String> {
-    let said = format!("task {}: {} on {}", task.id, task.action, task.epc);
-    let Some(device) = DeviceKind::ALL.into_iter().find(|d| d.epc() == task.epc) else {
-        return Ok(format!(
-            "{said}: no device of the simulated room has this tag; its lease will run out and \
-             the task go to another robot"
-        ));
-    };
-    let heartbeat = tokio::spawn(keep_lease(registry.clone(), task.clone()));
-    let trial =
-        SimulatedTrial { room, seed, body, ..SimulatedTrial::new(device, &task.action, None) };
-    let config = TaskConfig { task: Some(task.id), ..TaskConfig::default() };
-    let result = run_simulated(&trial, registry, &config).await;
-    heartbeat.abort();
-    let result = result?;
-    let (Some(trial), Some(outcome)) = (result.report.trial, result.report.outcome) else {
-        let failed = result.report.phases.iter().find(|p| !p.ok);
-        let why = failed.map_or("no trial".to_owned(), |p| {
-            format!("phase {} {}: {}", p.phase, p.name, p.lines.last().map_or("", String::as_str))
-        });
-        return Ok(format!(
-            "{said}: stopped before acting ({why}); its lease will run out and the task go back \
-             to the queue"
-        ));
-    };
-    // The registry checks the trial when the task is finished: it must be stored by then.
-    flush_until_stored(registry).await?;
-    let mut tries = 0;
-    Ok(loop {
-        tries += 1;
-        match registry.finish_task(task.id, trial, outcome).await {
-            Ok(ended) => {
-                break format!(
-                    "{said}: {} (trial {trial}, {})",
-                    ended.state,
-                    outcome_words(outcome)
-                );
-            }
-            // Done but not said: keep saying it while the lease lasts, or another robot redoes it.
-            Err(RegistryError::Unreachable(_)) if tries < FINISH_TRIES => {
-                tokio::time::sleep(RETRY_AFTER).await;
-            }
-            Err(error) => {
-                break format!(
-                    "{said}: trial {trial} recorded, but the task was not finished: {error}"
-                );
-            }
-        }
-    })
-}
-
-fn outcome_words(outcome: Outcome) -> &'static str {
-    match outcome {
-        Outcome::Success => "the detector saw it work",
-        Outcome::Failure => "the detector saw it fail",
-        Outcome::Aborted => "aborted",
-        Outcome::Error => "an error stopped it",
-    }
-}
-
-/// Heartbeats until aborted, or until the registry says the lease was lost.
-async fn keep_lease(registry: RegistryClient, task: Task) {
-    let mut every = task.heartbeat_every();
-    loop {
-        tokio::time::sleep(every).await;
-        match registry.heartbeat_task(task.id).await {
-            Ok(extended) => every = extended.heartbeat_every(),
-            Err(error) if error.status() == Some(409) => {
-                eprintln!("task {}: {error}", task.id);
-                return;
-            }
-            // Passing trouble: the lease outlasts a few lost beats.
-            Err(error) => eprintln!("task {}: heartbeat failed: {error}", task.id),
-        }
-    }
 }

@@ -29,7 +29,9 @@ impl Registry {
         let db = Db::open_file(&db_path).await.unwrap();
         pps_server::seed::seed_if_empty(&db).await.unwrap();
         let robot = json!({ "id": "el-e-1", "class": "el-e", "name": "EL-E", "capabilities": ["light_switch", "pull_back", "push", "pull_lamp", "drop"], "limits": { "max_force": 15.0 } });
-        robots::put(&db, "el-e-1", &robot, "test").await.unwrap();
+        robots::put(&db, &pps_schema::RobotId::parse("el-e-1").unwrap(), &robot, "test")
+            .await
+            .unwrap();
         let admin = tokens::create(&db, Role::Admin, "admin", None).await.unwrap().token;
         let robot_token = tokens::create(&db, Role::Robot, "el-e-1", None).await.unwrap().token;
         let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
@@ -72,7 +74,7 @@ impl Registry {
     ) -> RegistryClient {
         let db = Db::open_file(&self.db_path).await.unwrap();
         let robot = json!({ "id": id, "class": class, "name": id, "capabilities": capabilities });
-        robots::put(&db, id, &robot, "test").await.unwrap();
+        robots::put(&db, &pps_schema::RobotId::parse(id).unwrap(), &robot, "test").await.unwrap();
         let token = tokens::create(&db, Role::Robot, id, None).await.unwrap().token;
         RegistryClient::new(&self.url(), &token, RobotId::parse(id).unwrap(), &dir.join(id))
             .unwrap()

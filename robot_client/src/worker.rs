@@ -1,0 +1,176 @@
+//! A simulated robot that does what caretakers ask (DESIGN §8): it claims the next task the
+//! registry offers it, runs it in the simulator exactly as `pps-robot run` does (the four
+//! phases, the trial through the outbox, the task's id in the trial's `measurements.task`),
+//! heartbeats while it works, finishes the task with the trial and claims the next.
+//!
+//! `pps-robot work` parses its settings and prints what [`Worker::work`] says; the loop, its
+//! retries and the lease live here.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use pps_schema::Outcome;
+
+use crate::experiment::{SimulatedTrial, flush_until_stored, run_simulated};
+use crate::registry::{RegistryClient, RegistryError, Task};
+use crate::sim::{DeviceKind, RoomOptions, SimBody};
+use crate::task::TaskConfig;
+
+/// The longest one claim waits for a task: short enough that a stop request is answered soon,
+/// since a claim the registry answers is never dropped half-way (its task would be stranded
+/// until its lease ran out).
+const CLAIM_WAIT: Duration = Duration::from_secs(5);
+/// How long to wait before trying again when the registry is unreachable.
+const RETRY_AFTER: Duration = Duration::from_secs(2);
+/// Finishing a done task is tried this often (RETRY_AFTER apart) while the registry is away.
+const FINISH_TRIES: u32 = 10;
+
+/// What the worker has to say: how a task went, or why it pauses or stops.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Said {
+    Task(String),
+    Pause(String),
+}
+
+/// One simulated robot and how long it works.
+#[derive(Debug, Clone)]
+pub struct Worker {
+    pub registry: RegistryClient,
+    /// The robot's body, as start-up found its class.
+    pub body: SimBody,
+    pub room: RoomOptions,
+    /// Seed of the simulated world's noise; the n-th task runs with `seed + n`.
+    pub seed: u64,
+    /// Stop after this many tasks.
+    pub max_tasks: Option<u64>,
+    /// Stop once no task came for this long.
+    pub idle_exit: Option<Duration>,
+}
+
+impl Worker {
+    /// Claims and does tasks until `stopping` is set (looked at between tasks), `max_tasks`
+    /// are done or none came for `idle_exit`; `say` hears of every task and every pause.
+    /// Returns how many tasks it did.
+    pub async fn work(
+        &self,
+        stopping: &AtomicBool,
+        mut say: impl FnMut(Said),
+    ) -> anyhow::Result<u64> {
+        let mut done = 0u64;
+        let mut idle_since = Instant::now();
+        while !stopping.load(Ordering::Acquire) && self.max_tasks.is_none_or(|max| done < max) {
+            let idle_left = self.idle_exit.map(|idle| idle.saturating_sub(idle_since.elapsed()));
+            let task = match self
+                .registry
+                .claim_task(idle_left.map_or(CLAIM_WAIT, |left| left.min(CLAIM_WAIT)))
+                .await
+            {
+                Ok(Some(task)) => task,
+                Ok(None) if idle_left.is_some_and(|left| left <= CLAIM_WAIT) => {
+                    let idle = self.idle_exit.unwrap_or_default().as_secs_f64();
+                    say(Said::Pause(format!("no task came for {idle} s; stopping")));
+                    break;
+                }
+                Ok(None) => continue,
+                Err(error @ RegistryError::Unreachable(_)) => {
+                    say(Said::Pause(format!(
+                        "{error}; claiming again in {} s",
+                        RETRY_AFTER.as_secs()
+                    )));
+                    tokio::time::sleep(RETRY_AFTER).await;
+                    continue;
+                }
+                Err(error) => return Err(anyhow::anyhow!("cannot claim a task: {error}")),
+            };
+            let seed = self.seed.wrapping_add(done);
+            say(Said::Task(work_on(&self.registry, &task, self.body, self.room, seed).await?));
+            done += 1;
+            idle_since = Instant::now();
+        }
+        Ok(done)
+    }
+}
+
+/// Runs one claimed task in a fresh simulated room and ends it; returns a line saying how.
+async fn work_on(
+    registry: &RegistryClient,
+    task: &Task,
+    body: SimBody,
+    room: RoomOptions,
+    seed: u64,
+) -> anyhow::Result<String> {
+    let said = format!("task {}: {} on {}", task.id, task.action, task.epc);
+    let Some(device) = DeviceKind::ALL.into_iter().find(|d| d.epc() == task.epc) else {
+        return Ok(format!(
+            "{said}: no device of the simulated room has this tag; its lease will run out and \
+             the task go to another robot"
+        ));
+    };
+    let heartbeat = tokio::spawn(keep_lease(registry.clone(), task.clone()));
+    let trial =
+        SimulatedTrial { room, seed, body, ..SimulatedTrial::new(device, &task.action, None) };
+    let config = TaskConfig { task: Some(task.id), ..TaskConfig::default() };
+    let result = run_simulated(&trial, registry, &config).await;
+    heartbeat.abort();
+    let result = result?;
+    let (Some(trial), Some(outcome)) = (result.report.trial, result.report.outcome) else {
+        let failed = result.report.phases.iter().find(|p| !p.ok);
+        let why = failed.map_or("no trial".to_owned(), |p| {
+            format!("phase {} {}: {}", p.phase, p.name, p.lines.last().map_or("", String::as_str))
+        });
+        return Ok(format!(
+            "{said}: stopped before acting ({why}); its lease will run out and the task go back \
+             to the queue"
+        ));
+    };
+    // The registry checks the trial when the task is finished: it must be stored by then.
+    flush_until_stored(registry).await?;
+    let mut tries = 0;
+    Ok(loop {
+        tries += 1;
+        match registry.finish_task(task.id, trial, outcome).await {
+            Ok(ended) => {
+                break format!(
+                    "{said}: {} (trial {trial}, {})",
+                    ended.state,
+                    outcome_words(outcome)
+                );
+            }
+            // Done but not said: keep saying it while the lease lasts, or another robot redoes it.
+            Err(RegistryError::Unreachable(_)) if tries < FINISH_TRIES => {
+                tokio::time::sleep(RETRY_AFTER).await;
+            }
+            Err(error) => {
+                break format!(
+                    "{said}: trial {trial} recorded, but the task was not finished: {error}"
+                );
+            }
+        }
+    })
+}
+
+fn outcome_words(outcome: Outcome) -> &'static str {
+    match outcome {
+        Outcome::Success => "the detector saw it work",
+        Outcome::Failure => "the detector saw it fail",
+        Outcome::Aborted => "aborted",
+        Outcome::Error => "an error stopped it",
+    }
+}
+
+/// Heartbeats until aborted, or until the registry says the lease was lost.
+async fn keep_lease(registry: RegistryClient, task: Task) {
+    let mut every = task.heartbeat_every();
+    loop {
+        tokio::time::sleep(every).await;
+        match registry.heartbeat_task(task.id).await {
+            Ok(extended) => every = extended.heartbeat_every(),
+            Err(error) if error.status() == Some(409) => {
+                eprintln!("task {}: {error}", task.id);
+                return;
+            }
+            // Passing trouble: the lease outlasts a few lost beats.
+            Err(error) => eprintln!("task {}: heartbeat failed: {error}", task.id),
+        }
+    }
+}
