@@ -12,6 +12,7 @@ use serde_json::{Value, json};
 use sqlx::AnyConnection;
 
 use crate::store::events::{self, EventKind};
+use crate::store::trials::GroupKey;
 use crate::store::{learning, tags, trials};
 
 /// A parameter a behaviour's trials measure: its learned value is the median of the
@@ -93,8 +94,8 @@ pub async fn update(
             events::append(conn, EventKind::LearnedChanged, data).await?;
             changed.insert(group.epc.clone());
         }
-        update_reliability(conn, group).await?;
     }
+    update_reliability(conn, groups).await?;
     Ok(changed)
 }
 
@@ -163,41 +164,39 @@ fn within_bounds(entry: &Value, pointer: &str, value: f64) -> bool {
     fits
 }
 
-async fn update_reliability(conn: &mut AnyConnection, group: &TrialGroup) -> sqlx::Result<()> {
-    let (attempts, successes) = trials::latest_outcomes(
-        &mut *conn,
-        &group.epc,
-        &group.action,
-        group.robot_class.as_deref(),
-        RELIABILITY_WINDOW,
-    )
-    .await?;
-    let reliable = is_reliable(attempts, successes);
-    let before =
-        learning::reliability(conn, &group.epc, &group.action, group.robot_class.as_deref())
-            .await?;
-    // No row means "not reliable": a group stays rowless (and costs no write) until it first
-    // becomes reliable.
-    if before.unwrap_or(false) == reliable {
-        return Ok(());
+/// Judges every group's reliability anew, in two statements whatever the batch's size (the
+/// batch holds the write lock meanwhile), and stores and announces the verdicts that changed.
+async fn update_reliability(
+    conn: &mut AnyConnection,
+    groups: &BTreeSet<TrialGroup>,
+) -> sqlx::Result<()> {
+    // Groups that differ only in behaviour share one verdict.
+    let keys: BTreeSet<(&Epc, &str, Option<&str>)> =
+        groups.iter().map(|g| (&g.epc, g.action.as_str(), g.robot_class.as_deref())).collect();
+    let keys: Vec<GroupKey<'_>> = keys
+        .into_iter()
+        .map(|(epc, action, robot_class)| GroupKey { epc, action, robot_class })
+        .collect();
+    let outcomes = trials::latest_outcomes(conn, &keys, RELIABILITY_WINDOW).await?;
+    let before = learning::reliabilities(conn, &keys).await?;
+    for ((key, (attempts, successes)), before) in keys.iter().zip(outcomes).zip(before) {
+        let reliable = is_reliable(attempts, successes);
+        // No row means "not reliable": a group stays rowless (and costs no write) until it
+        // first becomes reliable.
+        if before.unwrap_or(false) == reliable {
+            continue;
+        }
+        learning::store_reliability(conn, key.epc, key.action, key.robot_class, reliable).await?;
+        let data = json!({
+            "epc": key.epc,
+            "action": key.action,
+            "robot_class": key.robot_class.unwrap_or(""),
+            "reliable": reliable,
+            "attempts": attempts,
+            "successes": successes,
+        });
+        events::append(conn, EventKind::ReliabilityChanged, data).await?;
     }
-    learning::store_reliability(
-        conn,
-        &group.epc,
-        &group.action,
-        group.robot_class.as_deref(),
-        reliable,
-    )
-    .await?;
-    let data = json!({
-        "epc": group.epc,
-        "action": group.action,
-        "robot_class": group.class_in_feed(),
-        "reliable": reliable,
-        "attempts": attempts,
-        "successes": successes,
-    });
-    events::append(conn, EventKind::ReliabilityChanged, data).await?;
     Ok(())
 }
 

@@ -13,6 +13,7 @@ use crate::http::ids::InPath;
 use crate::http::openapi::{Doc, Param, Reply};
 use crate::learning::{RELIABILITY_WINDOW, is_reliable};
 use crate::state::AppState;
+use crate::store::trials::GroupKey;
 use crate::store::{learning, tags, trials};
 
 /// One action as done by one robot class.
@@ -58,13 +59,18 @@ pub async fn get(
     };
     let rows = trials::group_counts(pool, &epc).await?;
     let learned = learning::learned_all(pool, &epc).await?;
+    let keys: Vec<GroupKey<'_>> = rows
+        .iter()
+        .map(|(action, class, ..)| GroupKey { epc: &epc, action, robot_class: class.as_deref() })
+        .collect();
+    let latest =
+        trials::latest_outcomes(&mut *pool.acquire().await?, &keys, RELIABILITY_WINDOW).await?;
     let mut groups = Vec::with_capacity(rows.len());
-    for (action, class, attempts, detected, confirmed, confirmed_ok, agreeing, successes, last) in
-        rows
+    for (
+        (action, class, attempts, detected, confirmed, confirmed_ok, agreeing, successes, last),
+        (recent, recent_ok),
+    ) in rows.into_iter().zip(latest)
     {
-        let (recent, recent_ok) =
-            trials::latest_outcomes(pool, &epc, &action, class.as_deref(), RELIABILITY_WINDOW)
-                .await?;
         // Only what the action's own behaviour uses: `close` has nothing of `pull_open`'s.
         let behavior = tag.entry.pointer(&format!("/actions/{}", escape(&action)));
         let prefix = behavior.and_then(Value::as_str).map(|b| format!("/behaviors/{}/", escape(b)));

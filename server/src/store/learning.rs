@@ -4,7 +4,9 @@
 use pps_schema::Epc;
 use sqlx::{AnyConnection, AnyPool};
 
-use crate::store::columns::Flag;
+use crate::db::Dialect;
+use crate::store::columns::MaybeFlag;
+use crate::store::trials::{GroupKey, groups_parameter};
 
 use crate::clock;
 use crate::effective::Learned;
@@ -102,22 +104,28 @@ pub async fn forget_learned(
     Ok(done.rows_affected() > 0)
 }
 
-/// The stored reliability verdict, if one was ever made.
-pub async fn reliability(
+/// The stored reliability verdict of each group, `None` where none was ever made, in the
+/// order of `groups`.
+pub async fn reliabilities(
     conn: &mut AnyConnection,
-    epc: &Epc,
-    action: &str,
-    robot_class: Option<&str>,
-) -> sqlx::Result<Option<bool>> {
-    let reliable: Option<Flag> = sqlx::query_scalar(
-        "select reliable from reliability where epc = $1 and action = $2 and robot_class = $3",
-    )
-    .bind(epc.as_hex())
-    .bind(action)
-    .bind(class_key(robot_class))
-    .fetch_optional(conn)
+    groups: &[GroupKey<'_>],
+) -> sqlx::Result<Vec<Option<bool>>> {
+    let verdicts: Vec<MaybeFlag> = sqlx::query_scalar(Dialect::of(conn).pick(
+        "select (select reliable from reliability
+                 where epc = json_extract(g.value, '$[0]') and action = json_extract(g.value, '$[1]')
+                   and robot_class = coalesce(json_extract(g.value, '$[2]'), ''))
+         from json_each($1) as g order by g.key",
+        "select reliability.reliable
+         from jsonb_array_elements($1::jsonb) with ordinality as g(value, ord)
+         left join reliability on reliability.epc = g.value->>0
+              and reliability.action = g.value->>1
+              and reliability.robot_class = coalesce(g.value->>2, '')
+         order by g.ord",
+    ))
+    .bind(groups_parameter(groups))
+    .fetch_all(conn)
     .await?;
-    Ok(reliable.map(bool::from))
+    Ok(verdicts.into_iter().map(Option::from).collect())
 }
 
 /// Robot classes whose trials made `action` on `epc` reliable (the stats' reliable flag).

@@ -2,7 +2,7 @@
 
 use pps_schema::{Epc, Outcome, RobotId, Trial};
 use serde_json::{Value, json};
-use sqlx::{AnyConnection, AnyExecutor, AnyPool};
+use sqlx::{AnyConnection, AnyPool};
 use uuid::Uuid;
 
 use crate::clock;
@@ -11,29 +11,61 @@ use crate::store::columns::{Id, MaybeFlag};
 use crate::store::placeholders;
 use crate::trial_filter::TrialFilter;
 
-/// How a group (a tag, an action, a robot class or none) went lately: the
-/// attempts and successes among its latest `window` trials, a person's verdict overriding the
-/// detector's. What *reliable* is judged on.
+/// One group of trials: a tag, an action and a robot class (`None` for robots without one).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct GroupKey<'a> {
+    pub epc: &'a Epc,
+    pub action: &'a str,
+    pub robot_class: Option<&'a str>,
+}
+
+/// Groups as one JSON parameter, `[[epc, action, class or null], …]`: a batch of any size is one
+/// statement with one text, so it is prepared once and costs one round trip.
+pub fn groups_parameter(groups: &[GroupKey<'_>]) -> String {
+    let rows: Vec<Value> =
+        groups.iter().map(|g| json!([g.epc.as_hex(), g.action, g.robot_class])).collect();
+    Value::Array(rows).to_string()
+}
+
+/// How each group went lately: the attempts and successes among its latest `window` trials, a
+/// person's verdict overriding the detector's, in the order of `groups`. What *reliable* is
+/// judged on.
 pub async fn latest_outcomes(
-    executor: impl AnyExecutor<'_>,
-    epc: &Epc,
-    action: &str,
-    robot_class: Option<&str>,
+    conn: &mut AnyConnection,
+    groups: &[GroupKey<'_>],
     window: i64,
-) -> sqlx::Result<(i64, i64)> {
-    sqlx::query_as(
-        "select count(*), coalesce(sum(success), 0) from (
+) -> sqlx::Result<Vec<(i64, i64)>> {
+    // Each group reads its newest trials down the (epc, action, class, seq) index; SQLite has
+    // no lateral join, so it asks twice per group, which reads the same few index pages.
+    sqlx::query_as(Dialect::of(conn).pick(
+        "select
+             (select count(*) from (
+                  select 1 from trials
+                  where epc = json_extract(g.value, '$[0]') and action = json_extract(g.value, '$[1]')
+                    and coalesce(robot_class, '') = coalesce(json_extract(g.value, '$[2]'), '')
+                  order by seq desc limit $2)),
+             (select coalesce(sum(success), 0) from (
+                  select case when confirmed = 1 or (confirmed is null and outcome = 'success')
+                              then 1 else 0 end as success
+                  from trials
+                  where epc = json_extract(g.value, '$[0]') and action = json_extract(g.value, '$[1]')
+                    and coalesce(robot_class, '') = coalesce(json_extract(g.value, '$[2]'), '')
+                  order by seq desc limit $2))
+         from json_each($1) as g order by g.key",
+        "select count(latest.success), coalesce(sum(latest.success), 0)
+         from jsonb_array_elements($1::jsonb) with ordinality as g(value, ord)
+         left join lateral (
              select case when confirmed = 1 or (confirmed is null and outcome = 'success')
                          then 1 else 0 end as success
              from trials
-             where epc = $1 and action = $2 and coalesce(robot_class, '') = coalesce($3, '')
-             order by seq desc limit $4) as latest",
-    )
-    .bind(epc.as_hex())
-    .bind(action)
-    .bind(robot_class)
+             where epc = g.value->>0 and action = g.value->>1
+               and coalesce(robot_class, '') = coalesce(g.value->>2, '')
+             order by seq desc limit $2) as latest on true
+         group by g.ord order by g.ord",
+    ))
+    .bind(groups_parameter(groups))
     .bind(window)
-    .fetch_one(executor)
+    .fetch_all(conn)
     .await
 }
 
