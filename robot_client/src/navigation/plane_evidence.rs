@@ -172,14 +172,17 @@ fn near_points(
     near
 }
 
-/// The band's points rastered in the plane: square cells, and how many points within ±t of
-/// the plane (the near points) each holds.
+/// The band's points rastered in the plane: square cells, the cell of each band point, and how
+/// many points within ±t of the plane (the near points) each cell holds.
 struct Raster {
     lo: Vector2<f64>,
     cell: f64,
     cols: usize,
     rows: usize,
     inlier_distance: f64,
+    /// The cell of each point of the band, in the band's order: found once, read by every
+    /// later pass over the band.
+    cell_of_point: Vec<u32>,
     near_count: Vec<u32>,
 }
 
@@ -204,20 +207,39 @@ impl Raster {
         }
         let cols = (((hi.x - lo.x) / cell) as usize + 1).min(4096);
         let rows = (((hi.y - lo.y) / cell) as usize + 1).min(4096);
-        let mut raster =
-            Self { lo, cell, cols, rows, inlier_distance, near_count: vec![0; cols * rows] };
+        let mut raster = Self {
+            lo,
+            cell,
+            cols,
+            rows,
+            inlier_distance,
+            cell_of_point: Vec::with_capacity(band.len()),
+            near_count: vec![0; cols * rows],
+        };
         for p in band {
+            let c = raster.cell_of(&p.at);
+            raster.cell_of_point.push(c as u32);
             if raster.is_near(p) {
-                let c = raster.cell_of(&p.at);
                 raster.near_count[c] += 1;
             }
         }
         raster
     }
 
+    /// The band's points with their cells.
+    fn cells_of<'a>(
+        &'a self,
+        band: &'a [NearPoint],
+    ) -> impl Iterator<Item = (&'a NearPoint, usize)> {
+        band.iter().zip(self.cell_of_point.iter().map(|&c| c as usize))
+    }
+
     fn cell_of(&self, q: &Vector2<f64>) -> usize {
-        let c = (((q.x - self.lo.x) / self.cell) as usize).min(self.cols - 1);
-        let r = (((q.y - self.lo.y) / self.cell) as usize).min(self.rows - 1);
+        // Every band point lies at or beyond `lo`, so the quotients are never negative, and the
+        // raster is at most 4096 cells a side: `u32` holds them as `usize` would (and converts
+        // in one instruction where `usize` takes several).
+        let c = (((q.x - self.lo.x) / self.cell) as u32 as usize).min(self.cols - 1);
+        let r = (((q.y - self.lo.y) / self.cell) as u32 as usize).min(self.rows - 1);
         r * self.cols + c
     }
 
@@ -280,8 +302,7 @@ fn measure(
     let (mut sum, mut outer) = (Vector2::zeros(), Matrix2::zeros());
     // Per cell: the sums of in-plane position, residual and squared residual of its near points.
     let mut cell_sums = vec![(Vector2::zeros(), 0.0, 0.0); raster.near_count.len()];
-    for p in band {
-        let cell = raster.cell_of(&p.at);
+    for (p, cell) in raster.cells_of(band) {
         if raster.is_near(p) && patch.holds(cell) {
             let (q, d) = (&p.at, p.residual);
             inliers.push(p.index);
@@ -322,8 +343,8 @@ fn measure(
         Vector2::y(),
     ];
     let mut span = [(f64::INFINITY, f64::NEG_INFINITY); 4];
-    for p in band {
-        if raster.is_near(p) && patch.holds(raster.cell_of(&p.at)) {
+    for (p, cell) in raster.cells_of(band) {
+        if raster.is_near(p) && patch.holds(cell) {
             for (axis, (lo, hi)) in axes.iter().zip(span.iter_mut()) {
                 let x = axis.dot(&p.at);
                 (*lo, *hi) = (lo.min(x), hi.max(x));
