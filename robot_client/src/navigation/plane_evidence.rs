@@ -112,9 +112,32 @@ pub fn assess_plane(
     plane: &Plane,
     rule: &PlaneEvidenceRule,
 ) -> Result<PlanarPatch, PlaneRejection> {
+    let window = rule.window();
+    let near = (0..points.len() as u32).filter(|&i| {
+        alive[i as usize] && plane.signed_distance(&points[i as usize].cast()).abs() < window
+    });
+    assess_plane_among(points, near, plane, rule)
+}
+
+impl PlaneEvidenceRule {
+    /// How far from a plane the widest band could take points in, metres.
+    pub(super) fn window(&self) -> f64 {
+        2.0 * self.max_band
+    }
+}
+
+/// [`assess_plane`] given the indices, ascending, of the alive points within
+/// [`PlaneEvidenceRule::window`] of `plane`: the plane search knows them without reading the
+/// whole cloud again.
+pub(super) fn assess_plane_among(
+    points: &[Point3<f32>],
+    near: impl Iterator<Item = u32>,
+    plane: &Plane,
+    rule: &PlaneEvidenceRule,
+) -> Result<PlanarPatch, PlaneRejection> {
     let too_few = |points: usize| PlaneRejection::TooFewPoints { points, min: rule.min_points };
     // Every point the widest band could take in.
-    let window = near_points(points, alive, plane, 2.0 * rule.max_band);
+    let window = near_points(points, near, plane);
     let Some(noise) = noise_across(window.iter().map(|w| w.residual), rule.max_band) else {
         return Err(too_few(0));
     };
@@ -149,27 +172,19 @@ pub fn assess_plane(
     Ok(measured)
 }
 
-/// The `alive` points within `window` of `plane`.
+/// The points `near` names, with their in-plane coordinates and residuals from `plane`.
 fn near_points(
     points: &[Point3<f32>],
-    alive: &[bool],
+    near: impl Iterator<Item = u32>,
     plane: &Plane,
-    window: f64,
 ) -> Vec<NearPoint> {
     let (u, v) = plane.basis();
-    let mut near = Vec::new();
-    for (i, p) in points.iter().enumerate() {
-        if !alive[i] {
-            continue;
-        }
-        let p: Point3<f64> = p.cast();
-        let residual = plane.signed_distance(&p);
-        if residual.abs() < window {
-            let at = Vector2::new(u.dot(&p.coords), v.dot(&p.coords));
-            near.push(NearPoint { index: i as u32, at, residual });
-        }
-    }
-    near
+    near.map(|index| {
+        let p: Point3<f64> = points[index as usize].cast();
+        let at = Vector2::new(u.dot(&p.coords), v.dot(&p.coords));
+        NearPoint { index, at, residual: plane.signed_distance(&p) }
+    })
+    .collect()
 }
 
 /// The band's points rastered in the plane: square cells, the cell of each band point, and how
