@@ -69,9 +69,9 @@ impl HsvThresholds {
         for max in 0..=u8::MAX {
             // Passing is an interval of chroma: the test is `low ≤ chroma ≤ high` for bounds
             // that depend on `max` alone.
-            let passing =
+            let mut passing =
                 (0..=max).filter(|&chroma| thresholds.passes_value_and_saturation(max, chroma));
-            if let (Some(least), Some(greatest)) = (passing.clone().next(), passing.last()) {
+            if let (Some(least), Some(greatest)) = (passing.clone().next(), passing.next_back()) {
                 thresholds.chroma_bounds[usize::from(max)] = [least, greatest];
             }
         }

@@ -101,7 +101,7 @@ impl ProjectedCloud {
         for (i, p) in cloud.iter().enumerate() {
             let c = rotation * p.coords + translation;
             // Behind the camera or too near it (and NaN) lands nowhere.
-            if !(c.z > 0.05) {
+            if c.z <= 0.05 || c.z.is_nan() {
                 continue;
             }
             let u = fx * c.x / c.z + cx;
