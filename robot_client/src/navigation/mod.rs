@@ -22,6 +22,7 @@ mod rejection;
 mod rfid_choice;
 mod tag_centre;
 mod voi;
+mod waviness;
 mod waypoint;
 
 pub use approach::{ApproachParams, ApproachPlan, plan_approach};

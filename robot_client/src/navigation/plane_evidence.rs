@@ -16,10 +16,11 @@
 //! drawer front stays out of the band of a quiet one; waviness is what the cells' means wander
 //! beyond what their own scatter explains, so a sparse oblique scan is judged like a dense one.
 
-use nalgebra::{Matrix2, Matrix6, Point3, SymmetricEigen, Vector2, Vector6};
+use nalgebra::{Matrix2, Point3, SymmetricEigen, Vector2};
 
 use super::plane::Plane;
 use super::rejection::PlaneRejection;
+use super::waviness::{CellResiduals, waviness_beyond_noise};
 use crate::perception::flood_fill::flood_fill;
 
 /// Thresholds of the plane evidence test.
@@ -112,9 +113,32 @@ pub fn assess_plane(
     plane: &Plane,
     rule: &PlaneEvidenceRule,
 ) -> Result<PlanarPatch, PlaneRejection> {
+    let window = rule.window();
+    let near = (0..points.len() as u32).filter(|&i| {
+        alive[i as usize] && plane.signed_distance(&points[i as usize].cast()).abs() < window
+    });
+    assess_plane_among(points, near, plane, rule)
+}
+
+impl PlaneEvidenceRule {
+    /// How far from a plane the widest band could take points in, metres.
+    pub(super) fn window(&self) -> f64 {
+        2.0 * self.max_band
+    }
+}
+
+/// [`assess_plane`] given the indices, ascending, of the alive points within
+/// [`PlaneEvidenceRule::window`] of `plane`: the plane search knows them without reading the
+/// whole cloud again.
+pub(super) fn assess_plane_among(
+    points: &[Point3<f32>],
+    near: impl Iterator<Item = u32>,
+    plane: &Plane,
+    rule: &PlaneEvidenceRule,
+) -> Result<PlanarPatch, PlaneRejection> {
     let too_few = |points: usize| PlaneRejection::TooFewPoints { points, min: rule.min_points };
     // Every point the widest band could take in.
-    let window = near_points(points, alive, plane, 2.0 * rule.max_band);
+    let window = near_points(points, near, plane);
     let Some(noise) = noise_across(window.iter().map(|w| w.residual), rule.max_band) else {
         return Err(too_few(0));
     };
@@ -149,37 +173,32 @@ pub fn assess_plane(
     Ok(measured)
 }
 
-/// The `alive` points within `window` of `plane`.
+/// The points `near` names, with their in-plane coordinates and residuals from `plane`.
 fn near_points(
     points: &[Point3<f32>],
-    alive: &[bool],
+    near: impl Iterator<Item = u32>,
     plane: &Plane,
-    window: f64,
 ) -> Vec<NearPoint> {
     let (u, v) = plane.basis();
-    let mut near = Vec::new();
-    for (i, p) in points.iter().enumerate() {
-        if !alive[i] {
-            continue;
-        }
-        let p: Point3<f64> = p.cast();
-        let residual = plane.signed_distance(&p);
-        if residual.abs() < window {
-            let at = Vector2::new(u.dot(&p.coords), v.dot(&p.coords));
-            near.push(NearPoint { index: i as u32, at, residual });
-        }
-    }
-    near
+    near.map(|index| {
+        let p: Point3<f64> = points[index as usize].cast();
+        let at = Vector2::new(u.dot(&p.coords), v.dot(&p.coords));
+        NearPoint { index, at, residual: plane.signed_distance(&p) }
+    })
+    .collect()
 }
 
-/// The band's points rastered in the plane: square cells, and how many points within ±t of
-/// the plane (the near points) each holds.
+/// The band's points rastered in the plane: square cells, the cell of each band point, and how
+/// many points within ±t of the plane (the near points) each cell holds.
 struct Raster {
     lo: Vector2<f64>,
     cell: f64,
     cols: usize,
     rows: usize,
     inlier_distance: f64,
+    /// The cell of each point of the band, in the band's order: found once, read by every
+    /// later pass over the band.
+    cell_of_point: Vec<u32>,
     near_count: Vec<u32>,
 }
 
@@ -204,20 +223,39 @@ impl Raster {
         }
         let cols = (((hi.x - lo.x) / cell) as usize + 1).min(4096);
         let rows = (((hi.y - lo.y) / cell) as usize + 1).min(4096);
-        let mut raster =
-            Self { lo, cell, cols, rows, inlier_distance, near_count: vec![0; cols * rows] };
+        let mut raster = Self {
+            lo,
+            cell,
+            cols,
+            rows,
+            inlier_distance,
+            cell_of_point: Vec::with_capacity(band.len()),
+            near_count: vec![0; cols * rows],
+        };
         for p in band {
+            let c = raster.cell_of(&p.at);
+            raster.cell_of_point.push(c as u32);
             if raster.is_near(p) {
-                let c = raster.cell_of(&p.at);
                 raster.near_count[c] += 1;
             }
         }
         raster
     }
 
+    /// The band's points with their cells.
+    fn cells_of<'a>(
+        &'a self,
+        band: &'a [NearPoint],
+    ) -> impl Iterator<Item = (&'a NearPoint, usize)> {
+        band.iter().zip(self.cell_of_point.iter().map(|&c| c as usize))
+    }
+
     fn cell_of(&self, q: &Vector2<f64>) -> usize {
-        let c = (((q.x - self.lo.x) / self.cell) as usize).min(self.cols - 1);
-        let r = (((q.y - self.lo.y) / self.cell) as usize).min(self.rows - 1);
+        // Every band point lies at or beyond `lo`, so the quotients are never negative, and the
+        // raster is at most 4096 cells a side: `u32` holds them as `usize` would (and converts
+        // in one instruction where `usize` takes several).
+        let c = (((q.x - self.lo.x) / self.cell) as u32 as usize).min(self.cols - 1);
+        let r = (((q.y - self.lo.y) / self.cell) as u32 as usize).min(self.rows - 1);
         r * self.cols + c
     }
 
@@ -280,8 +318,7 @@ fn measure(
     let (mut sum, mut outer) = (Vector2::zeros(), Matrix2::zeros());
     // Per cell: the sums of in-plane position, residual and squared residual of its near points.
     let mut cell_sums = vec![(Vector2::zeros(), 0.0, 0.0); raster.near_count.len()];
-    for p in band {
-        let cell = raster.cell_of(&p.at);
+    for (p, cell) in raster.cells_of(band) {
         if raster.is_near(p) && patch.holds(cell) {
             let (q, d) = (&p.at, p.residual);
             inliers.push(p.index);
@@ -322,8 +359,8 @@ fn measure(
         Vector2::y(),
     ];
     let mut span = [(f64::INFINITY, f64::NEG_INFINITY); 4];
-    for p in band {
-        if raster.is_near(p) && patch.holds(raster.cell_of(&p.at)) {
+    for (p, cell) in raster.cells_of(band) {
+        if raster.is_near(p) && patch.holds(cell) {
             for (axis, (lo, hi)) in axes.iter().zip(span.iter_mut()) {
                 let x = axis.dot(&p.at);
                 (*lo, *hi) = (lo.min(x), hi.max(x));
@@ -344,57 +381,6 @@ fn measure(
         waviness,
         fill,
     }
-}
-
-/// The near points of one cell of a patch, by their residuals from the plane.
-struct CellResiduals {
-    /// Mean in-plane position, metres.
-    at: Vector2<f64>,
-    mean: f64,
-    /// Sum of squared residuals about `mean`.
-    square_sum: f64,
-    points: f64,
-}
-
-/// How much the cells' mean residuals bend: the RMS difference between the best quadratic
-/// surface through them and the best plane (a slightly misfitted plane), less what the noise of
-/// the means alone would make a quadratic fit bend. A slab tangent to a lamp shade sags like a
-/// quadratic; a flat front does not, however its scan lines jitter or its drawers step by a few
-/// millimetres, which a plain RMS about the plane mistook for curvature.
-fn waviness_beyond_noise(cells: &[CellResiduals]) -> f64 {
-    if cells.len() < 8 {
-        return 0.0;
-    }
-    let k = cells.len() as f64;
-    let centre = cells.iter().map(|c| c.at).sum::<Vector2<f64>>() / k;
-    let terms = |c: &CellResiduals| {
-        let q = c.at - centre;
-        Vector6::new(1.0, q.x, q.y, q.x * q.x, q.x * q.y, q.y * q.y)
-    };
-    let (mut normal, mut rhs) = (Matrix6::zeros(), Vector6::zeros());
-    for c in cells {
-        let x = terms(c);
-        normal += x * x.transpose();
-        rhs += x * c.mean;
-    }
-    let linear = normal.fixed_view::<3, 3>(0, 0).try_inverse().map(|inverse| {
-        let fit = inverse * rhs.fixed_rows::<3>(0);
-        Vector6::new(fit[0], fit[1], fit[2], 0.0, 0.0, 0.0)
-    });
-    let (Some(linear), Some(quadratic)) =
-        (linear, normal.try_inverse().map(|inverse| inverse * rhs))
-    else {
-        return 0.0;
-    };
-    let bend: f64 =
-        cells.iter().map(|c| (quadratic - linear).dot(&terms(c)).powi(2)).sum::<f64>() / k;
-    // Pooled within-cell variance, what it makes the cell means scatter by, and the share of that
-    // scatter three more fitted terms take up.
-    let (square_sum, freedom) =
-        cells.iter().fold((0.0, 0.0), |(s, f), c| (s + c.square_sum, f + c.points - 1.0));
-    let variance = if freedom > 0.0 { square_sum / freedom } else { 0.0 };
-    let noise = variance * cells.iter().map(|c| 1.0 / c.points).sum::<f64>() / k;
-    (bend - 3.0 / k * noise).max(0.0).sqrt()
 }
 
 #[cfg(test)]

@@ -17,7 +17,7 @@ use rand::Rng;
 
 use super::cells::CellIndex;
 use super::plane::Plane;
-use super::plane_evidence::{PlaneEvidenceRule, assess_plane};
+use super::plane_evidence::{PlaneEvidenceRule, assess_plane_among};
 use super::refit::{Refit, bounds};
 use super::rejection::RejectedPlane;
 
@@ -143,9 +143,13 @@ pub fn find_planes(
         }
         // Refit to the inliers, narrowing the band, so that a sample straddling a surface and
         // something just proud of it (a towel on a drawer) settles on the surface; then judge it.
-        let refit = Refit::around(points, &alive_indices, hypothesis, 2.0 * t, &bounds);
+        // The points near the hypothesis are gathered once, in a window that holds, with room
+        // for the refit to move the plane, the widest band the judging reads.
+        let window = params.evidence.window().max(t) + 2.0 * t;
+        let refit = Refit::around(points, &alive_indices, hypothesis, window, &bounds);
         let refined = refit.refine(&[t, 0.6 * t, 0.6 * t]);
-        match assess_plane(points, &alive, &refined, &params.evidence) {
+        let near = refit.within(&refined, params.evidence.window());
+        match assess_plane_among(points, near, &refined, &params.evidence) {
             Ok(patch) => {
                 rejections = 0;
                 // The surface's whole noise band goes, lest its fringes come back as phantom planes.

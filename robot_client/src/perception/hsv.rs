@@ -9,7 +9,7 @@ use super::mask::Mask;
 use crate::hal::ColorImage;
 
 /// Minimum and maximum hue (degrees), saturation and value (0..=1) of the tag's colour.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Clone, Copy, PartialEq)]
 pub struct HsvThresholds {
     /// Lower hue bound in 0..360; above `hue_to` when the range wraps through 0.
     hue_from: f32,
@@ -17,6 +17,23 @@ pub struct HsvThresholds {
     every_hue: bool,
     saturation: [f32; 2],
     value: [f32; 2],
+    /// For each brightest channel 0..=255, the least and greatest chroma (brightest minus
+    /// dimmest channel) whose colour passes the value and saturation thresholds; `[1, 0]` when
+    /// none does. Value depends on the brightest channel alone and saturation is chroma over
+    /// it, so the two tests are one table lookup a pixel, most pixels failing there.
+    chroma_bounds: [[u8; 2]; 256],
+}
+
+impl std::fmt::Debug for HsvThresholds {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("HsvThresholds")
+            .field("hue_from", &self.hue_from)
+            .field("hue_to", &self.hue_to)
+            .field("every_hue", &self.every_hue)
+            .field("saturation", &self.saturation)
+            .field("value", &self.value)
+            .finish_non_exhaustive()
+    }
 }
 
 /// Why thresholds cannot be used.
@@ -41,13 +58,36 @@ impl HsvThresholds {
             }
         }
         let [from, to] = segmentation.hue_deg;
-        Ok(Self {
+        let mut thresholds = Self {
             hue_from: from.rem_euclid(360.0) as f32,
             hue_to: to.rem_euclid(360.0) as f32,
             every_hue: to - from >= 360.0,
             saturation: segmentation.saturation.map(|v| v as f32),
             value: segmentation.value.map(|v| v as f32),
-        })
+            chroma_bounds: [[1, 0]; 256],
+        };
+        for max in 0..=u8::MAX {
+            // Passing is an interval of chroma: the test is `low ≤ chroma ≤ high` for bounds
+            // that depend on `max` alone.
+            let mut passing =
+                (0..=max).filter(|&chroma| thresholds.passes_value_and_saturation(max, chroma));
+            if let (Some(least), Some(greatest)) = (passing.clone().next(), passing.next_back()) {
+                thresholds.chroma_bounds[usize::from(max)] = [least, greatest];
+            }
+        }
+        Ok(thresholds)
+    }
+
+    /// Whether a colour whose brightest channel is `max` and whose chroma is `chroma` passes
+    /// the value and saturation thresholds: the rule the table of chroma bounds is made from.
+    fn passes_value_and_saturation(&self, max: u8, chroma: u8) -> bool {
+        let value = f32::from(max) * (1.0 / 255.0);
+        if value < self.value[0] || value > self.value[1] {
+            return false;
+        }
+        let (chroma, max_f) = (f32::from(chroma), f32::from(max));
+        // Saturation = chroma / max; compared without dividing.
+        max != 0 && chroma >= self.saturation[0] * max_f && chroma <= self.saturation[1] * max_f
     }
 
     /// Whether a hue in degrees (0..360) is inside the range, wrapping through 0 when the lower
@@ -66,18 +106,12 @@ impl HsvThresholds {
     #[inline]
     pub fn contains(&self, [r, g, b]: [u8; 3]) -> bool {
         let max = r.max(g).max(b);
-        let min = r.min(g).min(b);
-        let value = f32::from(max) * (1.0 / 255.0);
-        if value < self.value[0] || value > self.value[1] {
+        let chroma = max - r.min(g).min(b);
+        let [least, greatest] = self.chroma_bounds[usize::from(max)];
+        if chroma < least || chroma > greatest {
             return false;
         }
-        let chroma = f32::from(max - min);
-        // Saturation = chroma / max; compared without dividing, since most pixels fail here.
-        let max_f = f32::from(max);
-        if max == 0 || chroma < self.saturation[0] * max_f || chroma > self.saturation[1] * max_f {
-            return false;
-        }
-        self.contains_hue(hue_deg([r, g, b], max, chroma))
+        self.contains_hue(hue_deg([r, g, b], max, f32::from(chroma)))
     }
 
     /// Word `i` of row `y` of the segmented image: bit `k` for pixel `64 i + k` passing.
@@ -172,6 +206,24 @@ mod tests {
         assert!(!red.contains([0, 0, 0]));
         // Reddish-brown wood sits just past the hue bound.
         assert!(!red.contains(hsv_to_rgb(24.0, 0.7, 0.5)));
+    }
+
+    #[test]
+    fn the_chroma_table_is_the_value_and_saturation_rule() {
+        let pale =
+            ColorSegmentation { saturation: [0.05, 0.6], value: [0.3, 0.9], ..Default::default() };
+        for thresholds in [HsvThresholds::default(), HsvThresholds::new(&pale).unwrap()] {
+            for max in 0..=u8::MAX {
+                for chroma in 0..=max {
+                    let [least, greatest] = thresholds.chroma_bounds[usize::from(max)];
+                    assert_eq!(
+                        (least..=greatest).contains(&chroma),
+                        thresholds.passes_value_and_saturation(max, chroma),
+                        "max {max}, chroma {chroma}"
+                    );
+                }
+            }
+        }
     }
 
     #[test]

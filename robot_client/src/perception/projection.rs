@@ -40,46 +40,56 @@ pub fn points_on_mask(
     ProjectedCloud::new(cloud, calibration, occlusion).on_mask(cloud, mask, occlusion)
 }
 
-/// The cloud as the camera sees it: where each point lands in the image and how deep, and the
-/// nearest depth of every depth cell. Projected once, before the image is segmented, so that
-/// the segmentation can start from the pixels the laser saw.
+/// The cloud as the camera sees it: where each point that lands in the image lands and how
+/// deep, and the nearest depth of every depth cell. Projected once, before the image is
+/// segmented, so that the segmentation can start from the pixels the laser saw.
 #[derive(Debug, Clone)]
 pub struct ProjectedCloud {
     width: usize,
     height: usize,
-    /// For each point of the cloud, where it lands; `x` is `OUTSIDE` for a point that does not.
+    /// Points in the cloud projected.
+    points: usize,
+    /// The points that land in the image, in the cloud's order. A laser sees more of the room
+    /// than the camera: most of its points land beside the picture and are not kept at all.
     landings: Vec<Landing>,
     nearest: Vec<f32>,
     /// The pixels some point lands on.
     seen: Mask,
 }
 
-/// Where a point lands: its pixel, the depth cell of that pixel, and its depth along the
-/// optical axis (metres).
+/// Where a point lands: its index in the cloud, its pixel, the depth cell of that pixel, and
+/// its depth along the optical axis (metres).
 #[derive(Debug, Clone, Copy)]
 struct Landing {
+    point: u32,
     x: u32,
     y: u32,
     cell: u32,
     depth: f32,
 }
 
-/// The `x` of a point that does not land in the image (behind the camera or beside it).
-const OUTSIDE: u32 = u32::MAX;
-
 impl ProjectedCloud {
     /// Projects `cloud` (base frame) into the camera of `calibration`.
+    ///
+    /// # Panics
+    ///
+    /// When the cloud holds more than `u32::MAX` points.
     pub fn new(
         cloud: &[Point3<f32>],
         calibration: &CameraCalibration,
         occlusion: &OcclusionTest,
     ) -> Self {
+        assert!(u32::try_from(cloud.len()).is_ok(), "a cloud of over 4 billion points");
         let camera_from_base = calibration.base_from_camera.inverse();
         let rotation: Matrix3<f32> = camera_from_base.rotation.to_rotation_matrix().matrix().cast();
         let translation: Vector3<f32> = camera_from_base.translation.vector.cast();
         let k = &calibration.intrinsics;
         let (fx, fy, cx, cy) = (k.fx as f32, k.fy as f32, k.cx as f32, k.cy as f32);
         let (width, height) = (k.width as usize, k.height as usize);
+        // For a coordinate u ≥ 0, `(u as usize) < width` is `u < width`: the width is a whole
+        // number, exact in f32 up to 2^24 pixels. Comparing floats first leaves the conversion
+        // to the points that land, and rejects a point beside the picture before its v is needed.
+        let (right, bottom) = (k.width as f32, k.height as f32);
         let cell = ((k.fx.max(k.fy) * occlusion.cell_angle).round() as usize).max(1);
         let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
         // A pixel's depth cell by table, column plus row: no division per point.
@@ -87,25 +97,35 @@ impl ProjectedCloud {
         let cell_row: Vec<u32> = (0..height).map(|y| ((y / cell) * cols) as u32).collect();
         let mut nearest = vec![f32::INFINITY; cols * rows];
         let mut seen = Mask::new(width, height);
-        let landings = cloud
-            .iter()
-            .map(|p| {
-                let c = rotation * p.coords + translation;
-                let u = fx * c.x / c.z + cx;
-                let v = fy * c.y / c.z + cy;
-                let inside = u >= 0.0 && v >= 0.0 && (u as usize) < width && (v as usize) < height;
-                if c.z <= 0.05 || !inside {
-                    return Landing { x: OUTSIDE, y: 0, cell: 0, depth: c.z };
-                }
-                let (x, y) = (u as usize, v as usize);
-                let at = cell_row[y] + cell_column[x];
-                let near = &mut nearest[at as usize];
-                *near = near.min(c.z);
-                seen.set(x, y, true);
-                Landing { x: x as u32, y: y as u32, cell: at, depth: c.z }
-            })
-            .collect();
-        Self { width, height, landings, nearest, seen }
+        let mut landings = Vec::new();
+        for (i, p) in cloud.iter().enumerate() {
+            let c = rotation * p.coords + translation;
+            // Behind the camera or too near it (and NaN) lands nowhere.
+            if c.z <= 0.05 || c.z.is_nan() {
+                continue;
+            }
+            let u = fx * c.x / c.z + cx;
+            if !(u >= 0.0 && u < right) {
+                continue;
+            }
+            let v = fy * c.y / c.z + cy;
+            if !(v >= 0.0 && v < bottom) {
+                continue;
+            }
+            let (x, y) = (u as usize, v as usize);
+            let at = cell_row[y] + cell_column[x];
+            let near = &mut nearest[at as usize];
+            *near = near.min(c.z);
+            seen.set(x, y, true);
+            landings.push(Landing {
+                point: i as u32,
+                x: x as u32,
+                y: y as u32,
+                cell: at,
+                depth: c.z,
+            });
+        }
+        Self { width, height, points: cloud.len(), landings, nearest, seen }
     }
 
     /// The pixels some point of the cloud lands on.
@@ -118,7 +138,7 @@ impl ProjectedCloud {
     ///
     /// # Panics
     ///
-    /// When `mask` is not the camera's size.
+    /// When `mask` is not the camera's size, or `cloud` not the size of the one projected.
     pub fn on_mask(
         &self,
         cloud: &[Point3<f32>],
@@ -126,15 +146,14 @@ impl ProjectedCloud {
         occlusion: &OcclusionTest,
     ) -> Vec<Point3<f32>> {
         assert_eq!((mask.width(), mask.height()), (self.width, self.height), "mask and camera");
+        assert_eq!(cloud.len(), self.points, "the cloud projected");
         self.landings
             .iter()
-            .zip(cloud)
-            .filter(|(l, _)| {
-                l.x != OUTSIDE
-                    && mask.get(l.x as usize, l.y as usize)
+            .filter(|l| {
+                mask.get(l.x as usize, l.y as usize)
                     && l.depth <= self.nearest[l.cell as usize] + occlusion.tolerance
             })
-            .map(|(_, p)| *p)
+            .map(|l| cloud[l.point as usize])
             .collect()
     }
 }
