@@ -39,7 +39,8 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Perception and navigation geometry on a recorded image, cloud and camera calibration.
-    Perceive(PerceiveArgs),
+    // Boxed: its parsed colour thresholds carry their lookup table.
+    Perceive(Box<PerceiveArgs>),
     /// Export a simulated scene (image.png, cloud.ply, camera.json, scene.json) to try
     /// `perceive` on.
     Scene(SceneArgs),
