@@ -11,13 +11,14 @@
 //! operation and the server's resident memory. With `--postgres CLUSTER` (or
 //! `PPS_TEST_POSTGRES`, as the test command sets it), each size runs again on a new database in
 //! that PostgreSQL cluster, served by two replicas the connections are spread over. When `nginx`
-//! is installed, the same generator also fetches the same JSON as a static file from nginx, so
+//! is installed, the same generator also fetches the same JSON as a static file from nginx, and
+//! with `wrk` installed too, `wrk -t2 -c64` compares the two on equal terms (`nginx.rs`), so
 //! the two are compared in one run.
 //! The generator shares the machine's cores with the server, as a robot fleet's LAN would not;
 //! compare ratios measured in one run, not absolute figures across machines.
 //!
-//! Long because a bench target is one file (a module beside it would be taken for another
-//! bench): the fleet of simulated robots, the phases and the report live together.
+//! Long because the fleet of simulated robots, the phases and the report share their types;
+//! the comparison with nginx is `nginx.rs`.
 
 use std::net::TcpListener;
 use std::process::{Child, Command, Stdio};
@@ -30,8 +31,9 @@ use pps_server::store::{robots, tokens};
 use pps_server::{Db, seed};
 use serde_json::{Value, json};
 
+mod nginx;
 // The test harness's databases in a PostgreSQL cluster, shared rather than copied.
-#[path = "../tests/common/postgres.rs"]
+#[path = "../../tests/common/postgres.rs"]
 mod postgres;
 
 const BIN: &str = env!("CARGO_BIN_EXE_pps-server");
@@ -223,8 +225,8 @@ async fn run(options: &Options, tag_count: usize, store: Store) -> anyhow::Resul
             memory(server).unwrap_or_else(|| "unknown".into())
         );
     }
-    if store == Store::Sqlite && tag_count == *options.tag_counts.first().unwrap_or(&0) {
-        compare_with_nginx(&client, &fleet, options, duration).await?;
+    if tag_count == *options.tag_counts.first().unwrap_or(&0) {
+        nginx::compare(&client, &fleet, options, duration).await?;
     }
     for server in &mut servers {
         stop(server);
@@ -351,58 +353,6 @@ fn trial(id: &str, epc: &str, robot: &str) -> Value {
         "forces": [ { "t": 0.5, "finger": "left", "force": [0.1, 0.2, 2.9] } ],
         "measurements": {}
     })
-}
-
-/// Serves one effective entry as a static file from nginx, if nginx is installed.
-async fn compare_with_nginx(
-    client: &reqwest::Client,
-    fleet: &Arc<Fleet>,
-    options: &Options,
-    duration: Duration,
-) -> anyhow::Result<()> {
-    let Ok(nginx) = which("nginx") else {
-        println!("  (nginx is not installed: no static-file comparison in this run)");
-        return Ok(());
-    };
-    let dir = tempfile::tempdir()?;
-    let (robot, token) = &fleet.tokens[0];
-    let epc = &fleet.epcs[0];
-    let body = client
-        .get(format!("{}/api/v1/robots/{robot}/tags/{epc}", fleet.urls[0]))
-        .bearer_auth(token)
-        .send()
-        .await?
-        .bytes()
-        .await?;
-    std::fs::create_dir_all(dir.path().join("www"))?;
-    std::fs::create_dir_all(dir.path().join("logs"))?;
-    std::fs::write(dir.path().join("www/entry.json"), &body)?;
-    let port = free_port()?;
-    let config = format!(
-        "worker_processes auto; error_log logs/error.log; pid logs/nginx.pid;\n\
-         events {{ worker_connections 1024; }}\n\
-         http {{ access_log off; server {{ listen 127.0.0.1:{port}; root {}; }} }}\n",
-        dir.path().join("www").display()
-    );
-    std::fs::write(dir.path().join("nginx.conf"), config)?;
-    let mut child = Command::new(nginx)
-        .arg("-p")
-        .arg(dir.path())
-        .args(["-c", "nginx.conf", "-g", "daemon off;"])
-        .stderr(Stdio::null())
-        .spawn()?;
-    let url = format!("http://127.0.0.1:{port}/entry.json");
-    for _ in 0..100 {
-        if client.get(&url).send().await.is_ok() {
-            break;
-        }
-        tokio::time::sleep(Duration::from_millis(50)).await;
-    }
-    let measured =
-        measure(client, fleet, Operation::Static { url }, options.connections, duration).await;
-    measured.print("nginx, same JSON as a static file");
-    stop(&mut child);
-    Ok(())
 }
 
 fn which(program: &str) -> std::io::Result<std::path::PathBuf> {
