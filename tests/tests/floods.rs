@@ -54,10 +54,14 @@ async fn made_up_methods_do_not_grow_the_metrics() {
 
 #[tokio::test]
 async fn clients_stalling_their_bodies_leave_the_others_served() {
-    let registry = Registry::with_flags(&["--body-timeout", "3"]);
+    // The deadline must outlast opening all 512 on a loaded machine: a connection cut off
+    // while the others are still opening frees a place in the host's share for a later one.
+    let deadline = Duration::from_secs(8);
+    let registry = Registry::with_flags(&["--body-timeout", &deadline.as_secs().to_string()]);
     // 512 logins from one host that send their headers and one byte of body, then stall.
     let head = "POST /api/v1/session HTTP/1.1\r\nhost: registry\r\n\
                 content-type: application/json\r\ncontent-length: 100\r\n\r\n{";
+    let opening = Instant::now();
     let mut stalled = Vec::new();
     for _ in 0..512 {
         let mut stream = connect_from(&registry, [127, 0, 0, 2]).await;
@@ -65,6 +69,11 @@ async fn clients_stalling_their_bodies_leave_the_others_served() {
         let _ = stream.write_all(head.as_bytes()).await;
         stalled.push(stream);
     }
+    let opened = opening.elapsed();
+    assert!(
+        opened < deadline,
+        "opening took {opened:?}, past the body deadline; counts below would mean nothing"
+    );
     let asked = Instant::now();
     let client = reqwest::Client::builder().timeout(Duration::from_secs(5)).build().unwrap();
     let health = client.get(format!("{}/healthz", registry.url)).send().await;
