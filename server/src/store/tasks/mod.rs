@@ -3,7 +3,7 @@
 //! Every change to a task appends its `task_changed` event in the same transaction, so the feed
 //! never misses one and never announces one that did not commit. Here: the row, asking for a
 //! task, reading and listing tasks, cancelling; the lease (claim, heartbeat, finish, the sweep)
-//! is [`lease`].
+//! is `lease.rs`.
 
 use pps_schema::{Epc, RobotId};
 use serde_json::{Value, json};
