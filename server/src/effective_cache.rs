@@ -9,12 +9,14 @@ use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, RwLock};
 
+use axum::http::HeaderValue;
 use bytes::Bytes;
 
-/// One merged entry, ready to send.
+/// One merged entry, ready to send: the ETag is a header value already (checked once, shared
+/// by every answer), since this is the robots' hot path.
 #[derive(Debug)]
 pub struct CachedEffective {
-    pub etag: String,
+    pub etag: HeaderValue,
     pub body: Bytes,
 }
 
@@ -111,7 +113,10 @@ mod tests {
     use super::*;
 
     fn cached() -> Arc<CachedEffective> {
-        Arc::new(CachedEffective { etag: "\"e\"".into(), body: Bytes::from_static(b"{}") })
+        Arc::new(CachedEffective {
+            etag: HeaderValue::from_static("\"e\""),
+            body: Bytes::from_static(b"{}"),
+        })
     }
 
     #[test]

@@ -44,15 +44,13 @@ pub async fn get(
 ) -> Result<Response, ApiError> {
     caller.require_robot_or_editor(&robot)?;
     let entry = entry_for(&state, &epc, &robot).await?;
-    if if_none_match.names(&entry.etag) {
+    if if_none_match.names(entry.etag.to_str().unwrap_or_default()) {
         return Ok((StatusCode::NOT_MODIFIED, [(ETAG, entry.etag.clone())]).into_response());
     }
     let mut response = Response::new(Body::from(entry.body.clone()));
     let headers = response.headers_mut();
     headers.insert(CONTENT_TYPE, HeaderValue::from_static("application/json"));
-    if let Ok(etag) = HeaderValue::from_str(&entry.etag) {
-        headers.insert(ETAG, etag);
-    }
+    headers.insert(ETAG, entry.etag.clone());
     Ok(response)
 }
 
@@ -94,6 +92,7 @@ async fn compute(
     let body = serde_json::to_vec(&merged).map_err(anyhow::Error::from)?;
     // The ETag is the content's hash, so it is stable across restarts and changes with it.
     let etag = format!("\"e{}\"", &hex::encode(Sha256::digest(&body))[..20]);
+    let etag = HeaderValue::try_from(etag).map_err(anyhow::Error::from)?;
     let entry = Arc::new(CachedEffective { etag, body: body.into() });
     state.effective.insert(generation, epc, robot.as_str(), entry.clone());
     Ok(entry)
