@@ -70,11 +70,9 @@ pub struct TrialGroup {
     pub relearn: bool,
 }
 
-impl TrialGroup {
-    /// The class as the change feed names it: `""` for robots without one, as it always has.
-    fn class_in_feed(&self) -> &str {
-        self.robot_class.as_deref().unwrap_or("")
-    }
+/// A class as the change feed names it: `""` for robots without one, as it always has.
+fn class_in_feed(robot_class: Option<&str>) -> &str {
+    robot_class.unwrap_or("")
 }
 
 /// Whether a trial's measurements hold anything a learning rule learns from.
@@ -90,7 +88,7 @@ pub async fn update(
     let mut changed = BTreeSet::new();
     for group in groups {
         if group.relearn && update_learned(conn, group).await? {
-            let data = json!({ "epc": group.epc.as_hex(), "robot_class": group.class_in_feed() });
+            let data = json!({ "epc": group.epc.as_hex(), "robot_class": class_in_feed(group.robot_class.as_deref()) });
             events::append(conn, EventKind::LearnedChanged, data).await?;
             changed.insert(group.epc.clone());
         }
@@ -190,7 +188,7 @@ async fn update_reliability(
         let data = json!({
             "epc": key.epc,
             "action": key.action,
-            "robot_class": key.robot_class.unwrap_or(""),
+            "robot_class": class_in_feed(key.robot_class),
             "reliable": reliable,
             "attempts": attempts,
             "successes": successes,

@@ -5,7 +5,7 @@ use axum::Json;
 use axum::extract::State;
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
-use pps_schema::{MAX_FORCE_SAMPLES, RobotId, Trial};
+use pps_schema::{MAX_FORCE_SAMPLES, Trial};
 use serde::Deserialize;
 use serde_json::{Value, json};
 use uuid::Uuid;
@@ -72,7 +72,7 @@ pub async fn put(
     if caller.robot.as_ref() != Some(&trial.robot) {
         return Err(ApiError::Forbidden(format!(
             "a robot records only its own trials: this token is bound to {:?}, the trial names {:?}",
-            caller.robot.as_ref().map_or("", RobotId::as_str),
+            caller.robot_name(),
             trial.robot.as_str()
         )));
     }

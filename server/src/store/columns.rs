@@ -13,10 +13,10 @@ use sqlx::error::BoxDynError;
 use sqlx::types::Type;
 use sqlx::{Any, ValueRef};
 
-/// The column type a decoded type is stored as.
+/// The column type a decoded type is stored as (`, for T` when the type is generic in `T`).
 macro_rules! stored_as {
-    ($decoded:ty, $stored:ty) => {
-        impl Type<Any> for $decoded {
+    ($decoded:ty, $stored:ty $(, for $param:ident)?) => {
+        impl$(<$param>)? Type<Any> for $decoded {
             fn type_info() -> sqlx::any::AnyTypeInfo {
                 <$stored as Type<Any>>::type_info()
             }
@@ -94,25 +94,8 @@ pub struct Id<T>(pub T);
 #[derive(Debug, Clone, PartialEq)]
 pub struct MaybeId<T>(pub Option<T>);
 
-impl<T> Type<Any> for Id<T> {
-    fn type_info() -> sqlx::any::AnyTypeInfo {
-        <String as Type<Any>>::type_info()
-    }
-
-    fn compatible(ty: &sqlx::any::AnyTypeInfo) -> bool {
-        <String as Type<Any>>::compatible(ty)
-    }
-}
-
-impl<T> Type<Any> for MaybeId<T> {
-    fn type_info() -> sqlx::any::AnyTypeInfo {
-        <String as Type<Any>>::type_info()
-    }
-
-    fn compatible(ty: &sqlx::any::AnyTypeInfo) -> bool {
-        <String as Type<Any>>::compatible(ty)
-    }
-}
+stored_as!(Id<T>, String, for T);
+stored_as!(MaybeId<T>, String, for T);
 
 impl<'r, T> Decode<'r, Any> for Id<T>
 where

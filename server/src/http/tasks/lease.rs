@@ -18,6 +18,7 @@ use serde_json::Value;
 use uuid::Uuid;
 
 use super::{TASK_ID, find, offer};
+use crate::clock;
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, JsonBody};
 use crate::http::ids::{InPath, TaskId};
@@ -25,7 +26,6 @@ use crate::http::openapi::{Body, Doc, Param, ParamType, Reply};
 use crate::state::AppState;
 use crate::store::tasks::{self, TaskRow};
 use crate::store::{robots, trials};
-use crate::{auth::Principal, clock};
 
 /// The longest a claim may wait for a task (DESIGN §8).
 pub const MAX_WAIT_SECONDS: u64 = 30;
@@ -66,7 +66,7 @@ pub async fn claim(
     if caller.robot.as_ref() != Some(&robot) {
         return Err(ApiError::Forbidden(format!(
             "a robot claims tasks only for itself: this token is bound to {:?}, not {:?}",
-            caller.robot.as_ref().map_or("", RobotId::as_str),
+            caller.robot_name(),
             robot.as_str()
         )));
     }
@@ -119,7 +119,7 @@ pub async fn heartbeat(
     Caller(caller): Caller,
     InPath(TaskId(id)): InPath<TaskId>,
 ) -> Result<Json<Value>, ApiError> {
-    let robot = holder(&caller)?;
+    let robot = caller.own_robot()?;
     let lease_until = clock::format(time::OffsetDateTime::now_utc() + state.tasks.lease());
     let mut tx = state.db.begin_write().await?;
     let extended = tasks::extend_lease(&mut tx, &id, robot, &lease_until).await?;
@@ -157,7 +157,7 @@ pub async fn finish(
     InPath(TaskId(id)): InPath<TaskId>,
     JsonBody(body): JsonBody,
 ) -> Result<Json<Value>, ApiError> {
-    let robot = holder(&caller)?;
+    let robot = caller.own_robot()?;
     let (trial_id, outcome) = parse_finish(&body)?;
     let task = find(&state, &id).await?;
     if task.trial == Some(trial_id) && task.claimed_by.as_ref() == Some(robot) {
@@ -255,14 +255,6 @@ fn parse_finish(body: &Value) -> Result<(Uuid, String), ApiError> {
         (Some(trial), Some(outcome)) if errors.is_empty() => Ok((trial, outcome)),
         _ => Err(ApiError::Invalid(errors)),
     }
-}
-
-/// The robot a holder's route acts for.
-fn holder(caller: &Principal) -> Result<&RobotId, ApiError> {
-    caller
-        .robot
-        .as_ref()
-        .ok_or_else(|| ApiError::Internal(anyhow::anyhow!("a robot credential without a robot id")))
 }
 
 /// Why `robot` may not heartbeat or finish `task`: 409 when it held it and lost the lease, 403

@@ -214,9 +214,7 @@ async fn robot_and_class(
     state: &AppState,
     caller: &Principal,
 ) -> Result<(RobotId, Option<String>), ApiError> {
-    let robot = caller.robot.clone().ok_or_else(|| {
-        ApiError::Internal(anyhow::anyhow!("a robot credential without a robot id"))
-    })?;
+    let robot = caller.own_robot()?.clone();
     let class = robots::get(state.db.reader(), &robot).await?.and_then(|r| r.class);
     Ok((robot, class))
 }
