@@ -105,15 +105,15 @@ pub fn find_planes(
     // Points of a rejected hypothesis stay in the cloud (they may lie on a real surface the
     // hypothesis cut across) but no longer seed samples, so the search moves on.
     let mut seedable = vec![true; n];
-    let mut alive_count = n;
+    // The alive points and the seedable ones among them, ascending, kept as the search
+    // removes points rather than gathered anew for every plane.
+    let mut alive_indices: Vec<u32> = (0..n as u32).collect();
+    let mut seeds = alive_indices.clone();
     let mut rejections = 0;
     while planes.len() < params.max_planes
-        && alive_count >= params.evidence.min_points
+        && alive_indices.len() >= params.evidence.min_points
         && rejections < params.max_rejections
     {
-        let alive_indices: Vec<u32> = (0..n as u32).filter(|&i| alive[i as usize]).collect();
-        let seeds: Vec<u32> =
-            alive_indices.iter().copied().filter(|&i| seedable[i as usize]).collect();
         if seeds.is_empty() {
             break;
         }
@@ -156,7 +156,8 @@ pub fn find_planes(
                 for &i in &patch.band {
                     alive[i as usize] = false;
                 }
-                alive_count -= patch.band.len();
+                alive_indices.retain(|&i| alive[i as usize]);
+                seeds.retain(|&i| alive[i as usize]);
                 let (plane, centroid) =
                     Plane::fit(patch.inliers.iter().map(|&i| points[i as usize].cast()))
                         .unwrap_or((refined, Point3::origin()));
@@ -176,6 +177,7 @@ pub fn find_planes(
                     seedable[i as usize] = false;
                     within += 1;
                 }
+                seeds.retain(|&i| seedable[i as usize]);
                 let plane = refined.facing(viewpoint);
                 rejected.push(RejectedPlane {
                     normal: plane.normal,

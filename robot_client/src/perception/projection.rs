@@ -97,7 +97,8 @@ impl ProjectedCloud {
         let cell_row: Vec<u32> = (0..height).map(|y| ((y / cell) * cols) as u32).collect();
         let mut nearest = vec![f32::INFINITY; cols * rows];
         let mut seen = Mask::new(width, height);
-        let mut landings = Vec::new();
+        // Room for every point up front, as for the crop of the volume of interest.
+        let mut landings = Vec::with_capacity(cloud.len());
         for (i, p) in cloud.iter().enumerate() {
             let c = rotation * p.coords + translation;
             // Behind the camera or too near it (and NaN) lands nowhere.
