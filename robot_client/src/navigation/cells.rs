@@ -21,16 +21,18 @@ impl CellIndex {
     /// Groups `points` into cubes of `size` metres.
     pub fn new(points: &[Point3<f32>], size: f32) -> Self {
         let cubes: Vec<[i64; 3]> = points.iter().map(|p| cube_of(p, size)).collect();
-        let order = match DenseBox::around(&cubes) {
-            Some(dense) => dense.order(&cubes),
-            None => {
-                let mut order: Vec<u32> = (0..cubes.len() as u32).collect();
-                order.sort_unstable_by_key(|&i| (cubes[i as usize], i));
-                order
-            }
-        };
+        match DenseBox::around(&cubes) {
+            Some(dense) => dense.index(&cubes),
+            None => Self::sorted(&cubes),
+        }
+    }
+
+    /// By sorting the cubes: for a cloud spread over far more cubes than it has points.
+    fn sorted(cubes: &[[i64; 3]]) -> Self {
+        let mut order: Vec<u32> = (0..cubes.len() as u32).collect();
+        order.sort_unstable_by_key(|&i| (cubes[i as usize], i));
         let mut starts = Vec::new();
-        let mut cell_of = vec![0; points.len()];
+        let mut cell_of = vec![0; cubes.len()];
         for (at, &i) in order.iter().enumerate() {
             if at == 0 || cubes[order[at - 1] as usize] != cubes[i as usize] {
                 starts.push(at as u32);
@@ -75,29 +77,45 @@ impl DenseBox {
         (volume <= 8 * cubes.len().max(1024) as i64).then_some(Self { lo, dims })
     }
 
-    /// Cubes numbered in the order of x, then y, then z, as sorting them would order them.
-    fn index(&self, c: &[i64; 3]) -> usize {
+    /// The cube's number in the box, in the order of x, then y, then z, as sorting them would
+    /// order them.
+    fn number(&self, c: &[i64; 3]) -> u32 {
         let [x, y, z] = [0, 1, 2].map(|axis| c[axis] - self.lo[axis]);
-        ((x * self.dims[1] + y) * self.dims[2] + z) as usize
+        ((x * self.dims[1] + y) * self.dims[2] + z) as u32
     }
 
-    /// Point indices ordered by cube, ascending within each: a counting sort.
-    fn order(&self, cubes: &[[i64; 3]]) -> Vec<u32> {
+    /// The index by a counting sort: the same cells, in the same order, as sorting gives.
+    fn index(&self, cubes: &[[i64; 3]]) -> CellIndex {
+        // Each point's cube numbered once; the box holds at most 8 × max(n, 1024) cubes, so
+        // the numbers fit in u32 as the point indices do.
+        let numbers: Vec<u32> = cubes.iter().map(|c| self.number(c)).collect();
         let volume = self.dims.iter().product::<i64>() as usize;
-        let mut next = vec![0u32; volume + 1];
-        for c in cubes {
-            next[self.index(c) + 1] += 1;
+        let mut count = vec![0u32; volume];
+        for &k in &numbers {
+            count[k as usize] += 1;
         }
-        for i in 1..next.len() {
-            next[i] += next[i - 1];
+        // Occupied cubes become cells in their numbers' order; `next` is where each cube's
+        // next point goes and `cell_number` its cell.
+        let mut starts = Vec::new();
+        let (mut next, mut cell_number) = (count, vec![0u32; volume]);
+        let mut at = 0;
+        for (cube, slot) in next.iter_mut().enumerate() {
+            if *slot > 0 {
+                cell_number[cube] = starts.len() as u32;
+                starts.push(at);
+                (at, *slot) = (at + *slot, at);
+            }
         }
+        starts.push(at);
         let mut order = vec![0; cubes.len()];
-        for (i, c) in cubes.iter().enumerate() {
-            let slot = &mut next[self.index(c)];
+        let mut cell_of = Vec::with_capacity(cubes.len());
+        for (i, &k) in numbers.iter().enumerate() {
+            let slot = &mut next[k as usize];
             order[*slot as usize] = i as u32;
             *slot += 1;
+            cell_of.push(cell_number[k as usize]);
         }
-        order
+        CellIndex { order, starts, cell_of }
     }
 }
 
