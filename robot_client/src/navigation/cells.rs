@@ -62,7 +62,7 @@ struct DenseBox {
 }
 
 impl DenseBox {
-    /// `None` when the cubes span far more cells than there are points.
+    /// `None` when the cubes span far more cells than there are points, or than u32 numbers.
     fn around(cubes: &[[i64; 3]]) -> Option<Self> {
         let first = cubes.first()?;
         let (mut lo, mut hi) = (*first, *first);
@@ -74,7 +74,9 @@ impl DenseBox {
         }
         let dims = [0, 1, 2].map(|axis| hi[axis].saturating_sub(lo[axis]).saturating_add(1));
         let volume = dims.iter().try_fold(1i64, |v, &d| v.checked_mul(d))?;
-        (volume <= 8 * cubes.len().max(1024) as i64).then_some(Self { lo, dims })
+        // Cube numbers are u32, as point indices are.
+        let small = volume <= 8 * cubes.len().max(1024) as i64 && volume <= i64::from(u32::MAX);
+        small.then_some(Self { lo, dims })
     }
 
     /// The cube's number in the box, in the order of x, then y, then z, as sorting them would
@@ -86,8 +88,7 @@ impl DenseBox {
 
     /// The index by a counting sort: the same cells, in the same order, as sorting gives.
     fn index(&self, cubes: &[[i64; 3]]) -> CellIndex {
-        // Each point's cube numbered once; the box holds at most 8 × max(n, 1024) cubes, so
-        // the numbers fit in u32 as the point indices do.
+        // Each point's cube numbered once.
         let numbers: Vec<u32> = cubes.iter().map(|c| self.number(c)).collect();
         let volume = self.dims.iter().product::<i64>() as usize;
         let mut count = vec![0u32; volume];

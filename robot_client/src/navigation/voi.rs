@@ -31,9 +31,11 @@ impl VolumeOfInterest {
     /// The points of `cloud` inside the cylinder.
     pub fn crop(&self, cloud: &[Point3<f32>]) -> Vec<Point3<f32>> {
         // Room for every point up front: growing by doubling copied the cropped points over
-        // and over, and the pages never written are never touched.
+        // and over, and the pages never written are never touched. The room left over is handed
+        // back (in place, no copy), lest the plan that keeps these points keep a cloud's worth.
         let mut inside = Vec::with_capacity(cloud.len());
         inside.extend(cloud.iter().filter(|p| self.contains(p)));
+        inside.shrink_to_fit();
         inside
     }
 }
