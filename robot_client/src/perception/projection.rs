@@ -113,7 +113,9 @@ impl ProjectedCloud {
             if !(v >= 0.0 && v < bottom) {
                 continue;
             }
-            let (x, y) = (u as usize, v as usize);
+            // Both lie in [0, size) with the size below 2^24: through u32 the pixel is the same,
+            // and the conversion needs none of the 64-bit saturation `as usize` costs.
+            let (x, y) = (u as u32 as usize, v as u32 as usize);
             let at = cell_row[y] + cell_column[x];
             let near = &mut nearest[at as usize];
             *near = near.min(c.z);
