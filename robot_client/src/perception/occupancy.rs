@@ -56,6 +56,9 @@ pub struct OccupancyGrid {
     /// Least and greatest voxel coordinates occupied on each axis: most points asked about
     /// (the volume of interest against the tag's few voxels) fall outside them.
     bounds: [[i64; 3]; 2],
+    /// The same box in metres, a voxel wider on every side (far beyond rounding): a point
+    /// outside it is found outside without dividing and flooring its coordinates.
+    reach: [[f32; 3]; 2],
 }
 
 const BITS: u32 = 21;
@@ -104,8 +107,12 @@ impl OccupancyGrid {
                 bounds[1][axis] = bounds[1][axis].max(v[axis]);
             }
         }
+        let reach = [
+            bounds[0].map(|v| v.saturating_sub(1) as f32 * resolution),
+            bounds[1].map(|v| v.saturating_add(2) as f32 * resolution),
+        ];
         let points = keyed.into_iter().map(|(_, p)| p).collect();
-        Self { resolution, keys, ranges, points, bounds }
+        Self { resolution, keys, ranges, points, bounds, reach }
     }
 
     pub fn resolution(&self) -> f32 {
@@ -114,6 +121,11 @@ impl OccupancyGrid {
 
     /// Whether `p` falls in an occupied voxel.
     pub fn contains(&self, p: &Point3<f32>) -> bool {
+        let [near, far] = &self.reach;
+        let c = [p.x, p.y, p.z];
+        if (0..3).any(|axis| c[axis] < near[axis] || c[axis] > far[axis]) {
+            return false;
+        }
         let v = cube_of(p, self.resolution);
         let [lo, hi] = &self.bounds;
         (0..3).all(|axis| (lo[axis]..=hi[axis]).contains(&v[axis]))
