@@ -3,6 +3,7 @@
 //!
 //! - [`hal`]: one trait per hardware capability; a real robot or [`sim`] implements them.
 //! - [`perception`]: the paper's §III-B, finding the red tag in a registered image and cloud.
+//! - [`cores`]: the machine's cores the chain's larger steps are split over.
 //! - [`navigation`]: the paper's §IV-B.1 geometry: volume of interest, planes, backing plane,
 //!   waypoint, collision check, and which RFID tag was read.
 //! - [`recording`]: the files recorded sensor data travels in (PNG, PLY, camera JSON).
@@ -21,6 +22,7 @@
 
 pub mod behaviors;
 pub mod cli;
+pub mod cores;
 pub mod experiment;
 pub mod hal;
 pub mod navigation;

@@ -19,6 +19,8 @@ struct Cli {
 
 fn main() -> ExitCode {
     pps_robot::cli::init_logging();
+    // The perception chain runs on this thread: it works beside the pool, not waiting on it.
+    pps_robot::cores::work_on_this_thread();
     match pps_robot::cli::trials_main(&Cli::parse().args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(error) => {

@@ -2,8 +2,13 @@
 //! direction perpendicular to the plane") and the check that the robot fits there.
 
 use nalgebra::{Point3, Vector3};
+use rayon::prelude::*;
 
 use super::backing_plane::BackingPlane;
+
+/// Points a core checks at a time: the test is a few comparisons for most points, so blocks
+/// twice the projection's keep the split's bookkeeping small beside them.
+const CLEARANCE_BLOCK: usize = 8192;
 
 /// Where the base should stand and which way it should face, base frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -82,8 +87,6 @@ pub fn check_clearance(
     let (sin, cos) = waypoint.yaw.sin_cos();
     let (wx, wy) = (waypoint.position.x, waypoint.position.y);
     let f = footprint;
-    let mut hits = 0;
-    let mut nearest: Option<(f64, Point3<f64>)> = None;
     // No box reaches further from the waypoint than this, so the square around it that this
     // spans (a centimetre wider, far beyond rounding) holds every point that can hit: the rest
     // of the room is passed over in single precision, without turning it into the robot's frame.
@@ -91,30 +94,49 @@ pub fn check_clearance(
         .max(f.arm_reach.max(f.base_half_length).hypot(f.arm_half_width)) as f32
         + 0.01;
     let (cx, cy) = (wx as f32, wy as f32);
-    for p in cloud {
-        if (p.x - cx).abs() > reach || (p.y - cy).abs() > reach {
-            continue;
-        }
-        let p: Point3<f64> = p.cast();
-        if p.z < f.floor_clearance || p.z > f.height {
-            continue;
-        }
-        // Into the robot's frame at the waypoint: x ahead, y to its left.
-        let (dx, dy) = (p.x - wx, p.y - wy);
-        let (x, y) = (cos * dx + sin * dy, -sin * dx + cos * dy);
-        let in_base = x.abs() <= f.base_half_length && y.abs() <= f.base_half_width;
-        let in_arm = x > f.base_half_length
-            && x <= f.arm_reach
-            && y.abs() <= f.arm_half_width
-            && (p.z - hand_height).abs() <= f.arm_half_height;
-        if in_base || in_arm {
-            hits += 1;
-            let d = x * x + y * y;
-            if nearest.is_none_or(|(best, _)| d < best) {
-                nearest = Some((d, p));
+    // Each core counts the hits of a block of the cloud; joined left to right, keeping the
+    // earlier point on a tie, as one pass in the cloud's order would.
+    let (hits, nearest) = cloud
+        .par_chunks(CLEARANCE_BLOCK)
+        .map(|points| {
+            let mut hits = 0;
+            let mut nearest: Option<(f64, Point3<f64>)> = None;
+            for p in points {
+                if (p.x - cx).abs() > reach || (p.y - cy).abs() > reach {
+                    continue;
+                }
+                let p: Point3<f64> = p.cast();
+                if p.z < f.floor_clearance || p.z > f.height {
+                    continue;
+                }
+                // Into the robot's frame at the waypoint: x ahead, y to its left.
+                let (dx, dy) = (p.x - wx, p.y - wy);
+                let (x, y) = (cos * dx + sin * dy, -sin * dx + cos * dy);
+                let in_base = x.abs() <= f.base_half_length && y.abs() <= f.base_half_width;
+                let in_arm = x > f.base_half_length
+                    && x <= f.arm_reach
+                    && y.abs() <= f.arm_half_width
+                    && (p.z - hand_height).abs() <= f.arm_half_height;
+                if in_base || in_arm {
+                    hits += 1;
+                    let d = x * x + y * y;
+                    if nearest.is_none_or(|(best, _)| d < best) {
+                        nearest = Some((d, p));
+                    }
+                }
             }
-        }
-    }
+            (hits, nearest)
+        })
+        .reduce(
+            || (0, None),
+            |(hits_left, left), (hits_right, right)| {
+                let nearest = match (left, right) {
+                    (Some(l), Some(r)) => Some(if r.0 < l.0 { r } else { l }),
+                    (l, r) => l.or(r),
+                };
+                (hits_left + hits_right, nearest)
+            },
+        );
     match nearest {
         Some((_, p)) if hits > f.tolerated_points => {
             Clearance::Blocked { points: hits, nearest: p }

@@ -8,9 +8,14 @@
 //! hidden from the camera and dropped.
 
 use nalgebra::{Matrix3, Point3, Vector3};
+use rayon::prelude::*;
 
 use super::mask::Mask;
 use crate::hal::CameraCalibration;
+
+/// Points a core projects at a time: a cloud of 150k points is 37 blocks, so two cores finish
+/// within a block of each other, and a block's own bookkeeping stays far below its work.
+const PROJECTION_BLOCK: usize = 4096;
 
 /// How the occlusion test sees the cloud.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -95,38 +100,49 @@ impl ProjectedCloud {
         // A pixel's depth cell by table, column plus row: no division per point.
         let cell_column: Vec<u32> = (0..width).map(|x| (x / cell) as u32).collect();
         let cell_row: Vec<u32> = (0..height).map(|y| ((y / cell) * cols) as u32).collect();
+        // The points are turned into pixels on every core, a block each (landings in the cloud's
+        // order within a block); the depth cells and the seen pixels are then filled in that
+        // same order on one, so the table is the one a single pass would have made.
+        let blocks: Vec<Vec<Landing>> = cloud
+            .par_chunks(PROJECTION_BLOCK)
+            .enumerate()
+            .map(|(block, points)| {
+                let first = block * PROJECTION_BLOCK;
+                let mut landings = Vec::new();
+                for (i, p) in points.iter().enumerate() {
+                    let c = rotation * p.coords + translation;
+                    // Behind the camera or too near it (and NaN) lands nowhere.
+                    if c.z <= 0.05 || c.z.is_nan() {
+                        continue;
+                    }
+                    let u = fx * c.x / c.z + cx;
+                    if !(u >= 0.0 && u < right) {
+                        continue;
+                    }
+                    let v = fy * c.y / c.z + cy;
+                    if !(v >= 0.0 && v < bottom) {
+                        continue;
+                    }
+                    // Both lie in [0, size) with the size below 2^24: through u32 the pixel is
+                    // the same, and the conversion needs none of the 64-bit saturation `as
+                    // usize` costs.
+                    let (x, y) = (u as u32, v as u32);
+                    let cell = cell_row[y as usize] + cell_column[x as usize];
+                    landings.push(Landing { point: (first + i) as u32, x, y, cell, depth: c.z });
+                }
+                landings
+            })
+            .collect();
         let mut nearest = vec![f32::INFINITY; cols * rows];
         let mut seen = Mask::new(width, height);
-        // Room for every point up front, as for the crop of the volume of interest.
-        let mut landings = Vec::with_capacity(cloud.len());
-        for (i, p) in cloud.iter().enumerate() {
-            let c = rotation * p.coords + translation;
-            // Behind the camera or too near it (and NaN) lands nowhere.
-            if c.z <= 0.05 || c.z.is_nan() {
-                continue;
+        let mut landings = Vec::with_capacity(blocks.iter().map(Vec::len).sum());
+        for block in blocks {
+            for l in &block {
+                let near = &mut nearest[l.cell as usize];
+                *near = near.min(l.depth);
+                seen.set(l.x as usize, l.y as usize, true);
             }
-            let u = fx * c.x / c.z + cx;
-            if !(u >= 0.0 && u < right) {
-                continue;
-            }
-            let v = fy * c.y / c.z + cy;
-            if !(v >= 0.0 && v < bottom) {
-                continue;
-            }
-            // Both lie in [0, size) with the size below 2^24: through u32 the pixel is the same,
-            // and the conversion needs none of the 64-bit saturation `as usize` costs.
-            let (x, y) = (u as u32 as usize, v as u32 as usize);
-            let at = cell_row[y] + cell_column[x];
-            let near = &mut nearest[at as usize];
-            *near = near.min(c.z);
-            seen.set(x, y, true);
-            landings.push(Landing {
-                point: i as u32,
-                x: x as u32,
-                y: y as u32,
-                cell: at,
-                depth: c.z,
-            });
+            landings.extend(block);
         }
         Self { width, height, points: cloud.len(), landings, nearest, seen }
     }

@@ -52,6 +52,8 @@ fn parse_kind(text: &str) -> Result<DeviceKind, String> {
 }
 
 fn main() -> anyhow::Result<()> {
+    // The benchmark runs the chain on this thread: it works beside the pool, not waiting on it.
+    pps_robot::cores::work_on_this_thread();
     match Cli::parse().command {
         Command::Write { seed, kind, out } => write(seed, kind, &out),
         Command::WriteCorpus { scenes, out } => (0..scenes).try_for_each(|i| {
