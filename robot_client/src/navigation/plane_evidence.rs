@@ -89,7 +89,8 @@ pub struct PlanarPatch {
 /// distribution). A surface's own points dominate that median; the strips of other surfaces
 /// crossing the plane and the fringe of clutter barely move it.
 fn noise_across(distances: impl Iterator<Item = f64>, window: f64) -> Option<f64> {
-    let mut near: Vec<f64> = distances.map(f64::abs).filter(|d| *d < window).collect();
+    let mut near = Vec::with_capacity(distances.size_hint().1.unwrap_or(0));
+    near.extend(distances.map(f64::abs).filter(|d| *d < window));
     if near.is_empty() {
         return None;
     }
@@ -143,9 +144,9 @@ pub(super) fn assess_plane_among(
         return Err(too_few(0));
     };
     let inlier_distance = (rule.noise_multiple * noise).clamp(rule.min_band, rule.max_band);
-    // The ±2t band.
-    let band: Vec<NearPoint> =
-        window.into_iter().filter(|w| w.residual.abs() < 2.0 * inlier_distance).collect();
+    // The ±2t band, narrowed in place.
+    let mut band = window;
+    band.retain(|w| w.residual.abs() < 2.0 * inlier_distance);
     if band.len() < rule.min_points {
         return Err(too_few(band.len()));
     }
@@ -180,12 +181,15 @@ fn near_points(
     plane: &Plane,
 ) -> Vec<NearPoint> {
     let (u, v) = plane.basis();
-    near.map(|index| {
+    // Room for as many as `near` may name (the points it filters) up front: growing by
+    // doubling copied the list over again, for every plane judged.
+    let mut out = Vec::with_capacity(near.size_hint().1.unwrap_or(0));
+    out.extend(near.map(|index| {
         let p: Point3<f64> = points[index as usize].cast();
         let at = Vector2::new(u.dot(&p.coords), v.dot(&p.coords));
         NearPoint { index, at, residual: plane.signed_distance(&p) }
-    })
-    .collect()
+    }));
+    out
 }
 
 /// The band's points rastered in the plane: square cells, the cell of each band point, and how

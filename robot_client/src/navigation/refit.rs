@@ -34,11 +34,15 @@ impl<'a> Refit<'a> {
         window: f64,
         bounds: &[Point3<f64>; 2],
     ) -> Self {
-        let near = alive
-            .iter()
-            .copied()
-            .filter(|&i| hypothesis.signed_distance(&points[i as usize].cast()).abs() < window)
-            .collect();
+        // Room for every alive point up front: growing by doubling copied the gathered ones
+        // over again, and this runs for every hypothesis judged.
+        let mut near = Vec::with_capacity(alive.len());
+        near.extend(
+            alive
+                .iter()
+                .copied()
+                .filter(|&i| hypothesis.signed_distance(&points[i as usize].cast()).abs() < window),
+        );
         let [lo, hi] = bounds;
         let corners = std::array::from_fn(|c| {
             let pick = |bit: usize, lo: f64, hi: f64| if c >> bit & 1 == 1 { hi } else { lo };
