@@ -317,8 +317,9 @@ fn measure(
     let beside_patch: Vec<bool> = (0..raster.near_count.len())
         .map(|cell| raster.around(cell).any(|n| patch.holds(n)))
         .collect();
-    let mut inliers = Vec::new();
-    let mut wide = Vec::new();
+    // Both are parts of the band: room for all of it up front spares growing them point by point.
+    let mut inliers = Vec::with_capacity(band.len());
+    let mut wide = Vec::with_capacity(band.len());
     let (mut sum, mut outer) = (Vector2::zeros(), Matrix2::zeros());
     // Per cell: the sums of in-plane position, residual and squared residual of its near points.
     let mut cell_sums = vec![(Vector2::zeros(), 0.0, 0.0); raster.near_count.len()];

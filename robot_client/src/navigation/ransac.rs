@@ -201,7 +201,8 @@ struct ScoringSample {
 
 impl ScoringSample {
     fn of(points: &[Point3<f32>], subset: &[u32], alive: &[bool]) -> Self {
-        let mut sample = Self { x: Vec::new(), y: Vec::new(), z: Vec::new() };
+        let room = || Vec::with_capacity(subset.len());
+        let mut sample = Self { x: room(), y: room(), z: room() };
         for p in subset.iter().filter(|&&i| alive[i as usize]).map(|&i| &points[i as usize]) {
             sample.x.push(p.x);
             sample.y.push(p.y);

@@ -54,9 +54,10 @@ pub struct ProjectedCloud {
     height: usize,
     /// Points in the cloud projected.
     points: usize,
-    /// The points that land in the image, in the cloud's order. A laser sees more of the room
+    /// The points that land in the image, in the cloud's order, block by block as the cores
+    /// projected them (joining the blocks would only copy them). A laser sees more of the room
     /// than the camera: most of its points land beside the picture and are not kept at all.
-    landings: Vec<Landing>,
+    landings: Vec<Vec<Landing>>,
     nearest: Vec<f32>,
     /// The pixels some point lands on.
     seen: Mask,
@@ -103,12 +104,15 @@ impl ProjectedCloud {
         // The points are turned into pixels on every core, a block each (landings in the cloud's
         // order within a block); the depth cells and the seen pixels are then filled in that
         // same order on one, so the table is the one a single pass would have made.
-        let blocks: Vec<Vec<Landing>> = cloud
+        let landings: Vec<Vec<Landing>> = cloud
             .par_chunks(PROJECTION_BLOCK)
             .enumerate()
             .map(|(block, points)| {
                 let first = block * PROJECTION_BLOCK;
-                let mut landings = Vec::new();
+                // Room for the whole block up front: growing by doubling copied it over again.
+                // The ProjectedCloud lives for one look, and the pages never written are never
+                // touched, so the room is not handed back.
+                let mut landings = Vec::with_capacity(points.len());
                 for (i, p) in points.iter().enumerate() {
                     let c = rotation * p.coords + translation;
                     // Behind the camera or too near it (and NaN) lands nowhere.
@@ -135,14 +139,10 @@ impl ProjectedCloud {
             .collect();
         let mut nearest = vec![f32::INFINITY; cols * rows];
         let mut seen = Mask::new(width, height);
-        let mut landings = Vec::with_capacity(blocks.iter().map(Vec::len).sum());
-        for block in blocks {
-            for l in &block {
-                let near = &mut nearest[l.cell as usize];
-                *near = near.min(l.depth);
-                seen.set(l.x as usize, l.y as usize, true);
-            }
-            landings.extend(block);
+        for l in landings.iter().flatten() {
+            let near = &mut nearest[l.cell as usize];
+            *near = near.min(l.depth);
+            seen.set(l.x as usize, l.y as usize, true);
         }
         Self { width, height, points: cloud.len(), landings, nearest, seen }
     }
@@ -168,6 +168,7 @@ impl ProjectedCloud {
         assert_eq!(cloud.len(), self.points, "the cloud projected");
         self.landings
             .iter()
+            .flatten()
             .filter(|l| {
                 mask.get(l.x as usize, l.y as usize)
                     && l.depth <= self.nearest[l.cell as usize] + occlusion.tolerance
