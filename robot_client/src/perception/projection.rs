@@ -74,6 +74,79 @@ struct Landing {
     depth: f32,
 }
 
+/// Points the projection turns into pixels side by side: arithmetic on arrays of this many,
+/// with no branch in it, is what the compiler makes vector instructions of.
+const LANES: usize = 8;
+
+/// The camera as the projection uses it: base frame to optical frame, then to pixels.
+#[derive(Debug, Clone, Copy)]
+struct Pinhole {
+    rotation: Matrix3<f32>,
+    translation: Vector3<f32>,
+    fx: f32,
+    fy: f32,
+    cx: f32,
+    cy: f32,
+    /// The image's width and height: for a coordinate u ≥ 0, `(u as u32) < width` is
+    /// `u < width`, the width being a whole number, exact in f32 up to 2^24 pixels.
+    right: f32,
+    bottom: f32,
+}
+
+/// A group of points in the camera: pixel coordinates, depths, and which of them land in
+/// the image (bit `l` for lane `l`).
+struct Lanes {
+    u: [f32; LANES],
+    v: [f32; LANES],
+    z: [f32; LANES],
+    lands: u32,
+}
+
+impl Pinhole {
+    fn of(calibration: &CameraCalibration) -> Self {
+        let camera_from_base = calibration.base_from_camera.inverse();
+        let k = &calibration.intrinsics;
+        Self {
+            rotation: camera_from_base.rotation.to_rotation_matrix().matrix().cast(),
+            translation: camera_from_base.translation.vector.cast(),
+            fx: k.fx as f32,
+            fy: k.fy as f32,
+            cx: k.cx as f32,
+            cy: k.cy as f32,
+            right: k.width as f32,
+            bottom: k.height as f32,
+        }
+    }
+
+    /// Where each of `group` lands. Every lane is computed and tested, landing or not, so the
+    /// loops run without a branch; a point behind the camera or too near it (or NaN) lands
+    /// nowhere.
+    fn lanes(&self, group: &[Point3<f32>; LANES]) -> Lanes {
+        let (r, t) = (&self.rotation, &self.translation);
+        let mut lanes = Lanes { u: [0.0; LANES], v: [0.0; LANES], z: [0.0; LANES], lands: 0 };
+        for (l, p) in group.iter().enumerate() {
+            // The sums in the order nalgebra's product takes them, so each pixel is the one
+            // `rotation * p + translation` gives to the last bit.
+            let c = |i: usize| r[(i, 0)] * p.x + r[(i, 1)] * p.y + r[(i, 2)] * p.z + t[i];
+            let (x, y, z) = (c(0), c(1), c(2));
+            lanes.u[l] = self.fx * x / z + self.cx;
+            lanes.v[l] = self.fy * y / z + self.cy;
+            lanes.z[l] = z;
+        }
+        for l in 0..LANES {
+            let (u, v) = (lanes.u[l], lanes.v[l]);
+            // NaN fails every comparison, so it lands nowhere.
+            let lands = (lanes.z[l] > 0.05)
+                & (u >= 0.0)
+                & (u < self.right)
+                & (v >= 0.0)
+                & (v < self.bottom);
+            lanes.lands |= u32::from(lands) << l;
+        }
+        lanes
+    }
+}
+
 impl ProjectedCloud {
     /// Projects `cloud` (base frame) into the camera of `calibration`.
     ///
@@ -86,16 +159,9 @@ impl ProjectedCloud {
         occlusion: &OcclusionTest,
     ) -> Self {
         assert!(u32::try_from(cloud.len()).is_ok(), "a cloud of over 4 billion points");
-        let camera_from_base = calibration.base_from_camera.inverse();
-        let rotation: Matrix3<f32> = camera_from_base.rotation.to_rotation_matrix().matrix().cast();
-        let translation: Vector3<f32> = camera_from_base.translation.vector.cast();
+        let camera = Pinhole::of(calibration);
         let k = &calibration.intrinsics;
-        let (fx, fy, cx, cy) = (k.fx as f32, k.fy as f32, k.cx as f32, k.cy as f32);
         let (width, height) = (k.width as usize, k.height as usize);
-        // For a coordinate u ≥ 0, `(u as usize) < width` is `u < width`: the width is a whole
-        // number, exact in f32 up to 2^24 pixels. Comparing floats first leaves the conversion
-        // to the points that land, and rejects a point beside the picture before its v is needed.
-        let (right, bottom) = (k.width as f32, k.height as f32);
         let cell = ((k.fx.max(k.fy) * occlusion.cell_angle).round() as usize).max(1);
         let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
         // A pixel's depth cell by table, column plus row: no division per point.
@@ -113,26 +179,32 @@ impl ProjectedCloud {
                 // The ProjectedCloud lives for one look, and the pages never written are never
                 // touched, so the room is not handed back.
                 let mut landings = Vec::with_capacity(points.len());
-                for (i, p) in points.iter().enumerate() {
-                    let c = rotation * p.coords + translation;
-                    // Behind the camera or too near it (and NaN) lands nowhere.
-                    if c.z <= 0.05 || c.z.is_nan() {
-                        continue;
+                let mut lanes = points.chunks_exact(LANES);
+                let mut land = |at: usize, group: &[Point3<f32>; LANES]| {
+                    let at_camera = camera.lanes(group);
+                    // The lanes that land, lowest first: most groups have none or all.
+                    let mut lands = at_camera.lands;
+                    while lands != 0 {
+                        let l = lands.trailing_zeros() as usize;
+                        lands &= lands - 1;
+                        // Both lie in [0, size) with the size below 2^24: through u32 the pixel
+                        // is the same, and the conversion needs none of the 64-bit saturation
+                        // `as usize` costs.
+                        let (x, y) = (at_camera.u[l] as u32, at_camera.v[l] as u32);
+                        let cell = cell_row[y as usize] + cell_column[x as usize];
+                        let point = (first + at + l) as u32;
+                        landings.push(Landing { point, x, y, cell, depth: at_camera.z[l] });
                     }
-                    let u = fx * c.x / c.z + cx;
-                    if !(u >= 0.0 && u < right) {
-                        continue;
-                    }
-                    let v = fy * c.y / c.z + cy;
-                    if !(v >= 0.0 && v < bottom) {
-                        continue;
-                    }
-                    // Both lie in [0, size) with the size below 2^24: through u32 the pixel is
-                    // the same, and the conversion needs none of the 64-bit saturation `as
-                    // usize` costs.
-                    let (x, y) = (u as u32, v as u32);
-                    let cell = cell_row[y as usize] + cell_column[x as usize];
-                    landings.push(Landing { point: (first + i) as u32, x, y, cell, depth: c.z });
+                };
+                for (g, group) in lanes.by_ref().enumerate() {
+                    land(g * LANES, group.try_into().expect("chunks_exact"));
+                }
+                let rest = lanes.remainder();
+                if !rest.is_empty() {
+                    // The last few points, padded with NaN ones, which land nowhere.
+                    let mut group = [Point3::from([f32::NAN; 3]); LANES];
+                    group[..rest.len()].copy_from_slice(rest);
+                    land(points.len() - rest.len(), &group);
                 }
                 landings
             })
