@@ -28,7 +28,7 @@ pub use brightness::{BrightnessChange, LightChange, brightness_change};
 pub use hsv::{HsvThresholds, ThresholdError, segment_color};
 pub use mask::Mask;
 pub use occupancy::{Component, OccupancyGrid};
-pub use projection::{OcclusionTest, ProjectedCloud, points_on_mask};
+pub use projection::{OcclusionTest, ProjectedCloud, Reach, points_on_mask};
 pub use seeded_segmentation::segment_seeded;
 pub use tag::{
     PerceptionError, TagDetection, TagSearchParams, TagSighting, choose_tag, locate_tag,

@@ -42,12 +42,20 @@ pub fn points_on_mask(
     calibration: &CameraCalibration,
     occlusion: &OcclusionTest,
 ) -> Vec<Point3<f32>> {
-    ProjectedCloud::new(cloud, calibration, occlusion).on_mask(cloud, mask, occlusion)
+    let everywhere = Reach { centre: Point3::origin(), radius: f64::INFINITY };
+    ProjectedCloud::new(cloud, calibration, occlusion, &everywhere).on_mask(cloud, mask, occlusion)
+}
+
+/// The ball around the target that a tag's points can lie in (base frame, metres).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Reach {
+    pub centre: Point3<f64>,
+    pub radius: f64,
 }
 
 /// The cloud as the camera sees it: where each point that lands in the image lands and how
 /// deep, and the nearest depth of every depth cell. Projected once, before the image is
-/// segmented, so that the segmentation can start from the pixels the laser saw.
+/// segmented, so that the segmentation can start from the pixels the laser saw near the target.
 #[derive(Debug, Clone)]
 pub struct ProjectedCloud {
     width: usize,
@@ -59,12 +67,12 @@ pub struct ProjectedCloud {
     /// than the camera: most of its points land beside the picture and are not kept at all.
     landings: Vec<Vec<Landing>>,
     nearest: Vec<f32>,
-    /// The pixels some point lands on.
+    /// The pixels some point within the reach lands on.
     seen: Mask,
 }
 
-/// Where a point lands: its index in the cloud, its pixel, the depth cell of that pixel, and
-/// its depth along the optical axis (metres).
+/// Where a point lands: its index in the cloud, its pixel, the depth cell of that pixel, its
+/// depth along the optical axis (metres), and whether it lies within the reach.
 #[derive(Debug, Clone, Copy)]
 struct Landing {
     point: u32,
@@ -72,6 +80,7 @@ struct Landing {
     y: u32,
     cell: u32,
     depth: f32,
+    within_reach: bool,
 }
 
 /// Points the projection turns into pixels side by side: arithmetic on arrays of this many,
@@ -91,10 +100,13 @@ struct Pinhole {
     /// `u < width`, the width being a whole number, exact in f32 up to 2^24 pixels.
     right: f32,
     bottom: f32,
+    /// The reach's centre and squared radius.
+    centre: Point3<f32>,
+    reach_squared: f32,
 }
 
-/// A group of points in the camera: pixel coordinates, depths, and which of them land in
-/// the image (bit `l` for lane `l`).
+/// A group of points in the camera: pixel coordinates, depths, and which of them land in the
+/// image (bit `l` for lane `l`).
 struct Lanes {
     u: [f32; LANES],
     v: [f32; LANES],
@@ -103,7 +115,7 @@ struct Lanes {
 }
 
 impl Pinhole {
-    fn of(calibration: &CameraCalibration) -> Self {
+    fn of(calibration: &CameraCalibration, reach: &Reach) -> Self {
         let camera_from_base = calibration.base_from_camera.inverse();
         let k = &calibration.intrinsics;
         Self {
@@ -115,7 +127,14 @@ impl Pinhole {
             cy: k.cy as f32,
             right: k.width as f32,
             bottom: k.height as f32,
+            centre: reach.centre.cast(),
+            reach_squared: (reach.radius * reach.radius) as f32,
         }
+    }
+
+    /// Whether `p` lies within the reach: asked of the points that land alone.
+    fn within_reach(&self, p: &Point3<f32>) -> bool {
+        (p - self.centre).norm_squared() <= self.reach_squared
     }
 
     /// Where each of `group` lands. Every lane is computed and tested, landing or not, so the
@@ -148,7 +167,8 @@ impl Pinhole {
 }
 
 impl ProjectedCloud {
-    /// Projects `cloud` (base frame) into the camera of `calibration`.
+    /// Projects `cloud` (base frame) into the camera of `calibration`, noting the pixels the
+    /// points within `reach` land on.
     ///
     /// # Panics
     ///
@@ -157,9 +177,10 @@ impl ProjectedCloud {
         cloud: &[Point3<f32>],
         calibration: &CameraCalibration,
         occlusion: &OcclusionTest,
+        reach: &Reach,
     ) -> Self {
         assert!(u32::try_from(cloud.len()).is_ok(), "a cloud of over 4 billion points");
-        let camera = Pinhole::of(calibration);
+        let camera = Pinhole::of(calibration, reach);
         let k = &calibration.intrinsics;
         let (width, height) = (k.width as usize, k.height as usize);
         let cell = ((k.fx.max(k.fy) * occlusion.cell_angle).round() as usize).max(1);
@@ -193,7 +214,9 @@ impl ProjectedCloud {
                         let (x, y) = (at_camera.u[l] as u32, at_camera.v[l] as u32);
                         let cell = cell_row[y as usize] + cell_column[x as usize];
                         let point = (first + at + l) as u32;
-                        landings.push(Landing { point, x, y, cell, depth: at_camera.z[l] });
+                        let depth = at_camera.z[l];
+                        let within_reach = camera.within_reach(&group[l]);
+                        landings.push(Landing { point, x, y, cell, depth, within_reach });
                     }
                 };
                 for (g, group) in lanes.by_ref().enumerate() {
@@ -214,12 +237,14 @@ impl ProjectedCloud {
         for l in landings.iter().flatten() {
             let near = &mut nearest[l.cell as usize];
             *near = near.min(l.depth);
-            seen.set(l.x as usize, l.y as usize, true);
+            if l.within_reach {
+                seen.set(l.x as usize, l.y as usize, true);
+            }
         }
         Self { width, height, points: cloud.len(), landings, nearest, seen }
     }
 
-    /// The pixels some point of the cloud lands on.
+    /// The pixels some point of the cloud within the reach lands on.
     pub fn seen(&self) -> &Mask {
         &self.seen
     }

@@ -2,7 +2,8 @@
 //! [`super::segment_color`] wherever a tag's points could land, at a fraction of the pixels.
 //!
 //! Only the pixels laser points land on are ever read from the mask. So instead of testing every
-//! pixel, the search starts from the pixels the cloud projects to: each one whose own colour
+//! pixel, the search starts from the pixels the cloud projects to (those of its points near
+//! the target, where the tag search is concerned): each one whose own colour
 //! passes seeds its tile (64 pixels, one mask word, by 8 rows); a seeded tile is segmented in
 //! full, and a segmented tile holding any red segments its eight neighbours in turn. The result
 //! is every red region some laser point lands on, whole, in a ring of at least 8 pixels that is

@@ -7,7 +7,7 @@ use nalgebra::Point3;
 use super::blobs::Blobs;
 use super::hsv::HsvThresholds;
 use super::occupancy::{Component, OccupancyGrid};
-use super::projection::{OcclusionTest, ProjectedCloud};
+use super::projection::{OcclusionTest, ProjectedCloud, Reach};
 use super::seeded_segmentation::segment_seeded;
 use crate::hal::{CameraCalibration, ColorImage, PointCloud};
 use crate::timings::StepTimings;
@@ -139,11 +139,15 @@ pub fn locate_tag(
             camera: (k.width, k.height),
         });
     }
-    // The cloud in the image first: the segmentation starts from where its points land.
-    let view = timings
-        .time("project", || ProjectedCloud::new(&cloud.points, calibration, &params.occlusion));
+    // The cloud in the image first: the segmentation starts from where its points land. Only
+    // a red region holding a point this near the target can hold the tag or a fragment of it
+    // (see `join_fragments`), so only those regions are segmented.
+    let reach = Reach { centre: *target, radius: params.max_distance + params.fragment_gap };
+    let view = timings.time("project", || {
+        ProjectedCloud::new(&cloud.points, calibration, &params.occlusion, &reach)
+    });
     // 1. 2D segmentation of red by minimum and maximum HSV thresholds, of the regions the laser
-    //    saw.
+    //    saw near the target.
     let raw = timings.time("segment", || segment_seeded(image, &params.thresholds, view.seen()));
     // 2. Morphology on the raw segmentation: hole filling, closing, then opening.
     let red = timings.time("morphology", || {
