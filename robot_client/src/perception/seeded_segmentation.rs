@@ -7,7 +7,8 @@
 //! passes seeds its tile (64 pixels, one mask word, by 8 rows); a seeded tile is segmented in
 //! full, and a segmented tile holding any red segments its eight neighbours in turn. The result
 //! is every red region some laser point lands on, whole, in a ring of at least 8 pixels that is
-//! segmented too.
+//! segmented too. The search for seeds, most of the work, runs on every core, a band of tile
+//! rows each; the flood from them is short.
 //!
 //! That ring is wider than anything morphology reaches (closing by 2 and opening by 1 look 6
 //! pixels away), and a hole is enclosed by one connected red region, so hole filling, closing,
@@ -16,12 +17,20 @@
 //! it, except one on a pixel that only morphology made red in a region no point falls on the red
 //! of, which a tag the laser sampled (at least ten of its points, by default) is not.
 
+use std::ops::Range;
+
+use rayon::prelude::*;
+
 use super::hsv::HsvThresholds;
 use super::mask::Mask;
 use crate::hal::ColorImage;
 
 /// Rows of a tile; its width is one mask word, 64 pixels.
 const TILE_ROWS: usize = 8;
+
+/// Tile rows a core scans for seeds at a time: 64 image rows, so a 768-row picture is 12
+/// bands and two cores finish within a band of each other.
+const SCAN_BAND: usize = 8;
 
 /// The raw segmented image of `image` within the red regions that the set pixels of `seeds`
 /// (where the cloud's points land) fall on, and the tiles around them; unset elsewhere.
@@ -30,27 +39,21 @@ pub fn segment_seeded(image: &ColorImage, thresholds: &HsvThresholds, seeds: &Ma
     assert_eq!((seeds.width(), seeds.height()), (width, height), "seeds and image");
     let mut mask = Mask::new(width, height);
     let (cols, rows) = (width.div_ceil(64), height.div_ceil(TILE_ROWS));
+    // Which tiles a passing seed falls in, a band of tile rows to a core; the flood below
+    // reaches the same tiles from them in any order.
+    // Which tiles a passing seed falls in, a band of tile rows to a core, in the order one
+    // scan row by row would find them; the flood then reaches the same tiles from them.
+    let mut pending: Vec<usize> = (0..rows.div_ceil(SCAN_BAND))
+        .into_par_iter()
+        .map(|band| {
+            let tile_rows = band * SCAN_BAND..((band + 1) * SCAN_BAND).min(rows);
+            seeded_tiles(image, thresholds, seeds, tile_rows)
+        })
+        .collect::<Vec<Vec<usize>>>()
+        .concat();
     let mut queued = vec![false; cols * rows];
-    let mut pending = Vec::new();
-    // Row by row, so the image is read in order; a tile's seeds are tested until one passes.
-    for y in 0..height {
-        for (col, &word) in seeds.row(y).iter().enumerate() {
-            let tile = (y / TILE_ROWS) * cols + col;
-            if word == 0 || queued[tile] {
-                continue;
-            }
-            let row = &image.rgb[y * width * 3..(y + 1) * width * 3];
-            let mut bits = word;
-            while bits != 0 {
-                let at = (col * 64 + bits.trailing_zeros() as usize) * 3;
-                if thresholds.contains([row[at], row[at + 1], row[at + 2]]) {
-                    queued[tile] = true;
-                    pending.push(tile);
-                    break;
-                }
-                bits &= bits - 1;
-            }
-        }
+    for &tile in &pending {
+        queued[tile] = true;
     }
     while let Some(tile) = pending.pop() {
         let (col, row) = (tile % cols, tile / cols);
@@ -74,6 +77,41 @@ pub fn segment_seeded(image: &ColorImage, thresholds: &HsvThresholds, seeds: &Ma
         }
     }
     mask
+}
+
+/// The tiles of the tile rows `tile_rows` holding a seed whose own colour passes, in row
+/// order. Row by row, so the image is read in order; a tile's seeds are tested until one passes.
+fn seeded_tiles(
+    image: &ColorImage,
+    thresholds: &HsvThresholds,
+    seeds: &Mask,
+    tile_rows: Range<usize>,
+) -> Vec<usize> {
+    let (width, height) = (image.width as usize, image.height as usize);
+    let cols = width.div_ceil(64);
+    let mut seeded = Vec::new();
+    for tile_row in tile_rows {
+        let mut queued = vec![false; cols];
+        for y in tile_row * TILE_ROWS..((tile_row + 1) * TILE_ROWS).min(height) {
+            let row = &image.rgb[y * width * 3..(y + 1) * width * 3];
+            for (col, &word) in seeds.row(y).iter().enumerate() {
+                if word == 0 || queued[col] {
+                    continue;
+                }
+                let mut bits = word;
+                while bits != 0 {
+                    let at = (col * 64 + bits.trailing_zeros() as usize) * 3;
+                    if thresholds.contains([row[at], row[at + 1], row[at + 2]]) {
+                        queued[col] = true;
+                        seeded.push(tile_row * cols + col);
+                        break;
+                    }
+                    bits &= bits - 1;
+                }
+            }
+        }
+    }
+    seeded
 }
 
 #[cfg(test)]
