@@ -100,9 +100,6 @@ struct Pinhole {
     /// `u < width`, the width being a whole number, exact in f32 up to 2^24 pixels.
     right: f32,
     bottom: f32,
-    /// The reach's centre and squared radius.
-    centre: Point3<f32>,
-    reach_squared: f32,
 }
 
 /// A group of points in the camera: pixel coordinates, depths, and which of them land in the
@@ -115,7 +112,7 @@ struct Lanes {
 }
 
 impl Pinhole {
-    fn of(calibration: &CameraCalibration, reach: &Reach) -> Self {
+    fn of(calibration: &CameraCalibration) -> Self {
         let camera_from_base = calibration.base_from_camera.inverse();
         let k = &calibration.intrinsics;
         Self {
@@ -127,14 +124,7 @@ impl Pinhole {
             cy: k.cy as f32,
             right: k.width as f32,
             bottom: k.height as f32,
-            centre: reach.centre.cast(),
-            reach_squared: (reach.radius * reach.radius) as f32,
         }
-    }
-
-    /// Whether `p` lies within the reach: asked of the points that land alone.
-    fn within_reach(&self, p: &Point3<f32>) -> bool {
-        (p - self.centre).norm_squared() <= self.reach_squared
     }
 
     /// Where each of `group` lands. Every lane is computed and tested, landing or not, so the
@@ -180,7 +170,11 @@ impl ProjectedCloud {
         reach: &Reach,
     ) -> Self {
         assert!(u32::try_from(cloud.len()).is_ok(), "a cloud of over 4 billion points");
-        let camera = Pinhole::of(calibration, reach);
+        let camera = Pinhole::of(calibration);
+        // Asked of the points that land alone.
+        let (centre, reach_squared) =
+            (reach.centre.cast::<f32>(), (reach.radius * reach.radius) as f32);
+        let within_reach = |p: &Point3<f32>| (p - centre).norm_squared() <= reach_squared;
         let k = &calibration.intrinsics;
         let (width, height) = (k.width as usize, k.height as usize);
         let cell = ((k.fx.max(k.fy) * occlusion.cell_angle).round() as usize).max(1);
@@ -215,7 +209,7 @@ impl ProjectedCloud {
                         let cell = cell_row[y as usize] + cell_column[x as usize];
                         let point = (first + at + l) as u32;
                         let depth = at_camera.z[l];
-                        let within_reach = camera.within_reach(&group[l]);
+                        let within_reach = within_reach(&group[l]);
                         landings.push(Landing { point, x, y, cell, depth, within_reach });
                     }
                 };

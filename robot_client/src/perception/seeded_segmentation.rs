@@ -3,9 +3,8 @@
 //!
 //! Only the pixels laser points land on are ever read from the mask. So instead of testing every
 //! pixel, the search starts from the pixels the cloud projects to (those of its points near
-//! the target, where the tag search is concerned): each one whose own colour
-//! passes seeds its tile (64 pixels, one mask word, by 8 rows); a seeded tile is segmented in
-//! full, and a segmented tile holding any red segments its eight neighbours in turn. The result
+//! the target, where the tag search is concerned): each one whose own colour passes seeds its
+//! tile (64 pixels, one mask word, by 8 rows); a seeded tile is segmented in full, and a segmented tile holding any red segments its eight neighbours in turn. The result
 //! is every red region some laser point lands on, whole, in a ring of at least 8 pixels that is
 //! segmented too. The search for seeds, most of the work, runs on every core, a band of tile
 //! rows each; the flood from them is short.
@@ -39,8 +38,6 @@ pub fn segment_seeded(image: &ColorImage, thresholds: &HsvThresholds, seeds: &Ma
     assert_eq!((seeds.width(), seeds.height()), (width, height), "seeds and image");
     let mut mask = Mask::new(width, height);
     let (cols, rows) = (width.div_ceil(64), height.div_ceil(TILE_ROWS));
-    // Which tiles a passing seed falls in, a band of tile rows to a core; the flood below
-    // reaches the same tiles from them in any order.
     // Which tiles a passing seed falls in, a band of tile rows to a core, in the order one
     // scan row by row would find them; the flood then reaches the same tiles from them.
     let mut pending: Vec<usize> = (0..rows.div_ceil(SCAN_BAND))
@@ -90,8 +87,9 @@ fn seeded_tiles(
     let (width, height) = (image.width as usize, image.height as usize);
     let cols = width.div_ceil(64);
     let mut seeded = Vec::new();
+    let mut queued = vec![false; cols];
     for tile_row in tile_rows {
-        let mut queued = vec![false; cols];
+        queued.fill(false);
         for y in tile_row * TILE_ROWS..((tile_row + 1) * TILE_ROWS).min(height) {
             let row = &image.rgb[y * width * 3..(y + 1) * width * 3];
             for (col, &word) in seeds.row(y).iter().enumerate() {
