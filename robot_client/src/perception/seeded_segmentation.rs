@@ -4,10 +4,11 @@
 //! Only the pixels laser points land on are ever read from the mask. So instead of testing every
 //! pixel, the search starts from the pixels the cloud projects to (those of its points near
 //! the target, where the tag search is concerned): each one whose own colour passes seeds its
-//! tile (64 pixels, one mask word, by 8 rows); a seeded tile is segmented in full, and a segmented tile holding any red segments its eight neighbours in turn. The result
-//! is every red region some laser point lands on, whole, in a ring of at least 8 pixels that is
-//! segmented too. The search for seeds, most of the work, runs on every core, a band of tile
-//! rows each; the flood from them is short.
+//! tile (64 pixels, one mask word, by 8 rows); a seeded tile is segmented in full, and a
+//! segmented tile holding any red segments its eight neighbours in turn. The result is every red
+//! region some laser point lands on, whole, in a ring of at least 8 pixels that is segmented
+//! too. The search for seeds, most of the work, runs on every core, a band of tile rows each;
+//! the flood from them is short.
 //!
 //! That ring is wider than anything morphology reaches (closing by 2 and opening by 1 look 6
 //! pixels away), and a hole is enclosed by one connected red region, so hole filling, closing,
