@@ -9,6 +9,13 @@
 //! roughly vertical; broad (a wall or a cabinet front, not a sliver of a lamp shade); facing the
 //! robot, not seen edge-on; with the tag's centroid on or in front of it; and with its own points
 //! beside the tag's foot on it.
+//!
+//! A tag can also hang free before a surface: a foam tube on a lamp's pull chain, a hand span in
+//! front of the wall. Then whatever lines up with the tag nearer the robot (the lamp's pole, the
+//! chain and the rim of its shade) may pass for a plane through the tag, nearer than the wall. A
+//! surface carrying the tag would hide what lies behind the tag's shadow; when a plane behind
+//! the tag shows its own points on every side of that shadow, nothing solid stands between, so
+//! only planes the tag hangs free before can carry it.
 
 use nalgebra::{Point3, Vector3};
 
@@ -48,6 +55,12 @@ pub struct BackingPlaneRule {
     pub max_foot_gap: f64,
     /// Least width of the plane in both in-plane directions, metres.
     pub min_extent: f64,
+    /// How far beyond the tag's own shadow on a plane behind it, metres, the plane must show
+    /// its points on every side for the tag to hang free before it: wider than the laser's
+    /// parallax from the camera over a tag's standoff.
+    pub free_ring: f64,
+    /// Least points of the plane on each side of the shadow (left, right, above, below).
+    pub free_min_points: usize,
 }
 
 impl Default for BackingPlaneRule {
@@ -59,6 +72,8 @@ impl Default for BackingPlaneRule {
             max_tag_height: 0.5,
             max_foot_gap: 0.15,
             min_extent: 0.15,
+            free_ring: 0.12,
+            free_min_points: 5,
         }
     }
 }
@@ -72,12 +87,12 @@ pub struct BackingChoice {
     pub rejected: Vec<RejectedPlane>,
 }
 
-/// The plane behind the tag, nearest to it, among those that could carry it. `points` is the
-/// cloud the planes' inlier indices refer to; `tag_points` are the tag's own points (a flat
-/// tag lies flat on its surface: of two surfaces behind it, the one it sits nearer and flatter
-/// against carries it, not a side face that happens to pass through it); `tag_radius` is how
-/// far the tag's own points
-/// reach from its centroid (metres): a big towel covers the front right around its foot.
+/// The plane behind the tag, nearest to it, among those that could carry it (and among those
+/// the tag hangs free before, when it hangs free). `points` is the cloud the planes' inlier
+/// indices refer to; `tag_points` are the tag's own points (a flat tag lies flat on its surface:
+/// of two surfaces behind it, the one it sits nearer and flatter against carries it, not a side
+/// face that happens to pass through it); `tag_radius` is how far the tag's own points reach
+/// from its centroid (metres): a big towel covers the front right around its foot.
 pub fn choose_backing_plane(
     planes: &[DetectedPlane],
     points: &[Point3<f32>],
@@ -98,9 +113,21 @@ pub fn choose_backing_plane(
             Ok(height.max(0.0) + spread_across(tag_points, &p.plane))
         })
         .collect();
+    // How far the tag hangs before each plane that could carry it and that it hangs free before.
+    let free_before: Vec<Option<f64>> = planes
+        .iter()
+        .zip(&verdicts)
+        .map(|(p, verdict)| {
+            verdict.as_ref().ok()?;
+            hangs_free_before(p, points, tag, tag_radius, robot, rule)
+        })
+        .collect();
+    let hangs_free = free_before.iter().any(Option::is_some);
+    let may_carry = |i: usize| !hangs_free || free_before[i].is_some();
     let chosen = verdicts
         .iter()
         .enumerate()
+        .filter(|&(i, _)| may_carry(i))
         .filter_map(|(i, v)| v.as_ref().ok().map(|&fit| (i, fit)))
         .min_by(|a, b| a.1.total_cmp(&b.1));
     let rejected = planes
@@ -108,12 +135,15 @@ pub fn choose_backing_plane(
         .zip(&verdicts)
         .enumerate()
         .filter(|&(i, _)| chosen.is_none_or(|(c, _)| c != i))
-        .map(|(_, (p, verdict))| RejectedPlane {
+        .map(|(i, (p, verdict))| RejectedPlane {
             normal: p.plane.normal,
             offset: p.plane.offset,
             points: p.inliers.len(),
             why: match *verdict {
                 Err(why) => why,
+                Ok(_) if !may_carry(i) => PlaneRejection::TagHangsFree {
+                    before: chosen.and_then(|(c, _)| free_before[c]).unwrap_or(0.0),
+                },
                 Ok(fit) => PlaneRejection::FartherThanChosen {
                     fit,
                     chosen: chosen.map_or(0.0, |(_, h)| h),
@@ -126,6 +156,55 @@ pub fn choose_backing_plane(
         index: chosen.map(|(i, _)| i),
         rejected,
     }
+}
+
+/// How far the tag hangs before `p` (metres) when it hangs free before it: the robot sees the
+/// tag's shadow on `p` (where the line from the robot through the tag meets it) with `p`'s own
+/// points on every side, in a ring beyond the shadow of the tag's own reach. `None` when the
+/// tag rests on `p` or `p` is hidden around the shadow.
+fn hangs_free_before(
+    p: &DetectedPlane,
+    points: &[Point3<f32>],
+    tag: &Point3<f64>,
+    tag_radius: f64,
+    robot: &Point3<f64>,
+    rule: &BackingPlaneRule,
+) -> Option<f64> {
+    let plane = &p.plane;
+    let sight = tag - robot;
+    let toward = plane.normal.dot(&sight);
+    if toward.abs() < 1e-9 {
+        return None;
+    }
+    // The line of sight meets the plane at robot + scale · sight; beyond the tag, the tag's
+    // shadow is `scale` times the tag's size.
+    let scale = -plane.signed_distance(robot) / toward;
+    let height = plane.signed_distance(tag);
+    if scale <= 1.0 || height <= rule.tag_behind_tolerance {
+        return None;
+    }
+    let shadow = robot + sight * scale;
+    let inner = tag_radius * scale;
+    let outer = inner + rule.free_ring;
+    let (across, up) = plane.basis();
+    // Points on the right, above, on the left and below the shadow.
+    let mut sides = [0usize; 4];
+    for &i in &p.inliers {
+        let d = points[i as usize].cast::<f64>() - shadow;
+        let (a, b) = (across.dot(&d), up.dot(&d));
+        let r = a.hypot(b);
+        if r < inner || r > outer {
+            continue;
+        }
+        let side = match (a.abs() >= b.abs(), a > 0.0, b > 0.0) {
+            (true, true, _) => 0,
+            (false, _, true) => 1,
+            (true, false, _) => 2,
+            (false, _, false) => 3,
+        };
+        sides[side] += 1;
+    }
+    sides.iter().all(|&n| n >= rule.free_min_points).then_some(height)
 }
 
 /// Mean absolute deviation of the points' distances from `plane` about their median, metres:
@@ -286,5 +365,77 @@ mod tests {
         );
         assert!(ours.normal.x < -0.99, "the front carries the tag");
         assert!((ours.offset - 2.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn a_tag_hanging_before_the_wall_is_carried_by_the_wall_not_by_what_lines_up_with_it() {
+        // A foam tube 30 cm before the wall x = 2, and a lamp's pole, chain and shade lining up
+        // into a plane through the tube, turned 60° from the wall.
+        let robot = Point3::new(0.5, 0.0, 1.0);
+        let tag = Point3::new(1.7, 0.0, 1.0);
+        let mut points = Vec::new();
+        let wall = patch(
+            &mut points,
+            Point3::new(2.0, -0.3, 0.7),
+            Vector3::new(0.0, 0.6, 0.0),
+            Vector3::new(0.0, 0.0, 0.6),
+            &robot,
+        );
+        let along = Vector3::new(60f64.to_radians().sin(), 60f64.to_radians().cos(), 0.0);
+        let lined_up = patch(
+            &mut points,
+            tag - along * 0.05 - Vector3::new(0.0, 0.0, 0.4),
+            along * 0.25,
+            Vector3::new(0.0, 0.0, 0.8),
+            &robot,
+        );
+        let rule = BackingPlaneRule::default();
+        let planes = vec![lined_up, wall];
+        let paper = nearest_plane_to_target(&planes, &points, &tag).unwrap();
+        assert!(paper.normal.x > -0.9, "the paper's rule takes the plane through the tag");
+        let choice = choose_backing_plane(&planes, &points, &tag, 0.03, &[], &robot, &rule);
+        assert_eq!(choice.index, Some(1), "{:?}", choice.rejected);
+        assert!(choice.plane.unwrap().normal.x < -0.99);
+        match choice.rejected[..] {
+            [RejectedPlane { why: PlaneRejection::TagHangsFree { before }, .. }] => {
+                assert!((before - 0.3).abs() < 1e-6, "{before}");
+            }
+            ref other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn a_wall_seen_only_above_a_cabinet_leaves_the_tag_on_its_front() {
+        // A tag near the top of a cabinet front x = 1.7; the wall x = 2.1 behind the cabinet
+        // shows only above it, so around the tag's shadow on it the cabinet hides one side.
+        let robot = Point3::new(0.5, 0.0, 1.0);
+        let tag = Point3::new(1.69, 0.0, 0.88);
+        let mut points = Vec::new();
+        let front = patch(
+            &mut points,
+            Point3::new(1.7, -0.25, 0.4),
+            Vector3::new(0.0, 0.5, 0.0),
+            Vector3::new(0.0, 0.0, 0.5),
+            &robot,
+        );
+        let wall = patch(
+            &mut points,
+            Point3::new(2.1, -0.5, 0.92),
+            Vector3::new(0.0, 1.0, 0.0),
+            Vector3::new(0.0, 0.0, 0.5),
+            &robot,
+        );
+        let rule = BackingPlaneRule::default();
+        let planes = vec![wall, front];
+        let choice = choose_backing_plane(&planes, &points, &tag, 0.03, &[], &robot, &rule);
+        assert_eq!(choice.index, Some(1), "{:?}", choice.rejected);
+        assert!(
+            matches!(
+                choice.rejected[..],
+                [RejectedPlane { why: PlaneRejection::FartherThanChosen { .. }, .. }]
+            ),
+            "{:?}",
+            choice.rejected
+        );
     }
 }
