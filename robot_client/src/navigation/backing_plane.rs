@@ -6,9 +6,10 @@
 //! face the robot and does come close to the target, but the tag is not in front of it: the tag
 //! lies behind the side face's plane. So [`choose_backing_plane`] asks of each plane what a
 //! surface carrying the tag must satisfy, and then takes the nearest one behind the tag:
-//! roughly vertical; broad (a wall or a cabinet front, not a sliver of a lamp shade); facing the
-//! robot, not seen edge-on; with the tag's centroid on or in front of it; and with its own points
-//! beside the tag's foot on it.
+//! roughly vertical; broad through most of its points (a wall or a cabinet front, not a sliver
+//! of a lamp shade, nor a lamp's pole with its shade's rim beside it); facing the robot, not seen
+//! edge-on; with the tag's centroid on or in front of it; and with its own points beside the
+//! tag's foot on it.
 //!
 //! A tag can also hang free before a surface: a foam tube on a lamp's pull chain, a hand span in
 //! front of the wall. Then whatever lines up with the tag nearer the robot (the lamp's pole, the
@@ -21,6 +22,7 @@ use nalgebra::{Point3, Vector3};
 
 use super::ransac::DetectedPlane;
 use super::rejection::{PlaneRejection, RejectedPlane};
+use super::robust_width::width_through_most;
 
 /// The plane the robot will approach perpendicular to.
 #[derive(Debug, Clone, PartialEq)]
@@ -53,7 +55,8 @@ pub struct BackingPlaneRule {
     /// Greatest gap between the tag's foot on the plane and the plane's nearest point beyond the
     /// tag's own reach, metres: the surface must show itself beside the tag.
     pub max_foot_gap: f64,
-    /// Least width of the plane in both in-plane directions, metres.
+    /// Least width of the plane in both in-plane directions, metres, through most of its
+    /// points: a pole with a scatter beside it is as narrow as the pole.
     pub min_extent: f64,
     /// How far beyond the tag's own shadow on a plane behind it, metres, the plane must show
     /// its points on every side for the tag to hang free before it: wider than the laser's
@@ -233,8 +236,11 @@ fn judge(
     if tilt > rule.max_tilt {
         return Err(PlaneRejection::Tilted { tilt, max: rule.max_tilt });
     }
-    if p.extent[1] < rule.min_extent {
-        return Err(PlaneRejection::Small { width: p.extent[1], min: rule.min_extent });
+    // Broad through most of its points, not only through a few stray ones far out.
+    let width =
+        width_through_most(points, &p.inliers, plane).map_or(p.extent[1], |w| w.min(p.extent[1]));
+    if width < rule.min_extent {
+        return Err(PlaneRejection::Small { width, min: rule.min_extent });
     }
     // Judged in the horizontal: a camera pitched down sees a wall's normal tipped up at it.
     let horizontal = Vector3::new(plane.normal.x, plane.normal.y, 0.0)
@@ -399,6 +405,59 @@ mod tests {
         match choice.rejected[..] {
             [RejectedPlane { why: PlaneRejection::TagHangsFree { before }, .. }] => {
                 assert!((before - 0.3).abs() < 1e-6, "{before}");
+            }
+            ref other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn a_pole_with_a_scatter_beside_it_is_too_narrow_to_carry_the_tag() {
+        // A foam tube 30 cm before the wall x = 2, a lamp's shade hiding the wall above it (so
+        // the tag cannot be seen to hang free), and a plane through the tube holding the lamp's
+        // pole (3 cm across) and a fifth as many points of the shade's rim scattered 40 cm wide:
+        // 24 cm "wide" by its variance, as broad as a narrow front.
+        let robot = Point3::new(0.5, 0.0, 1.0);
+        let tag = Point3::new(1.7, 0.0, 1.0);
+        let mut points = Vec::new();
+        let wall = patch(
+            &mut points,
+            Point3::new(2.0, -0.3, 0.5),
+            Vector3::new(0.0, 0.6, 0.0),
+            Vector3::new(0.0, 0.0, 0.45),
+            &robot,
+        );
+        let along = Vector3::new(60f64.to_radians().sin(), 60f64.to_radians().cos(), 0.0);
+        let start = points.len() as u32;
+        let foot = tag + along * 0.02 - Vector3::new(0.0, 0.0, 0.4);
+        for i in 0..800 {
+            let (across, up) = (0.03 * f64::from(i % 8) / 8.0, 0.8 * f64::from(i / 8) / 100.0);
+            points.push((foot + along * across + Vector3::z() * up).cast());
+        }
+        for i in 0..200 {
+            let side = if i % 2 == 0 { -1.0 } else { 1.0 };
+            let across = side * (0.05 + 0.15 * f64::from(i % 10) / 10.0);
+            points.push(
+                (foot + along * across + Vector3::z() * (0.7 + 0.0005 * f64::from(i))).cast(),
+            );
+        }
+        let inliers: Vec<u32> = (start..points.len() as u32).collect();
+        let (plane, centroid) =
+            Plane::fit(inliers.iter().map(|&i| points[i as usize].cast())).unwrap();
+        let pole = DetectedPlane {
+            plane: plane.facing(&robot),
+            centroid,
+            inliers,
+            extent: [0.8, 0.24],
+            noise: 0.012,
+            inlier_distance: 0.03,
+        };
+        let planes = vec![pole, wall];
+        let rule = BackingPlaneRule::default();
+        let choice = choose_backing_plane(&planes, &points, &tag, 0.03, &[], &robot, &rule);
+        assert_eq!(choice.index, Some(1), "{:?}", choice.rejected);
+        match choice.rejected[..] {
+            [RejectedPlane { why: PlaneRejection::Small { width, .. }, .. }] => {
+                assert!(width < 0.06, "{width}");
             }
             ref other => panic!("{other:?}"),
         }

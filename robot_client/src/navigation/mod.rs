@@ -20,6 +20,7 @@ mod ransac;
 mod refit;
 mod rejection;
 mod rfid_choice;
+mod robust_width;
 mod tag_centre;
 mod voi;
 mod waviness;
