@@ -16,10 +16,12 @@
 //! chain and the rim of its shade) may pass for a plane through the tag, nearer than the wall. A
 //! surface carrying the tag would hide what lies behind the tag's shadow; when a plane behind
 //! the tag shows its own points on every side of that shadow, nothing solid stands between, so
-//! only planes the tag hangs free before can carry it.
+//! no plane nearer the tag can carry it, not even one the tag also hangs free before (a pole
+//! with the shade's rim and chain scattered about the tube shows "around" its shadow too).
 
 use nalgebra::{Point3, Vector3};
 
+use super::plane::Plane;
 use super::ransac::DetectedPlane;
 use super::rejection::{PlaneRejection, RejectedPlane};
 use super::robust_width::width_through_most;
@@ -90,8 +92,8 @@ pub struct BackingChoice {
     pub rejected: Vec<RejectedPlane>,
 }
 
-/// The plane behind the tag, nearest to it, among those that could carry it (and among those
-/// the tag hangs free before, when it hangs free). `points` is the cloud the planes' inlier
+/// The plane behind the tag, nearest to it, among those that could carry it and have no plane
+/// behind them that shows all around the tag's shadow. `points` is the cloud the planes' inlier
 /// indices refer to; `tag_points` are the tag's own points (a flat tag lies flat on its surface:
 /// of two surfaces behind it, the one it sits nearer and flatter against carries it, not a side
 /// face that happens to pass through it); `tag_radius` is how far the tag's own points reach
@@ -125,8 +127,23 @@ pub fn choose_backing_plane(
             hangs_free_before(p, points, tag, tag_radius, robot, rule)
         })
         .collect();
-    let hangs_free = free_before.iter().any(Option::is_some);
-    let may_carry = |i: usize| !hangs_free || free_before[i].is_some();
+    // For each plane, how far the tag hangs free before a plane behind it: then this one only
+    // lines up with the tag, and that holds for a plane the tag hangs free before too. A
+    // surface would hide what lies behind the tag's shadow; seen through there, it is none
+    // (a lamp's pole with its shade's rim and chain scattered about the tube).
+    let lines_up: Vec<Option<f64>> = planes
+        .iter()
+        .map(|nearer| {
+            let height = nearer.plane.signed_distance(tag);
+            free_before
+                .iter()
+                .flatten()
+                .copied()
+                .filter(|&behind| behind > height + rule.tag_behind_tolerance)
+                .min_by(f64::total_cmp)
+        })
+        .collect();
+    let may_carry = |i: usize| lines_up[i].is_none();
     let chosen = verdicts
         .iter()
         .enumerate()
@@ -144,9 +161,9 @@ pub fn choose_backing_plane(
             points: p.inliers.len(),
             why: match *verdict {
                 Err(why) => why,
-                Ok(_) if !may_carry(i) => PlaneRejection::TagHangsFree {
-                    before: chosen.and_then(|(c, _)| free_before[c]).unwrap_or(0.0),
-                },
+                Ok(_) if !may_carry(i) => {
+                    PlaneRejection::TagHangsFree { before: lines_up[i].unwrap_or(0.0) }
+                }
                 Ok(fit) => PlaneRejection::FartherThanChosen {
                     fit,
                     chosen: chosen.map_or(0.0, |(_, h)| h),
@@ -213,7 +230,7 @@ fn hangs_free_before(
 
 /// Mean absolute deviation of the points' distances from `plane` about their median, metres:
 /// about the laser's noise for a tag lying flat on it, its width for a plane it stands across.
-fn spread_across(points: &[Point3<f32>], plane: &super::plane::Plane) -> f64 {
+fn spread_across(points: &[Point3<f32>], plane: &Plane) -> f64 {
     if points.is_empty() {
         return 0.0;
     }
@@ -308,10 +325,27 @@ mod tests {
         b: Vector3<f64>,
         toward: &Point3<f64>,
     ) -> DetectedPlane {
+        grid_patch(points, corner, a, b, 20, toward, |_| true)
+    }
+
+    /// A patch on a grid of `steps` × `steps` cells, of the points `seen` keeps.
+    fn grid_patch(
+        points: &mut Vec<Point3<f32>>,
+        corner: Point3<f64>,
+        a: Vector3<f64>,
+        b: Vector3<f64>,
+        steps: u32,
+        toward: &Point3<f64>,
+        seen: impl Fn(&Point3<f64>) -> bool,
+    ) -> DetectedPlane {
         let start = points.len() as u32;
-        for i in 0..=20 {
-            for j in 0..=20 {
-                points.push((corner + a * (i as f64 / 20.0) + b * (j as f64 / 20.0)).cast());
+        for i in 0..=steps {
+            for j in 0..=steps {
+                let (u, v) = (f64::from(i) / f64::from(steps), f64::from(j) / f64::from(steps));
+                let p = corner + a * u + b * v;
+                if seen(&p) {
+                    points.push(p.cast());
+                }
             }
         }
         let inliers: Vec<u32> = (start..points.len() as u32).collect();
@@ -462,6 +496,75 @@ mod tests {
             }
             ref other => panic!("{other:?}"),
         }
+    }
+
+    #[test]
+    fn a_plane_the_tag_hangs_before_but_the_wall_shows_through_does_not_carry_it() {
+        // A foam tube 30 cm before the wall x = 2, seen all around its shadow; 5 cm behind the
+        // tube, things lined up into a plane that itself shows around the tube's shadow on it,
+        // though the wall shows through it there: no surface.
+        let robot = Point3::new(0.5, 0.0, 1.0);
+        let tag = Point3::new(1.7, 0.0, 1.0);
+        let mut points = Vec::new();
+        let wall = patch(
+            &mut points,
+            Point3::new(2.0, -0.3, 0.7),
+            Vector3::new(0.0, 0.6, 0.0),
+            Vector3::new(0.0, 0.0, 0.6),
+            &robot,
+        );
+        let along = Vector3::new(60f64.to_radians().sin(), 60f64.to_radians().cos(), 0.0);
+        let lined_up = patch(
+            &mut points,
+            tag + Vector3::new(0.05, 0.0, 0.0) - along * 0.3 - Vector3::new(0.0, 0.0, 0.4),
+            along * 0.6,
+            Vector3::new(0.0, 0.0, 0.8),
+            &robot,
+        );
+        let rule = BackingPlaneRule::default();
+        let planes = vec![lined_up, wall];
+        let choice = choose_backing_plane(&planes, &points, &tag, 0.03, &[], &robot, &rule);
+        assert_eq!(choice.index, Some(1), "{:?}", choice.rejected);
+        assert!(
+            matches!(
+                choice.rejected[..],
+                [RejectedPlane { why: PlaneRejection::TagHangsFree { .. }, .. }]
+            ),
+            "{:?}",
+            choice.rejected
+        );
+    }
+
+    #[test]
+    fn a_narrow_front_hiding_the_wall_below_the_tag_carries_it() {
+        // A towel at the top of a front 20 cm wide (x = 1.71); the wall x = 2 behind shows to
+        // the left and right of the front and above it, but the front hides it below the
+        // towel's shadow: the towel rests on the front.
+        let robot = Point3::new(0.5, 0.0, 1.0);
+        let tag = Point3::new(1.7, 0.0, 1.0);
+        let mut points = Vec::new();
+        let front = patch(
+            &mut points,
+            Point3::new(1.71, -0.1, 0.5),
+            Vector3::new(0.0, 0.2, 0.0),
+            Vector3::new(0.0, 0.0, 0.55),
+            &robot,
+        );
+        // The front's silhouette on the wall, seen from the robot: 1.5 / 1.21 times as large.
+        let enlarged = 1.5 / 1.21;
+        let wall = grid_patch(
+            &mut points,
+            Point3::new(2.0, -0.3, 0.7),
+            Vector3::new(0.0, 0.6, 0.0),
+            Vector3::new(0.0, 0.0, 0.6),
+            60,
+            &robot,
+            |p| p.y.abs() > 0.1 * enlarged || p.z > 1.0 + 0.05 * enlarged,
+        );
+        let rule = BackingPlaneRule::default();
+        let planes = vec![wall, front];
+        let choice = choose_backing_plane(&planes, &points, &tag, 0.03, &[], &robot, &rule);
+        assert_eq!(choice.index, Some(1), "{:?}", choice.rejected);
     }
 
     #[test]

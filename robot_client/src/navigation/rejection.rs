@@ -37,8 +37,8 @@ pub enum PlaneRejection {
     /// It would do, but the tag sits nearer and flatter on another: its height above the plane
     /// plus its thickness across it, against the chosen plane's.
     FartherThanChosen { fit: f64, chosen: f64 },
-    /// The tag hangs free, this far before a surface seen all around its shadow: a plane carrying
-    /// it would hide that surface, so this one, nearer or not, only lines up with it.
+    /// The tag hangs free, this far before a surface behind it seen all around its shadow: a
+    /// plane carrying the tag would hide that surface, so this one only lines up with it.
     TagHangsFree { before: f64 },
 }
 
@@ -137,8 +137,8 @@ impl fmt::Display for PlaneRejection {
             ),
             Self::TagHangsFree { before } => write!(
                 f,
-                "only lines up with the tag: the tag hangs free {:.1} cm before the chosen \
-                 plane, which shows all around the tag's shadow (a plane carrying the tag would \
+                "only lines up with the tag: the tag hangs free {:.1} cm before a plane behind \
+                 it, which shows all around the tag's shadow (a plane carrying the tag would \
                  hide it there)",
                 cm(before)
             ),
