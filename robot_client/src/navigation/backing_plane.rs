@@ -348,6 +348,11 @@ mod tests {
                 }
             }
         }
+        DetectedPlane { extent: [a.norm(), b.norm()], ..fitted(points, start, toward) }
+    }
+
+    /// The points from `start` on, fitted and reported as the plane search would.
+    fn fitted(points: &[Point3<f32>], start: u32, toward: &Point3<f64>) -> DetectedPlane {
         let inliers: Vec<u32> = (start..points.len() as u32).collect();
         let (plane, centroid) =
             Plane::fit(inliers.iter().map(|&i| points[i as usize].cast())).unwrap();
@@ -355,10 +360,31 @@ mod tests {
             plane: plane.facing(toward),
             centroid,
             inliers,
-            extent: [a.norm(), b.norm()],
+            extent: [0.0; 2],
             noise: 0.0,
             inlier_distance: 0.012,
         }
+    }
+
+    /// The robot, and 1.2 m ahead of it a tag 30 cm before the wall x = 2 (facing -x).
+    fn robot_and_tag() -> (Point3<f64>, Point3<f64>) {
+        (Point3::new(0.5, 0.0, 1.0), Point3::new(1.7, 0.0, 1.0))
+    }
+
+    /// The wall x = 2, 60 cm wide around y = 0, from `bottom` up `height` metres.
+    fn wall(
+        points: &mut Vec<Point3<f32>>,
+        bottom: f64,
+        height: f64,
+        toward: &Point3<f64>,
+    ) -> DetectedPlane {
+        patch(
+            points,
+            Point3::new(2.0, -0.3, bottom),
+            Vector3::new(0.0, 0.6, 0.0),
+            Vector3::new(0.0, 0.0, height),
+            toward,
+        )
     }
 
     #[test]
@@ -412,16 +438,9 @@ mod tests {
     fn a_tag_hanging_before_the_wall_is_carried_by_the_wall_not_by_what_lines_up_with_it() {
         // A foam tube 30 cm before the wall x = 2, and a lamp's pole, chain and shade lining up
         // into a plane through the tube, turned 60° from the wall.
-        let robot = Point3::new(0.5, 0.0, 1.0);
-        let tag = Point3::new(1.7, 0.0, 1.0);
+        let (robot, tag) = robot_and_tag();
         let mut points = Vec::new();
-        let wall = patch(
-            &mut points,
-            Point3::new(2.0, -0.3, 0.7),
-            Vector3::new(0.0, 0.6, 0.0),
-            Vector3::new(0.0, 0.0, 0.6),
-            &robot,
-        );
+        let wall = wall(&mut points, 0.7, 0.6, &robot);
         let along = Vector3::new(60f64.to_radians().sin(), 60f64.to_radians().cos(), 0.0);
         let lined_up = patch(
             &mut points,
@@ -451,16 +470,9 @@ mod tests {
         // the tag cannot be seen to hang free), and a plane through the tube holding the lamp's
         // pole (3 cm across) and a fifth as many points of the shade's rim scattered 40 cm wide:
         // 24 cm "wide" by its variance, as broad as a narrow front.
-        let robot = Point3::new(0.5, 0.0, 1.0);
-        let tag = Point3::new(1.7, 0.0, 1.0);
+        let (robot, tag) = robot_and_tag();
         let mut points = Vec::new();
-        let wall = patch(
-            &mut points,
-            Point3::new(2.0, -0.3, 0.5),
-            Vector3::new(0.0, 0.6, 0.0),
-            Vector3::new(0.0, 0.0, 0.45),
-            &robot,
-        );
+        let wall = wall(&mut points, 0.5, 0.45, &robot);
         let along = Vector3::new(60f64.to_radians().sin(), 60f64.to_radians().cos(), 0.0);
         let start = points.len() as u32;
         let foot = tag + along * 0.02 - Vector3::new(0.0, 0.0, 0.4);
@@ -475,16 +487,11 @@ mod tests {
                 (foot + along * across + Vector3::z() * (0.7 + 0.0005 * f64::from(i))).cast(),
             );
         }
-        let inliers: Vec<u32> = (start..points.len() as u32).collect();
-        let (plane, centroid) =
-            Plane::fit(inliers.iter().map(|&i| points[i as usize].cast())).unwrap();
         let pole = DetectedPlane {
-            plane: plane.facing(&robot),
-            centroid,
-            inliers,
             extent: [0.8, 0.24],
             noise: 0.012,
             inlier_distance: 0.03,
+            ..fitted(&points, start, &robot)
         };
         let planes = vec![pole, wall];
         let rule = BackingPlaneRule::default();
@@ -503,16 +510,9 @@ mod tests {
         // A foam tube 30 cm before the wall x = 2, seen all around its shadow; 5 cm behind the
         // tube, things lined up into a plane that itself shows around the tube's shadow on it,
         // though the wall shows through it there: no surface.
-        let robot = Point3::new(0.5, 0.0, 1.0);
-        let tag = Point3::new(1.7, 0.0, 1.0);
+        let (robot, tag) = robot_and_tag();
         let mut points = Vec::new();
-        let wall = patch(
-            &mut points,
-            Point3::new(2.0, -0.3, 0.7),
-            Vector3::new(0.0, 0.6, 0.0),
-            Vector3::new(0.0, 0.0, 0.6),
-            &robot,
-        );
+        let wall = wall(&mut points, 0.7, 0.6, &robot);
         let along = Vector3::new(60f64.to_radians().sin(), 60f64.to_radians().cos(), 0.0);
         let lined_up = patch(
             &mut points,
@@ -540,8 +540,7 @@ mod tests {
         // A towel at the top of a front 20 cm wide (x = 1.71); the wall x = 2 behind shows to
         // the left and right of the front and above it, but the front hides it below the
         // towel's shadow: the towel rests on the front.
-        let robot = Point3::new(0.5, 0.0, 1.0);
-        let tag = Point3::new(1.7, 0.0, 1.0);
+        let (robot, tag) = robot_and_tag();
         let mut points = Vec::new();
         let front = patch(
             &mut points,
