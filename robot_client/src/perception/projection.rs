@@ -87,26 +87,26 @@ struct Landing {
 /// with no branch in it, is what the compiler makes vector instructions of.
 const LANES: usize = 8;
 
-/// The camera as the projection uses it: base frame to optical frame, then to pixels.
+/// The camera as the projection uses it: base frame to pixels scaled by depth. Row `u` of
+/// `rows` gives `u·z`, row `v` gives `v·z`, row `z` the depth along the optical axis, so whether
+/// a point lands in the image is a comparison of products, and only a point that lands pays
+/// for a division.
 #[derive(Debug, Clone, Copy)]
 struct Pinhole {
-    rotation: Matrix3<f32>,
-    translation: Vector3<f32>,
-    fx: f32,
-    fy: f32,
-    cx: f32,
-    cy: f32,
-    /// The image's width and height: for a coordinate u ≥ 0, `(u as u32) < width` is
-    /// `u < width`, the width being a whole number, exact in f32 up to 2^24 pixels.
+    /// The intrinsics times the base-to-optical rotation, a row each for u·z, v·z and z.
+    rows: [[f32; 3]; 3],
+    /// The intrinsics times the base-to-optical translation.
+    offsets: [f32; 3],
+    /// The image's width and height.
     right: f32,
     bottom: f32,
 }
 
-/// A group of points in the camera: pixel coordinates, depths, and which of them land in the
+/// A group of points in the camera: their u·z, v·z and depth, and which of them land in the
 /// image (bit `l` for lane `l`).
 struct Lanes {
-    u: [f32; LANES],
-    v: [f32; LANES],
+    uz: [f32; LANES],
+    vz: [f32; LANES],
     z: [f32; LANES],
     lands: u32,
 }
@@ -115,13 +115,12 @@ impl Pinhole {
     fn of(calibration: &CameraCalibration) -> Self {
         let camera_from_base = calibration.base_from_camera.inverse();
         let k = &calibration.intrinsics;
+        let intrinsics = Matrix3::new(k.fx, 0.0, k.cx, 0.0, k.fy, k.cy, 0.0, 0.0, 1.0);
+        let rotation = intrinsics * camera_from_base.rotation.to_rotation_matrix().matrix();
+        let translation: Vector3<f64> = intrinsics * camera_from_base.translation.vector;
         Self {
-            rotation: camera_from_base.rotation.to_rotation_matrix().matrix().cast(),
-            translation: camera_from_base.translation.vector.cast(),
-            fx: k.fx as f32,
-            fy: k.fy as f32,
-            cx: k.cx as f32,
-            cy: k.cy as f32,
+            rows: [0, 1, 2].map(|i| [0, 1, 2].map(|j| rotation[(i, j)] as f32)),
+            offsets: [0, 1, 2].map(|i| translation[i] as f32),
             right: k.width as f32,
             bottom: k.height as f32,
         }
@@ -131,25 +130,24 @@ impl Pinhole {
     /// loops run without a branch; a point behind the camera or too near it (or NaN) lands
     /// nowhere.
     fn lanes(&self, group: &[Point3<f32>; LANES]) -> Lanes {
-        let (r, t) = (&self.rotation, &self.translation);
-        let mut lanes = Lanes { u: [0.0; LANES], v: [0.0; LANES], z: [0.0; LANES], lands: 0 };
+        let mut lanes = Lanes { uz: [0.0; LANES], vz: [0.0; LANES], z: [0.0; LANES], lands: 0 };
+        let row = |i: usize, p: &Point3<f32>| {
+            let r = &self.rows[i];
+            r[0] * p.x + r[1] * p.y + r[2] * p.z + self.offsets[i]
+        };
         for (l, p) in group.iter().enumerate() {
-            // The sums in the order nalgebra's product takes them, so each pixel is the one
-            // `rotation * p + translation` gives to the last bit.
-            let c = |i: usize| r[(i, 0)] * p.x + r[(i, 1)] * p.y + r[(i, 2)] * p.z + t[i];
-            let (x, y, z) = (c(0), c(1), c(2));
-            lanes.u[l] = self.fx * x / z + self.cx;
-            lanes.v[l] = self.fy * y / z + self.cy;
-            lanes.z[l] = z;
+            lanes.uz[l] = row(0, p);
+            lanes.vz[l] = row(1, p);
+            lanes.z[l] = row(2, p);
         }
         for l in 0..LANES {
-            let (u, v) = (lanes.u[l], lanes.v[l]);
+            let (uz, vz, z) = (lanes.uz[l], lanes.vz[l], lanes.z[l]);
             // NaN fails every comparison, so it lands nowhere.
-            let lands = (lanes.z[l] > 0.05)
-                & (u >= 0.0)
-                & (u < self.right)
-                & (v >= 0.0)
-                & (v < self.bottom);
+            let lands = (z > 0.05)
+                & (uz >= 0.0)
+                & (uz < self.right * z)
+                & (vz >= 0.0)
+                & (vz < self.bottom * z);
             lanes.lands |= u32::from(lands) << l;
         }
         lanes
@@ -179,6 +177,8 @@ impl ProjectedCloud {
         let (width, height) = (k.width as usize, k.height as usize);
         let cell = ((k.fx.max(k.fy) * occlusion.cell_angle).round() as usize).max(1);
         let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
+        let (last_column, last_row) =
+            ((width as u32).saturating_sub(1), (height as u32).saturating_sub(1));
         // A pixel's depth cell by table, column plus row: no division per point.
         let cell_column: Vec<u32> = (0..width).map(|x| (x / cell) as u32).collect();
         let cell_row: Vec<u32> = (0..height).map(|y| ((y / cell) * cols) as u32).collect();
@@ -204,13 +204,15 @@ impl ProjectedCloud {
                         lands &= lands - 1;
                         // Both lie in [0, size) with the size below 2^24: through u32 the pixel
                         // is the same, and the conversion needs none of the 64-bit saturation
-                        // `as usize` costs.
-                        let (x, y) = (at_camera.u[l] as u32, at_camera.v[l] as u32);
+                        // `as usize` costs. The products' test can pass a point whose division
+                        // rounds up to the image's edge; it stays on the last column or row.
+                        let z = at_camera.z[l];
+                        let x = ((at_camera.uz[l] / z) as u32).min(last_column);
+                        let y = ((at_camera.vz[l] / z) as u32).min(last_row);
                         let cell = cell_row[y as usize] + cell_column[x as usize];
                         let point = (first + at + l) as u32;
-                        let depth = at_camera.z[l];
                         let within_reach = within_reach(&group[l]);
-                        landings.push(Landing { point, x, y, cell, depth, within_reach });
+                        landings.push(Landing { point, x, y, cell, depth: z, within_reach });
                     }
                 };
                 for (g, group) in lanes.by_ref().enumerate() {
@@ -308,5 +310,53 @@ mod tests {
         ];
         let kept = points_on_mask(&cloud, &mask, &forward_camera(), &OcclusionTest::default());
         assert_eq!(kept, vec![Point3::new(1.0, 0.0, 0.0)]);
+    }
+
+    #[test]
+    fn points_land_on_the_pixels_the_camera_model_gives() {
+        let camera = forward_camera();
+        let everywhere = Reach { centre: Point3::origin(), radius: f64::INFINITY };
+        // A fan of points across and beyond the picture, at depths from 0.3 m to 4 m, and the
+        // picture's very edges, where a rounding could push a pixel out of the image.
+        let mut cloud: Vec<Point3<f32>> = (0..4000)
+            .map(|i| {
+                let (a, b, d) = ((i % 97) as f32, (i % 89) as f32, (i % 37) as f32);
+                let depth = 0.3 + d * 0.1;
+                Point3::new(depth, depth * (a / 80.0 - 0.6), depth * (b / 70.0 - 0.6))
+            })
+            .collect();
+        cloud.extend([
+            Point3::new(1.0, 0.5, 0.5),
+            Point3::new(1.0, -0.49999, -0.49999),
+            Point3::new(1.0, 0.5, -0.49999),
+        ]);
+        let projected =
+            ProjectedCloud::new(&cloud, &camera, &OcclusionTest::default(), &everywhere);
+        let landed: Vec<&Landing> = projected.landings.iter().flatten().collect();
+        let mut expected = 0;
+        for (i, p) in cloud.iter().enumerate() {
+            let k = &camera.intrinsics;
+            let at = k.project(&(camera.base_from_camera.inverse() * p.cast::<f64>()));
+            let inside = at.filter(|uv| {
+                uv.x >= 0.0 && uv.y >= 0.0 && uv.x < k.width as f64 && uv.y < k.height as f64
+            });
+            let landing = landed.iter().find(|l| l.point as usize == i);
+            // Within a millionth of a pixel of an edge, single precision may round either way.
+            let on_edge = at.is_some_and(|uv| {
+                [uv.x, uv.y].iter().any(|c| (c - c.round()).abs() < 1e-4 * c.abs().max(1.0))
+            });
+            match (inside, landing) {
+                (Some(uv), Some(l)) => {
+                    expected += 1;
+                    assert!(l.x < 100 && l.y < 100, "point {i} landed outside the image");
+                    if !on_edge {
+                        assert_eq!((l.x, l.y), (uv.x as u32, uv.y as u32), "point {i}");
+                    }
+                }
+                (None, None) => {}
+                (inside, landing) => assert!(on_edge, "point {i}: {inside:?} against {landing:?}"),
+            }
+        }
+        assert!(expected > 1000, "only {expected} of the fan landed");
     }
 }
