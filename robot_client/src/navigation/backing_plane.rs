@@ -387,6 +387,20 @@ mod tests {
         )
     }
 
+    /// The choice among `planes` for a small tag (3 cm across, its own points not given) with
+    /// the default rule, asserting that the second plane carries it.
+    fn second_carries(
+        planes: &[DetectedPlane],
+        points: &[Point3<f32>],
+        tag: &Point3<f64>,
+        robot: &Point3<f64>,
+    ) -> BackingChoice {
+        let rule = BackingPlaneRule::default();
+        let choice = choose_backing_plane(planes, points, tag, 0.03, &[], robot, &rule);
+        assert_eq!(choice.index, Some(1), "{:?}", choice.rejected);
+        choice
+    }
+
     #[test]
     fn the_side_face_near_the_target_is_not_the_backing_plane() {
         // A cabinet whose front is the plane x = 2 (facing -x) and whose left side is y = 0.2;
@@ -449,12 +463,10 @@ mod tests {
             Vector3::new(0.0, 0.0, 0.8),
             &robot,
         );
-        let rule = BackingPlaneRule::default();
         let planes = vec![lined_up, wall];
         let paper = nearest_plane_to_target(&planes, &points, &tag).unwrap();
         assert!(paper.normal.x > -0.9, "the paper's rule takes the plane through the tag");
-        let choice = choose_backing_plane(&planes, &points, &tag, 0.03, &[], &robot, &rule);
-        assert_eq!(choice.index, Some(1), "{:?}", choice.rejected);
+        let choice = second_carries(&planes, &points, &tag, &robot);
         assert!(choice.plane.unwrap().normal.x < -0.99);
         match choice.rejected[..] {
             [RejectedPlane { why: PlaneRejection::TagHangsFree { before }, .. }] => {
@@ -494,9 +506,7 @@ mod tests {
             ..fitted(&points, start, &robot)
         };
         let planes = vec![pole, wall];
-        let rule = BackingPlaneRule::default();
-        let choice = choose_backing_plane(&planes, &points, &tag, 0.03, &[], &robot, &rule);
-        assert_eq!(choice.index, Some(1), "{:?}", choice.rejected);
+        let choice = second_carries(&planes, &points, &tag, &robot);
         match choice.rejected[..] {
             [RejectedPlane { why: PlaneRejection::Small { width, .. }, .. }] => {
                 assert!(width < 0.06, "{width}");
@@ -521,10 +531,8 @@ mod tests {
             Vector3::new(0.0, 0.0, 0.8),
             &robot,
         );
-        let rule = BackingPlaneRule::default();
         let planes = vec![lined_up, wall];
-        let choice = choose_backing_plane(&planes, &points, &tag, 0.03, &[], &robot, &rule);
-        assert_eq!(choice.index, Some(1), "{:?}", choice.rejected);
+        let choice = second_carries(&planes, &points, &tag, &robot);
         assert!(
             matches!(
                 choice.rejected[..],
@@ -560,10 +568,8 @@ mod tests {
             &robot,
             |p| p.y.abs() > 0.1 * enlarged || p.z > 1.0 + 0.05 * enlarged,
         );
-        let rule = BackingPlaneRule::default();
         let planes = vec![wall, front];
-        let choice = choose_backing_plane(&planes, &points, &tag, 0.03, &[], &robot, &rule);
-        assert_eq!(choice.index, Some(1), "{:?}", choice.rejected);
+        second_carries(&planes, &points, &tag, &robot);
     }
 
     #[test]
@@ -587,10 +593,8 @@ mod tests {
             Vector3::new(0.0, 0.0, 0.5),
             &robot,
         );
-        let rule = BackingPlaneRule::default();
         let planes = vec![wall, front];
-        let choice = choose_backing_plane(&planes, &points, &tag, 0.03, &[], &robot, &rule);
-        assert_eq!(choice.index, Some(1), "{:?}", choice.rejected);
+        let choice = second_carries(&planes, &points, &tag, &robot);
         assert!(
             matches!(
                 choice.rejected[..],
