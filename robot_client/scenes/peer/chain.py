@@ -6,7 +6,8 @@ DBSCAN for 3D components, RANSAC plane segmentation); the rest is NumPy.
     python chain.py SCENE_DIR [SCENE_DIR ...]
 
 reads each directory `pps-scenes write` made (image.png, cloud.ply, camera.json, truth.json) and
-prints the median and p95 of every step in milliseconds, then the whole chain's, as JSON.
+prints the median and p95 of every step in milliseconds, then the whole chain's, and each
+scene's whole chain by its directory's name, as JSON.
 """
 
 import json
@@ -231,18 +232,22 @@ def chain(scene):
 
 
 def main(dirs):
-    steps, totals, planned = {}, [], 0
+    steps, totals, planned, per_scene = {}, [], 0, {}
     for scene in map(Path, dirs):
         timed, ok = chain(scene)
         planned += ok
         for name, ms in timed.items():
             steps.setdefault(name, []).append(ms)
         totals.append(sum(timed.values()))
+        per_scene[scene.name] = totals[-1]
     summary = {
         name: {"median": float(np.median(v)), "p95": float(np.percentile(v, 95, method="nearest"))}
         for name, v in [*steps.items(), ("whole chain", totals)]
     }
-    print(json.dumps({"scenes": len(dirs), "planned": planned, "steps": summary}, indent=2))
+    print(json.dumps(
+        {"scenes": len(dirs), "planned": planned, "steps": summary, "per_scene": per_scene},
+        indent=2,
+    ))
 
 
 if __name__ == "__main__":

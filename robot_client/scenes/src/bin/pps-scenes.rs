@@ -1,6 +1,8 @@
 //! `pps-scenes`: write one scene of the independent corpus to files `pps-robot perceive` reads,
 //! or benchmark the approach over the corpus.
 
+use std::fs::File;
+use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
@@ -41,6 +43,10 @@ enum Command {
         /// Scenes to run, the device kinds in turn (seed i / 5 of kind i % 5, as the corpus test).
         #[arg(long, default_value_t = 100)]
         scenes: u64,
+        /// Also write each scene's time to this CSV file (scene, cloud_points, voi_points,
+        /// chain_ms), for comparing scene by scene with a peer.
+        #[arg(long)]
+        per_scene: Option<PathBuf>,
     },
 }
 
@@ -60,10 +66,7 @@ fn main() -> anyhow::Result<()> {
             let (seed, kind) = corpus_scene(i);
             write(seed, Some(kind), &out.join(format!("{i:03}")))
         }),
-        Command::Bench { scenes } => {
-            bench(scenes);
-            Ok(())
-        }
+        Command::Bench { scenes, per_scene } => bench(scenes, per_scene.as_deref()),
     }
 }
 
@@ -120,11 +123,21 @@ fn quantile(sorted: &[f64], q: f64) -> f64 {
     sorted[((sorted.len() - 1) as f64 * q).round() as usize]
 }
 
-fn bench(scenes: u64) {
+fn bench(scenes: u64, per_scene: Option<&Path>) -> anyhow::Result<()> {
     let params = ApproachParams::default();
     let mut steps: Vec<(&'static str, Vec<f64>)> = Vec::new();
     let (mut totals, mut renders) = (Vec::new(), Vec::new());
     let mut right = 0;
+    // Opened first, so that a path that cannot be written fails before the run, not after it.
+    let mut table = per_scene
+        .map(|path| {
+            let file = File::create(path).with_context(|| format!("creating {}", path.display()));
+            Ok::<_, anyhow::Error>(BufWriter::new(file?))
+        })
+        .transpose()?;
+    if let Some(table) = &mut table {
+        writeln!(table, "scene,cloud_points,voi_points,chain_ms")?;
+    }
     for i in 0..scenes {
         let (seed, kind) = corpus_scene(i);
         let scene: GeneratedScene = generate(seed, Some(kind));
@@ -136,6 +149,10 @@ fn bench(scenes: u64) {
         };
         right += usize::from(judge(scene.truth(), &plan).is_right());
         totals.push(plan.timings.total_ms());
+        if let Some(table) = &mut table {
+            let (points, voi, ms) = (scene.cloud.len(), plan.voi_points, plan.timings.total_ms());
+            writeln!(table, "{i:03},{points},{voi},{ms:.4}")?;
+        }
         for &(name, ms) in plan.timings.steps() {
             match steps.iter_mut().find(|(n, _)| *n == name) {
                 Some((_, v)) => v.push(ms),
@@ -154,4 +171,8 @@ fn bench(scenes: u64) {
         quantile(&renders, 0.5),
         quantile(&renders, 0.95)
     );
+    if let Some(mut table) = table {
+        table.flush()?;
+    }
+    Ok(())
 }
