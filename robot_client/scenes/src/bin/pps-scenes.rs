@@ -129,12 +129,12 @@ fn bench(scenes: u64, per_scene: Option<&Path>) -> anyhow::Result<()> {
     let (mut totals, mut renders) = (Vec::new(), Vec::new());
     let mut right = 0;
     // Opened first, so that a path that cannot be written fails before the run, not after it.
-    let mut table = per_scene
-        .map(|path| {
-            let file = File::create(path).with_context(|| format!("creating {}", path.display()));
-            Ok::<_, anyhow::Error>(BufWriter::new(file?))
-        })
-        .transpose()?;
+    let mut table = match per_scene {
+        Some(path) => Some(BufWriter::new(
+            File::create(path).with_context(|| format!("creating {}", path.display()))?,
+        )),
+        None => None,
+    };
     if let Some(table) = &mut table {
         writeln!(table, "scene,cloud_points,voi_points,chain_ms")?;
     }
