@@ -401,6 +401,15 @@ mod tests {
         choice
     }
 
+    /// Why the one plane the choice turned down was turned down; fails when it turned down
+    /// none or several.
+    fn the_one_rejection(choice: &BackingChoice) -> PlaneRejection {
+        match &choice.rejected[..] {
+            [only] => only.why,
+            other => panic!("expected one rejected plane, got {other:?}"),
+        }
+    }
+
     #[test]
     fn the_side_face_near_the_target_is_not_the_backing_plane() {
         // A cabinet whose front is the plane x = 2 (facing -x) and whose left side is y = 0.2;
@@ -435,12 +444,9 @@ mod tests {
             &robot,
             &BackingPlaneRule::default(),
         );
-        let ours = choice.plane.unwrap();
+        let ours = choice.plane.as_ref().unwrap();
         assert!(
-            matches!(
-                choice.rejected[..],
-                [RejectedPlane { why: PlaneRejection::TagBehind { .. }, .. }]
-            ),
+            matches!(the_one_rejection(&choice), PlaneRejection::TagBehind { .. }),
             "{:?}",
             choice.rejected
         );
@@ -467,12 +473,12 @@ mod tests {
         let paper = nearest_plane_to_target(&planes, &points, &tag).unwrap();
         assert!(paper.normal.x > -0.9, "the paper's rule takes the plane through the tag");
         let choice = second_carries(&planes, &points, &tag, &robot);
-        assert!(choice.plane.unwrap().normal.x < -0.99);
-        match choice.rejected[..] {
-            [RejectedPlane { why: PlaneRejection::TagHangsFree { before }, .. }] => {
+        assert!(choice.plane.as_ref().unwrap().normal.x < -0.99);
+        match the_one_rejection(&choice) {
+            PlaneRejection::TagHangsFree { before } => {
                 assert!((before - 0.3).abs() < 1e-6, "{before}");
             }
-            ref other => panic!("{other:?}"),
+            other => panic!("{other:?}"),
         }
     }
 
@@ -507,11 +513,11 @@ mod tests {
         };
         let planes = vec![pole, wall];
         let choice = second_carries(&planes, &points, &tag, &robot);
-        match choice.rejected[..] {
-            [RejectedPlane { why: PlaneRejection::Small { width, .. }, .. }] => {
+        match the_one_rejection(&choice) {
+            PlaneRejection::Small { width, .. } => {
                 assert!(width < 0.06, "{width}");
             }
-            ref other => panic!("{other:?}"),
+            other => panic!("{other:?}"),
         }
     }
 
@@ -534,10 +540,7 @@ mod tests {
         let planes = vec![lined_up, wall];
         let choice = second_carries(&planes, &points, &tag, &robot);
         assert!(
-            matches!(
-                choice.rejected[..],
-                [RejectedPlane { why: PlaneRejection::TagHangsFree { .. }, .. }]
-            ),
+            matches!(the_one_rejection(&choice), PlaneRejection::TagHangsFree { .. }),
             "{:?}",
             choice.rejected
         );
@@ -596,10 +599,7 @@ mod tests {
         let planes = vec![wall, front];
         let choice = second_carries(&planes, &points, &tag, &robot);
         assert!(
-            matches!(
-                choice.rejected[..],
-                [RejectedPlane { why: PlaneRejection::FartherThanChosen { .. }, .. }]
-            ),
+            matches!(the_one_rejection(&choice), PlaneRejection::FartherThanChosen { .. }),
             "{:?}",
             choice.rejected
         );
