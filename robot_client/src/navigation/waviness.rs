@@ -34,10 +34,10 @@ const MIN_STEP_SIDE_CELLS: f64 = 12.0;
 /// bend, but a quadratic half follows it. So when the plain bend exceeds `enough`, the fits are
 /// also tried with a step between two parts of the patch, where a plane and a step fit the cells
 /// best (split across either in-plane axis at a boundary between columns or rows of cells
-/// `cell` wide): a curved surface still bends beside a step, a front and its neighbour do not. Both surfaces must run along the plane: a
-/// plane tilted against them by more than its `±band` across the patch holds only strips of
-/// them (a slab cut at a slant through a bin's front and the wall behind it), which a plane and
-/// a step fit as well as a front beside its neighbour.
+/// `cell` wide): a curved surface still bends beside a step, a front and its neighbour do not.
+/// Both surfaces must run along the plane: a plane tilted against them by more than its `±band`
+/// across the patch holds only strips of them (a slab cut at a slant through a bin's front and
+/// the wall behind it), which a plane and a step fit as well as a front beside its neighbour.
 pub(super) fn waviness_beyond_noise(
     cells: &[CellResiduals],
     enough: f64,
