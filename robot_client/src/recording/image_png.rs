@@ -85,4 +85,15 @@ mod tests {
         let message = read_png(&path).unwrap_err().to_string();
         assert!(message.contains("not a PNG"), "{message}");
     }
+
+    #[test]
+    fn a_missing_file_is_named_with_its_reason_once() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("nowhere.png");
+        // The command lines print an error with its chain of causes.
+        let message = format!("{:#}", anyhow::Error::from(read_png(&path).unwrap_err()));
+        let reason = std::fs::File::open(&path).unwrap_err().to_string();
+        assert!(message.starts_with(&path.display().to_string()), "{message}");
+        assert_eq!(message.matches(&reason).count(), 1, "{message}");
+    }
 }

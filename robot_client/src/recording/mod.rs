@@ -15,8 +15,10 @@ pub use ply::{PlyFormat, read_ply, read_ply_from, write_ply, write_ply_to};
 /// Why a recorded file could not be read or written.
 #[derive(Debug, thiserror::Error)]
 pub enum RecordingError {
-    #[error("{path}: {source}")]
-    Io { path: String, source: std::io::Error },
+    // The reason is in the message, and so not also a `source()`: a caller printing the
+    // error's chain would say it twice.
+    #[error("{path}: {reason}")]
+    Io { path: String, reason: std::io::Error },
     #[error("{path}: not a PLY point cloud we can read: {reason}")]
     Ply { path: String, reason: String },
     #[error("{path}: not a PNG image we can read: {reason}")]
@@ -25,6 +27,6 @@ pub enum RecordingError {
     Camera { path: String, reason: String },
 }
 
-pub(crate) fn io_error(path: &std::path::Path, source: std::io::Error) -> RecordingError {
-    RecordingError::Io { path: path.display().to_string(), source }
+pub(crate) fn io_error(path: &std::path::Path, reason: std::io::Error) -> RecordingError {
+    RecordingError::Io { path: path.display().to_string(), reason }
 }

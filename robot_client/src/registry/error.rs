@@ -29,15 +29,24 @@ pub enum RegistryError {
     /// The registry answered with an error.
     #[error("the registry refused: {0}")]
     Refused(Problem),
-    /// The registry could not be reached (and nothing cached could stand in).
+    /// The registry could not be reached (and nothing cached could stand in). The message
+    /// carries the causes, and so they are not also a `source()`.
     #[error("the registry is unreachable: {}", causes(.0))]
-    Unreachable(#[source] reqwest::Error),
+    Unreachable(reqwest::Error),
     /// The answer was not what the API promises.
     #[error("the registry's answer was not understood: {0}")]
     Malformed(String),
-    /// The outbox or the entry cache could not be read or written.
+    /// The outbox or the entry cache could not be read or written. The reason is in the
+    /// message, and so not also a `source()`: a command line printing the chain would say it
+    /// twice.
     #[error("local storage failed: {0}")]
-    Storage(#[from] std::io::Error),
+    Storage(std::io::Error),
+}
+
+impl From<std::io::Error> for RegistryError {
+    fn from(error: std::io::Error) -> Self {
+        RegistryError::Storage(error)
+    }
 }
 
 /// An error with its causes, so "error sending request" says why (refused, TLS, timeout).
@@ -72,5 +81,19 @@ impl RegistryError {
             errors: Vec::new(),
         });
         Self::Refused(problem)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_storage_failure_says_its_reason_once() {
+        let reason = std::io::Error::from(std::io::ErrorKind::NotADirectory);
+        let expected = reason.to_string();
+        // The command lines print an error with its chain of causes.
+        let message = format!("{:#}", anyhow::Error::from(RegistryError::from(reason)));
+        assert_eq!(message.matches(&expected).count(), 1, "{message}");
     }
 }
