@@ -341,7 +341,8 @@ mod tests {
                 uv.x >= 0.0 && uv.y >= 0.0 && uv.x < k.width as f64 && uv.y < k.height as f64
             });
             let landing = landed.iter().find(|l| l.point as usize == i);
-            // Within a millionth of a pixel of an edge, single precision may round either way.
+            // Within 1e-4 of a pixel's edge, relative to the coordinate (a hundredth of a pixel
+            // at the far side of this image), single precision may round either way.
             let on_edge = at.is_some_and(|uv| {
                 [uv.x, uv.y].iter().any(|c| (c - c.round()).abs() < 1e-4 * c.abs().max(1.0))
             });
