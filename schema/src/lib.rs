@@ -35,7 +35,7 @@ pub use read_only::{
 pub use robot::{Robot, RobotLimits};
 pub use robot_id::{RobotId, RobotIdError};
 pub use schemas::{SCHEMA_BASE_URI, SCHEMA_NAMES, schema_document};
-pub use trial::{Finger, ForceSample, MAX_FORCE_SAMPLES, Outcome, StartPose, Trial};
+pub use trial::{Finger, ForceSample, MAX_FORCE_SAMPLES, Outcome, Purpose, StartPose, Trial};
 pub use validate::{
     FieldError, ValidationErrors, Validator, validate_robot, validate_tag, validate_trial,
 };

@@ -41,6 +41,10 @@ pub struct Trial {
     pub measurements: Map<String, Value>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub start_pose: Option<StartPose>,
+    /// Why the attempt was made; real use is not written, so a robot's trial reads the same to
+    /// a registry that predates the field.
+    #[serde(default, skip_serializing_if = "Purpose::is_use")]
+    pub purpose: Purpose,
     /// Read-only: when the registry received the trial.
     #[serde(
         default,
@@ -77,6 +81,43 @@ impl Outcome {
             Self::Aborted => "aborted",
             Self::Error => "error",
         }
+    }
+}
+
+/// Why an attempt was made. Only real use says how well an action goes for the people it is
+/// done for; experiments fail on purpose and tests exercise the machinery.
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum Purpose {
+    /// Done because someone wanted it done.
+    #[default]
+    Use,
+    /// Part of an experiment, such as the paper's Table I protocol.
+    Experiment,
+    /// Checking the robot or the registry.
+    Test,
+}
+
+impl Purpose {
+    pub const ALL: [Purpose; 3] = [Self::Use, Self::Experiment, Self::Test];
+
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Use => "use",
+            Self::Experiment => "experiment",
+            Self::Test => "test",
+        }
+    }
+
+    /// The purpose spelled as in the schema, or `None`.
+    pub fn parse(text: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|purpose| purpose.as_str() == text)
+    }
+
+    pub fn is_use(&self) -> bool {
+        *self == Self::Use
     }
 }
 

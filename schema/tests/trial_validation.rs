@@ -1,6 +1,6 @@
 //! What a robot's trial upload must look like.
 
-use pps_schema::{MAX_FORCE_SAMPLES, Outcome, Trial, ValidationErrors, validate_trial};
+use pps_schema::{MAX_FORCE_SAMPLES, Outcome, Purpose, Trial, ValidationErrors, validate_trial};
 use serde_json::{Value, json};
 
 fn trial() -> Value {
@@ -128,4 +128,26 @@ fn the_registrys_fields_are_allowed_on_output() {
 fn the_cap_is_the_schemas() {
     let schema = pps_schema::schema_document("trial").unwrap();
     assert_eq!(schema["properties"]["forces"]["maxItems"], json!(MAX_FORCE_SAMPLES));
+}
+
+#[test]
+fn a_trial_says_why_it_was_made_and_real_use_goes_without_saying() {
+    let typed: Trial = serde_json::from_value(trial()).unwrap();
+    assert_eq!(typed.purpose, Purpose::Use);
+    assert!(serde_json::to_value(&typed).unwrap().get("purpose").is_none());
+
+    let mut experiment = trial();
+    experiment["purpose"] = json!("experiment");
+    validate_trial(&experiment).unwrap();
+    let typed: Trial = serde_json::from_value(experiment.clone()).unwrap();
+    assert_eq!(typed.purpose, Purpose::Experiment);
+    assert_eq!(serde_json::to_value(&typed).unwrap()["purpose"], "experiment");
+
+    experiment["purpose"] = json!("demo");
+    let errors = rejected(&experiment);
+    assert_eq!(pointers(&errors), ["/purpose"]);
+    assert_eq!(
+        errors.errors()[0].message,
+        "purpose is \"demo\"; it must be one of \"use\", \"experiment\", \"test\"."
+    );
 }

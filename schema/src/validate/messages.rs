@@ -124,10 +124,25 @@ fn describe(error: &ValidationError<'_>, at: &str, field: String) -> Vec<FieldEr
             }
         )),
         ValidationErrorKind::AnyOf { context } => any_of(at, &field, context),
+        // A `oneOf` of titled constants is an enum whose values each have a human title.
+        ValidationErrorKind::OneOfNotValid { .. } if !titled_constants(schema).is_empty() => one(
+            format!("{field} is {instance}; it must be one of {}.", list(titled_constants(schema))),
+        ),
         ValidationErrorKind::FalseSchema => one(format!("{field} is not allowed here.")),
         // The schemas use no other keyword a caretaker can trip over; should one appear,
         // jsonschema's own wording is better than nothing.
         _ => one(format!("{field}: {}", error.masked())),
+    }
+}
+
+/// The values of a `oneOf` whose every branch is a `const`, in order; empty for any other.
+fn titled_constants<'a>(schema: Option<(&SchemaDocument, &'a Value)>) -> Vec<&'a Value> {
+    let branches = schema.and_then(|(_, object)| object["oneOf"].as_array());
+    let constants: Vec<&Value> =
+        branches.into_iter().flatten().filter_map(|branch| branch.get("const")).collect();
+    match branches {
+        Some(branches) if constants.len() == branches.len() => constants,
+        _ => Vec::new(),
     }
 }
 
