@@ -28,7 +28,7 @@ pub enum TrialFormat {
 }
 
 /// The CSV header; `measurements` is the trial's measurements object as a JSON string.
-pub const CSV_COLUMNS: [&str; 16] = [
+pub const CSV_COLUMNS: [&str; 17] = [
     "id",
     "epc",
     "robot",
@@ -45,6 +45,7 @@ pub const CSV_COLUMNS: [&str; 16] = [
     "force_samples",
     "peak_force_n",
     "measurements",
+    "purpose",
 ];
 
 /// Writes every trial `filter` selects to `out`, oldest first; returns how many.
@@ -133,5 +134,6 @@ fn csv_row(row: &TrialRow, trial: &Value) -> [String; CSV_COLUMNS.len()] {
         forces.samples.to_string(),
         number(forces.peak_n),
         trial.get("measurements").map(Value::to_string).unwrap_or_else(|| "{}".into()),
+        row.purpose.clone(),
     ]
 }

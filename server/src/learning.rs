@@ -11,6 +11,7 @@ use pps_schema::{BehaviorKind, Epc};
 use serde_json::{Value, json};
 use sqlx::AnyConnection;
 
+use crate::counted_purposes::CountedPurposes;
 use crate::store::events::{self, EventKind};
 use crate::store::trials::GroupKey;
 use crate::store::{learning, tags, trials};
@@ -35,7 +36,8 @@ const RULES: [LearningRule; 1] = [LearningRule {
 const LEARNING_WINDOW: i64 = 100;
 
 /// The lab's rule: reliable after at least 20 attempts with at least 90 % success, judged over
-/// the most recent attempts so that a tag wearing out stops being reliable.
+/// the most recent attempts of real use so that a tag wearing out stops being reliable and an
+/// experiment's deliberate failures do not count.
 pub const RELIABLE_MIN_ATTEMPTS: i64 = 20;
 pub const RELIABLE_MIN_SUCCESS: f64 = 0.9;
 pub const RELIABILITY_WINDOW: i64 = 50;
@@ -175,7 +177,9 @@ async fn update_reliability(
         .into_iter()
         .map(|(epc, action, robot_class)| GroupKey { epc, action, robot_class })
         .collect();
-    let outcomes = trials::latest_outcomes(conn, &keys, RELIABILITY_WINDOW).await?;
+    let outcomes =
+        trials::latest_outcomes(conn, &keys, RELIABILITY_WINDOW, &CountedPurposes::real_use())
+            .await?;
     let before = learning::reliabilities(conn, &keys).await?;
     for ((key, (attempts, successes)), before) in keys.iter().zip(outcomes).zip(before) {
         let reliable = is_reliable(attempts, successes);

@@ -1,8 +1,8 @@
 //! Which trials a list or an export wants: `GET /api/v1/trials` and `pps-server export-trials`
-//! take the same five filters, spelled as text, and both turn them into one [`TrialFilter`] here,
+//! take the same six filters, spelled as text, and both turn them into one [`TrialFilter`] here,
 //! so a filter means the same thing (and a bad one is refused in the same words) on either side.
 
-use pps_schema::{Epc, Outcome, RobotId};
+use pps_schema::{Epc, Outcome, Purpose, RobotId};
 use time::OffsetDateTime;
 
 /// Which trials a list wants; every filter given must hold.
@@ -14,6 +14,7 @@ pub struct TrialFilter {
     pub outcome: Option<Outcome>,
     /// Trials that started at or after this time.
     pub since: Option<OffsetDateTime>,
+    pub purpose: Option<Purpose>,
 }
 
 /// The filters as a person spells them, in a query string or on the command line.
@@ -27,6 +28,8 @@ pub struct FilterText<'a> {
     pub outcome: Option<&'a str>,
     /// RFC 3339.
     pub since: Option<&'a str>,
+    /// use, experiment or test.
+    pub purpose: Option<&'a str>,
 }
 
 /// A filter that does not parse, and what it should have been.
@@ -40,6 +43,8 @@ pub enum FilterError {
     Outcome(String),
     #[error("since must be an RFC 3339 time such as 2026-11-22T09:00:00Z, not {0:?}")]
     Since(String),
+    #[error("purpose is one of use, experiment, test; not {0:?}")]
+    Purpose(String),
 }
 
 impl TrialFilter {
@@ -76,7 +81,11 @@ impl TrialFilter {
             .since
             .map(|raw| crate::clock::parse(raw).ok_or_else(|| FilterError::Since(raw.into())))
             .transpose()?;
-        Ok(Self { epc, robot, action: text.action.map(str::to_owned), outcome, since })
+        let purpose = text
+            .purpose
+            .map(|raw| Purpose::parse(raw).ok_or_else(|| FilterError::Purpose(raw.into())))
+            .transpose()?;
+        Ok(Self { epc, robot, action: text.action.map(str::to_owned), outcome, since, purpose })
     }
 }
 
@@ -92,6 +101,7 @@ mod tests {
             action: Some("push"),
             outcome: Some("failure"),
             since: Some("2026-11-22T10:00:00+01:00"),
+            purpose: Some("experiment"),
         })
         .unwrap();
         assert_eq!(
@@ -104,6 +114,7 @@ mod tests {
             filter.since.map(crate::clock::format).as_deref(),
             Some("2026-11-22T09:00:00.000Z")
         );
+        assert_eq!(filter.purpose, Some(Purpose::Experiment));
         assert_eq!(TrialFilter::parse(FilterText::default()).unwrap(), TrialFilter::default());
     }
 
@@ -118,6 +129,10 @@ mod tests {
         assert!(bad(FilterText { outcome: Some("won"), ..Default::default() }).contains("\"won\""));
         assert!(
             bad(FilterText { since: Some("today"), ..Default::default() }).contains("RFC 3339")
+        );
+        assert_eq!(
+            bad(FilterText { purpose: Some("demo"), ..Default::default() }),
+            "purpose is one of use, experiment, test; not \"demo\""
         );
     }
 }

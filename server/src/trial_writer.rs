@@ -257,6 +257,7 @@ async fn sort_out<'a>(
             action: trial.action.clone(),
             outcome: trial.outcome.as_str().to_owned(),
             confirmed: trial.confirmed,
+            purpose: trial.purpose.as_str().to_owned(),
             received_at: received_at.to_owned(),
             body,
         })));

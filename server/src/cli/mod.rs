@@ -135,6 +135,9 @@ struct ExportTrialsArgs {
     /// Only trials that started at or after this RFC 3339 time.
     #[arg(long)]
     since: Option<String>,
+    /// Only trials made for this purpose: use, experiment or test.
+    #[arg(long)]
+    purpose: Option<String>,
     /// Write to this file instead of stdout.
     #[arg(long)]
     out: Option<PathBuf>,

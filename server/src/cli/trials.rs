@@ -15,6 +15,7 @@ pub(super) async fn export_trials(db: &Db, args: ExportTrialsArgs) -> anyhow::Re
         action: args.action.as_deref(),
         outcome: args.outcome.as_deref(),
         since: args.since.as_deref(),
+        purpose: args.purpose.as_deref(),
     })?;
     let format = match args.format {
         FormatArg::Jsonl => TrialFormat::Jsonl,

@@ -177,6 +177,10 @@ fn parameter(param: &Param) -> Value {
         "description": param.description,
         "schema": param_schema(param.value),
     });
+    if let ParamType::SomeOf(_) = param.value {
+        parameter["style"] = "form".into();
+        parameter["explode"] = false.into();
+    }
     if let Some(example) = param.example {
         parameter["example"] = example.into();
     }
@@ -194,6 +198,9 @@ fn param_schema(value: ParamType) -> Value {
         ParamType::Uuid => json!({ "type": "string", "format": "uuid" }),
         ParamType::DateTime => json!({ "type": "string", "format": "date-time" }),
         ParamType::OneOf(values) => json!({ "enum": values }),
+        ParamType::SomeOf(values) => {
+            json!({ "type": "array", "minItems": 1, "items": { "enum": values } })
+        }
     }
 }
 

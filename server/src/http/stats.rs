@@ -1,16 +1,19 @@
-//! `GET /api/v1/tags/{epc}/stats`: how a tag's actions have gone, per robot class.
+//! `GET /api/v1/tags/{epc}/stats`: how a tag's actions have gone, per robot class, in real use
+//! unless asked to count experiments and tests too.
 
 use axum::Json;
 use axum::extract::State;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value, json};
 
-use pps_schema::Epc;
 use pps_schema::pointer::escape;
+use pps_schema::{Epc, Purpose};
 
+use crate::counted_purposes::CountedPurposes;
 use crate::error::ApiError;
+use crate::http::extract::ApiQuery;
 use crate::http::ids::InPath;
-use crate::http::openapi::{Doc, Param, Reply};
+use crate::http::openapi::{Doc, Param, ParamType, Reply};
 use crate::learning::{RELIABILITY_WINDOW, is_reliable};
 use crate::state::AppState;
 use crate::store::trials::GroupKey;
@@ -41,30 +44,53 @@ pub struct GroupStats {
 pub const GET: Doc = Doc::new("getTagStats", "How a tag's actions have gone, per robot class")
     .describe(
         "Attempts, detected and confirmed successes, agreement between the robots' detectors \
-         and the people's verdicts, the reliable flag and the learned values.",
+         and the people's verdicts, the reliable flag and the learned values. Only trials of \
+         real use count unless `include` names other purposes; `counted` says which did, and \
+         `not_counted` how many trials of each other purpose were left out. Learned values are \
+         always those robots get, learned from real use.",
     )
-    .params(&[Param::EPC])
+    .params(&[
+        Param::EPC,
+        Param::query(
+            "include",
+            ParamType::SomeOf(&["use", "experiment", "test"]),
+            "Purposes to count beside real use, separated by commas, e.g. `experiment,test`",
+        ),
+    ])
     .replies(&[
         Reply::json(200, "The statistics", "tag_stats"),
+        Reply::problem(400, "`include` names something that is not a purpose"),
         Reply::problem(404, "No tag has this EPC"),
     ]);
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StatsParams {
+    include: Option<String>,
+}
 
 pub async fn get(
     State(state): State<AppState>,
     InPath(epc): InPath<Epc>,
+    ApiQuery(params): ApiQuery<StatsParams>,
 ) -> Result<Json<Value>, ApiError> {
+    let counted = match params.include.as_deref() {
+        None => CountedPurposes::real_use(),
+        Some(include) => CountedPurposes::including(include).map_err(ApiError::BadRequest)?,
+    };
     let pool = state.db.reader();
     let Some(tag) = tags::get(pool, &epc).await? else {
         return Err(ApiError::NotFound(format!("no tag has the EPC {epc}")));
     };
-    let rows = trials::group_counts(pool, &epc).await?;
+    let rows = trials::group_counts(pool, &epc, &counted).await?;
     let learned = learning::learned_all(pool, &epc).await?;
     let keys: Vec<GroupKey<'_>> = rows
         .iter()
         .map(|(action, class, ..)| GroupKey { epc: &epc, action, robot_class: class.as_deref() })
         .collect();
     let latest =
-        trials::latest_outcomes(&mut *pool.acquire().await?, &keys, RELIABILITY_WINDOW).await?;
+        trials::latest_outcomes(&mut *pool.acquire().await?, &keys, RELIABILITY_WINDOW, &counted)
+            .await?;
     let mut groups = Vec::with_capacity(rows.len());
     for (
         (action, class, attempts, detected, confirmed, confirmed_ok, agreeing, successes, last),
@@ -96,7 +122,19 @@ pub async fn get(
             learned: learned_here,
         });
     }
-    Ok(Json(json!({ "epc": epc.as_hex(), "groups": groups })))
+    let not_counted: Map<String, Value> = trials::purpose_counts(pool, &epc)
+        .await?
+        .into_iter()
+        .filter(|(purpose, _)| Purpose::parse(purpose).is_some_and(|p| !counted.counts(p)))
+        .map(|(purpose, trials)| (purpose, trials.into()))
+        .collect();
+    let counted: Vec<&str> = counted.purposes().iter().map(|p| p.as_str()).collect();
+    Ok(Json(json!({
+        "epc": epc.as_hex(),
+        "counted": counted,
+        "not_counted": not_counted,
+        "groups": groups,
+    })))
 }
 
 fn ratio(part: i64, whole: i64) -> Option<f64> {

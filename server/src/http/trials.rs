@@ -5,7 +5,7 @@ use axum::Json;
 use axum::extract::State;
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
-use pps_schema::{MAX_FORCE_SAMPLES, Trial};
+use pps_schema::{MAX_FORCE_SAMPLES, Purpose, Trial};
 use serde::Deserialize;
 use serde_json::{Value, json};
 use uuid::Uuid;
@@ -65,7 +65,12 @@ pub async fn put(
              downsample them or keep a summary in measurements"
         )));
     }
-    let (_, body) = accept::<Trial>(Some(&id), body)?;
+    let (_, mut body) = accept::<Trial>(Some(&id), body)?;
+    // Real use goes without saying, as it did before trials had a purpose: a trial recorded
+    // then and retried now, or retried with the default spelled out, is the same trial.
+    if body.get("purpose").and_then(Value::as_str) == Some(Purpose::Use.as_str()) {
+        pps_schema::strip_fields(&mut body, &["purpose"]);
+    }
     let trial: Trial = serde_json::from_value(body.clone()).map_err(|error| {
         ApiError::invalid_at("", format!("the trial does not fit its type: {error}"))
     })?;
@@ -229,6 +234,7 @@ pub struct ListParams {
     action: Option<String>,
     outcome: Option<String>,
     since: Option<String>,
+    purpose: Option<String>,
     include: Option<String>,
     limit: Option<u32>,
     cursor: Option<String>,
@@ -255,6 +261,11 @@ pub const LIST: Doc = Doc::new("listTrials", "Trial history, oldest first")
         ),
         Param::query("since", ParamType::DateTime, "Only trials started at or after this time"),
         Param::query(
+            "purpose",
+            ParamType::OneOf(&["use", "experiment", "test"]),
+            "Only trials made for this purpose: real use, an experiment or a test",
+        ),
+        Param::query(
             "include",
             ParamType::OneOf(&["forces"]),
             "`forces`: each trial with its force samples",
@@ -277,6 +288,7 @@ pub async fn list(
         action: params.action.as_deref(),
         outcome: params.outcome.as_deref(),
         since: params.since.as_deref(),
+        purpose: params.purpose.as_deref(),
     })
     .map_err(|error| ApiError::BadRequest(error.to_string()))?;
     if caller.role == Role::Robot {

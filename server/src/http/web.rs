@@ -29,7 +29,7 @@ macro_rules! web_files {
 
 const INDEX_HTML: &[u8] = include_bytes!("../../../web/index.html");
 
-const FILES: [(&str, &[u8]); 31] = web_files![
+const FILES: [(&str, &[u8]); 32] = web_files![
     "app.css",
     "icon.svg",
     "js/api.js",
@@ -57,6 +57,7 @@ const FILES: [(&str, &[u8]); 31] = web_files![
     "js/pages/tags.js",
     "js/pages/tasks.js",
     "js/pointer.js",
+    "js/purpose.js",
     "js/schema-field.js",
     "js/schema.js",
     "js/session.js",

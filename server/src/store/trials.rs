@@ -1,11 +1,12 @@
 //! Trials in the database: one row per attempt, in the order the registry received them.
 
-use pps_schema::{Epc, Outcome, RobotId, Trial};
+use pps_schema::{Epc, Outcome, Purpose, RobotId, Trial};
 use serde_json::{Value, json};
 use sqlx::{AnyConnection, AnyPool};
 use uuid::Uuid;
 
 use crate::clock;
+use crate::counted_purposes::CountedPurposes;
 use crate::db::Dialect;
 use crate::store::columns::{Id, MaybeFlag};
 use crate::store::placeholders;
@@ -27,13 +28,14 @@ pub fn groups_parameter(groups: &[GroupKey<'_>]) -> String {
     Value::Array(rows).to_string()
 }
 
-/// How each group went lately: the attempts and successes among its latest `window` trials, a
-/// person's verdict overriding the detector's, in the order of `groups`. What *reliable* is
-/// judged on.
+/// How each group went lately: the attempts and successes among its latest `window` trials of
+/// the `counted` purposes, a person's verdict overriding the detector's, in the order of
+/// `groups`. What *reliable* is judged on.
 pub async fn latest_outcomes(
     conn: &mut AnyConnection,
     groups: &[GroupKey<'_>],
     window: i64,
+    counted: &CountedPurposes,
 ) -> sqlx::Result<Vec<(i64, i64)>> {
     // Each group reads its newest trials down the (epc, action, class, seq) index; SQLite has
     // no lateral join, so it asks twice per group, which reads the same few index pages.
@@ -43,6 +45,7 @@ pub async fn latest_outcomes(
                   select 1 from trials
                   where epc = json_extract(g.value, '$[0]') and action = json_extract(g.value, '$[1]')
                     and coalesce(robot_class, '') = coalesce(json_extract(g.value, '$[2]'), '')
+                    and purpose in (select value from json_each($3))
                   order by seq desc limit $2)),
              (select coalesce(sum(success), 0) from (
                   select case when confirmed = 1 or (confirmed is null and outcome = 'success')
@@ -50,6 +53,7 @@ pub async fn latest_outcomes(
                   from trials
                   where epc = json_extract(g.value, '$[0]') and action = json_extract(g.value, '$[1]')
                     and coalesce(robot_class, '') = coalesce(json_extract(g.value, '$[2]'), '')
+                    and purpose in (select value from json_each($3))
                   order by seq desc limit $2))
          from json_each($1) as g order by g.key",
         "select count(latest.success), coalesce(sum(latest.success), 0)
@@ -60,11 +64,13 @@ pub async fn latest_outcomes(
              from trials
              where epc = g.value->>0 and action = g.value->>1
                and coalesce(robot_class, '') = coalesce(g.value->>2, '')
+               and purpose in (select jsonb_array_elements_text($3::jsonb))
              order by seq desc limit $2) as latest on true
          group by g.ord order by g.ord",
     ))
     .bind(groups_parameter(groups))
     .bind(window)
+    .bind(counted.parameter())
     .fetch_all(conn)
     .await
 }
@@ -74,10 +80,16 @@ pub async fn latest_outcomes(
 /// agreeing with the detector, successes by verdict else detector, last start).
 pub type GroupCounts = (String, Option<String>, i64, i64, i64, i64, i64, i64, Option<String>);
 
-/// Every action × robot class group of a tag's trials, ordered by action and class.
-pub async fn group_counts(pool: &AnyPool, epc: &Epc) -> sqlx::Result<Vec<GroupCounts>> {
-    sqlx::query_as(
-        "select action, robot_class, count(*),
+/// Every action × robot class group of a tag's trials of the `counted` purposes, ordered by
+/// action and class.
+pub async fn group_counts(
+    pool: &AnyPool,
+    epc: &Epc,
+    counted: &CountedPurposes,
+) -> sqlx::Result<Vec<GroupCounts>> {
+    let query = |purposes| {
+        format!(
+            "select action, robot_class, count(*),
                 sum(case when outcome = 'success' then 1 else 0 end),
                 sum(case when confirmed is not null then 1 else 0 end),
                 sum(case when confirmed = 1 then 1 else 0 end),
@@ -86,8 +98,26 @@ pub async fn group_counts(pool: &AnyPool, epc: &Epc) -> sqlx::Result<Vec<GroupCo
                 sum(case when confirmed = 1 or (confirmed is null and outcome = 'success')
                          then 1 else 0 end),
                 max(started_at)
-         from trials where epc = $1 group by action, robot_class
-         order by action, coalesce(robot_class, '')",
+         from trials where epc = $1 and purpose in ({purposes})
+         group by action, robot_class
+         order by action, coalesce(robot_class, '')"
+        )
+    };
+    let statement = query(
+        Dialect::of_pool(pool)
+            .pick("select value from json_each($2)", "select jsonb_array_elements_text($2::jsonb)"),
+    );
+    sqlx::query_as(sqlx::AssertSqlSafe(statement))
+        .bind(epc.as_hex())
+        .bind(counted.parameter())
+        .fetch_all(pool)
+        .await
+}
+
+/// How many of a tag's trials were made for each purpose: `(purpose, trials)`.
+pub async fn purpose_counts(pool: &AnyPool, epc: &Epc) -> sqlx::Result<Vec<(String, i64)>> {
+    sqlx::query_as(
+        "select purpose, count(*) from trials where epc = $1 group by purpose order by purpose",
     )
     .bind(epc.as_hex())
     .fetch_all(pool)
@@ -95,7 +125,8 @@ pub async fn group_counts(pool: &AnyPool, epc: &Epc) -> sqlx::Result<Vec<GroupCo
 }
 
 /// The numbers at `path` (a JSON path into the trial body, e.g. `$.measurements.displacement`)
-/// of a group's latest `window` successful trials of `behavior`, newest first. A trial the person
+/// of a group's latest `window` successful trials of `behavior` in real use, newest first: an
+/// experiment's trials teach nothing about how the thing behaves in use. A trial the person
 /// said failed counts as none, whatever the detector thought; only numbers count, and JSON has
 /// one number type, so 1 and 1.0 both are one.
 pub async fn latest_measurements(
@@ -112,13 +143,13 @@ pub async fn latest_measurements(
                      then cast(json_extract(body, $1) as real) end
          from trials
          where epc = $2 and coalesce(robot_class, '') = coalesce($3, '') and behavior = $4
-           and outcome = 'success' and coalesce(confirmed, 1) = 1
+           and purpose = 'use' and outcome = 'success' and coalesce(confirmed, 1) = 1
          order by seq desc limit $5",
         "select case when jsonb_typeof(jsonb_path_query_first(body::jsonb, $1::jsonpath)) = 'number'
                      then jsonb_path_query_first(body::jsonb, $1::jsonpath)::double precision end
          from trials
          where epc = $2 and coalesce(robot_class, '') = coalesce($3, '') and behavior = $4
-           and outcome = 'success' and coalesce(confirmed, 1) = 1
+           and purpose = 'use' and outcome = 'success' and coalesce(confirmed, 1) = 1
          order by seq desc limit $5",
     ))
     .bind(path)
@@ -146,17 +177,20 @@ pub struct TrialRow {
     pub outcome: String,
     #[sqlx(try_from = "MaybeFlag")]
     pub confirmed: Option<bool>,
+    pub purpose: String,
     pub received_at: String,
     pub body: String,
 }
 
 impl TrialRow {
-    /// The trial as submitted, as the API returns it: with the verdict as it is now and the
-    /// registry's `received_at` and `seq`.
+    /// The trial as submitted, as the API returns it: with the verdict as it is now, its
+    /// purpose spelled out also where real use went without saying, and the registry's
+    /// `received_at` and `seq`.
     pub fn to_json(&self) -> Value {
         let mut trial: Value = serde_json::from_str(&self.body).unwrap_or_else(|_| json!({}));
         if let Some(object) = trial.as_object_mut() {
             object.insert("confirmed".into(), self.confirmed.map_or(Value::Null, Value::from));
+            object.insert("purpose".into(), self.purpose.clone().into());
             object.insert("received_at".into(), self.received_at.clone().into());
             object.insert("seq".into(), self.seq.into());
         }
@@ -180,7 +214,7 @@ pub struct NewTrial<'a> {
     pub body: &'a str,
 }
 
-/// Trials inserted by one statement at most (12 values each, well under SQLite's limit).
+/// Trials inserted by one statement at most (13 values each, well under SQLite's limit).
 pub const INSERT_CHUNK: usize = 256;
 
 /// Inserts up to [`INSERT_CHUNK`] trials with one statement; returns the id and sequence number
@@ -192,9 +226,9 @@ pub async fn insert_new(
 ) -> sqlx::Result<Vec<(Uuid, i64)>> {
     let statement = format!(
         "insert into trials (id, epc, robot, robot_class, action, behavior, outcome, \
-         confirmed, started_at, finished_at, received_at, body) values {} \
+         confirmed, started_at, finished_at, received_at, body, purpose) values {} \
          on conflict (id) do nothing returning id, seq",
-        placeholders::rows(trials.len(), 12)
+        placeholders::rows(trials.len(), 13)
     );
     let mut insert = sqlx::query_as(sqlx::AssertSqlSafe(statement));
     for new in trials {
@@ -211,7 +245,8 @@ pub async fn insert_new(
             .bind(clock::format(trial.started_at))
             .bind(clock::format(trial.finished_at))
             .bind(new.received_at)
-            .bind(new.body);
+            .bind(new.body)
+            .bind(trial.purpose.as_str());
     }
     let inserted: Vec<(String, i64)> = insert.fetch_all(conn).await?;
     inserted
@@ -225,7 +260,8 @@ pub async fn insert_new(
 
 pub async fn find(conn: &mut AnyConnection, id: &Uuid) -> sqlx::Result<Option<TrialRow>> {
     sqlx::query_as(
-        "select seq, id, epc, robot, robot_class, action, outcome, confirmed, received_at, body
+        "select seq, id, epc, robot, robot_class, action, outcome, confirmed, purpose,
+                received_at, body
          from trials where id = $1",
     )
     .bind(id.hyphenated().to_string())
@@ -262,7 +298,7 @@ pub async fn list(
 ) -> sqlx::Result<(Vec<TrialRow>, bool)> {
     use futures_util::TryStreamExt;
     let mut rows = sqlx::query_as::<_, TrialRow>(Dialect::of_pool(pool).pick(
-        "select seq, id, epc, robot, robot_class, action, outcome, confirmed, received_at,
+        "select seq, id, epc, robot, robot_class, action, outcome, confirmed, purpose, received_at,
                 case when $8 then body else json_remove(body, '$.forces') end as body
          from trials
          where seq > $1
@@ -271,9 +307,10 @@ pub async fn list(
            and ($4 is null or action = $4)
            and ($5 is null or outcome = $5)
            and ($6 is null or started_at >= $6)
+           and ($9 is null or purpose = $9)
          order by seq
          limit $7",
-        "select seq, id, epc, robot, robot_class, action, outcome, confirmed, received_at,
+        "select seq, id, epc, robot, robot_class, action, outcome, confirmed, purpose, received_at,
                 case when $8 then body else (body::jsonb - 'forces')::text end as body
          from trials
          where seq > $1
@@ -282,6 +319,7 @@ pub async fn list(
            and ($4::text is null or action = $4)
            and ($5::text is null or outcome = $5)
            and ($6::text is null or started_at >= $6)
+           and ($9::text is null or purpose = $9)
          order by seq
          limit $7",
     ))
@@ -293,6 +331,7 @@ pub async fn list(
     .bind(filter.since.map(clock::format))
     .bind(i64::from(window.limit))
     .bind(window.forces)
+    .bind(filter.purpose.map(Purpose::as_str))
     .fetch(pool);
     let (mut listed, mut bytes) = (Vec::new(), 0);
     while let Some(row) = rows.try_next().await? {

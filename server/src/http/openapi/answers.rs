@@ -110,9 +110,19 @@ pub(super) fn shapes() -> Vec<(&'static str, Value)> {
         (
             "tag_stats",
             object(
-                &["epc", "groups"],
+                &["epc", "counted", "not_counted", "groups"],
                 json!({
                     "epc": component("tag/$defs/epc"),
+                    "counted": {
+                        "description": "The purposes whose trials the numbers count; always `use`.",
+                        "type": "array",
+                        "items": component("trial/properties/purpose")
+                    },
+                    "not_counted": {
+                        "description": "How many of the tag's trials of each other purpose were left out.",
+                        "type": "object",
+                        "additionalProperties": { "type": "integer", "minimum": 1 }
+                    },
                     "groups": { "type": "array", "items": component("action_stats") }
                 }),
             ),
@@ -192,7 +202,7 @@ pub(super) fn shapes() -> Vec<(&'static str, Value)> {
                 }),
             ),
         ),
-        ("stored_trial", always_with("trial", &["confirmed", "received_at", "seq"])),
+        ("stored_trial", always_with("trial", &["confirmed", "purpose", "received_at", "seq"])),
         (
             "task",
             object(

@@ -80,6 +80,8 @@ pub enum ParamType {
     Uuid,
     DateTime,
     OneOf(&'static [&'static str]),
+    /// Some of these values, separated by commas (`a,b`).
+    SomeOf(&'static [&'static str]),
 }
 
 /// One path, query or header parameter.
