@@ -5,6 +5,7 @@
 import { getAll, query, request, seg } from '../api.js';
 import { cell, h, replace } from '../dom.js';
 import { verdict, when } from '../format.js';
+import { purposeBadge } from '../purpose.js';
 
 /** Fills `container` with the trials of `epc`; returns how many there are. */
 export async function renderTrials(container, epc) {
@@ -45,7 +46,7 @@ function trialRow(trial, refresh) {
   return h('tr', { dataset: { trial: trial.id } },
     cell('When', when(trial.started_at ?? trial.finished_at)),
     cell('Robot', trial.robot),
-    cell('Action', trial.action, h('span', { class: 'muted' }, ` (${trial.behavior})`)),
+    cell('Action', trial.action, h('span', { class: 'muted' }, ` (${trial.behavior})`), purposeBadge(trial)),
     cell('Outcome', h('span', { class: ['badge', trial.outcome === 'success' ? 'good' : 'bad'] }, trial.outcome)),
     cell('Verdict', verdictBox),
     cell('Evidence', h('details', {},

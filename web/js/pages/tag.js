@@ -2,7 +2,7 @@
 // robot gets, every trial and every change. Trials appear as robots record them (live feed).
 // From here a caretaker edits, archives or restores the tag, or moves it to a new EPC.
 
-import { entryOf, etagOf, get, getAll, request, seg } from '../api.js';
+import { entryOf, etagOf, get, getAll, query, request, seg } from '../api.js';
 import { successChart } from '../chart.js';
 import { confirmDialog } from '../dialog.js';
 import { debounce, h, replace, uid } from '../dom.js';
@@ -10,6 +10,7 @@ import { mountEditor } from '../editor.js';
 import { subscribe } from '../events.js';
 import { when } from '../format.js';
 import { learnedInWords } from '../learned.js';
+import { countedControl, countedInWords, noCountedTrials } from '../purpose.js';
 import { askControl } from './ask.js';
 import { renderHistory } from './tag-history.js';
 import { renderRobotView } from './tag-robots.js';
@@ -51,10 +52,12 @@ function header(tag, { onArchive, onRestore, robots, stops }) {
 
 function statsView(stats) {
   const groups = stats.groups ?? [];
-  if (groups.length === 0) return h('p', { class: 'muted' }, 'No trials yet, so no success rates.');
+  const counted = h('p', { class: 'counted' }, countedInWords(stats));
+  if (groups.length === 0) return h('div', {}, counted, h('p', { class: 'muted' }, noCountedTrials(stats)));
   // The registry lists under each action only what that action's behaviour uses.
   const learned = groups.filter((g) => Object.keys(g.learned ?? {}).length > 0);
   return h('div', {},
+    counted,
     successChart(groups),
     h('p', { class: 'help' }, 'An action counts as reliable for a kind of robot after at least 20 attempts, at least 90 % of them successful (over its latest 50). A success is what the person confirmed, or else what the robot\'s own detector saw.'),
     h('h3', {}, 'Learned values'),
@@ -109,6 +112,7 @@ export async function render(main, [epc]) {
   const retagBox = h('div');
   const robots = await getAll('/api/v1/robots?limit=500', { maxPages: 1 }).catch(() => []);
   const stops = [];
+  const countedScope = countedControl(() => refreshTrials());
 
   const archive = async () => {
     const ok = await confirmDialog({
@@ -144,12 +148,13 @@ export async function render(main, [epc]) {
   };
   const refreshTrials = () => {
     section(trialsBox, () => renderTrials(trialsBox, tag.epc));
-    section(statsBox, async () => replace(statsBox, statsView(await get(`/api/v1/tags/${seg(tag.epc)}/stats`))));
+    const include = query({ include: countedScope.include() });
+    section(statsBox, async () => replace(statsBox, statsView(await get(`/api/v1/tags/${seg(tag.epc)}/stats${include}`))));
   };
 
   showHead();
   replace(main, notice, head,
-    h('section', { 'aria-labelledby': 'success-h' }, h('h2', { id: 'success-h' }, 'Success per action'), statsBox),
+    h('section', { 'aria-labelledby': 'success-h' }, h('h2', { id: 'success-h' }, 'Success per action'), countedScope.element, statsBox),
     h('section', { 'aria-labelledby': 'trials-h' }, h('h2', { id: 'trials-h' }, 'Trials'), trialsBox),
     h('section', { 'aria-labelledby': 'robots-h' }, h('h2', { id: 'robots-h' }, 'Per robot'),
       h('p', { class: 'help' }, 'What a robot gets when it reads this tag: values learned from its class\'s trials and per-robot overrides, and where each comes from.'), robotsBox),
