@@ -8,7 +8,7 @@ mod support;
 
 use pps_robot::experiment::{flush_until_stored, render_table, run_trials};
 use pps_robot::registry::RegistryClient;
-use pps_robot::sim::RoomOptions;
+use pps_robot::sim::{DeviceKind, RoomOptions};
 
 async fn protocol(
     registry: &support::Registry,
@@ -28,6 +28,27 @@ async fn protocol(
     assert_eq!(own, 48, "every trial is stored in the registry");
     let successes: u32 = rows.iter().map(|r| r.successes).sum();
     assert!(successes >= least, "{successes} of 48 right:\n{}", render_table(&rows, false));
+    experiment_kept_apart(registry, &stored).await;
+}
+
+/// The protocol's trials are an experiment: the stuck drawer's failures do not count against
+/// the drawer in real use, and count only when asked for.
+async fn experiment_kept_apart(registry: &support::Registry, stored: &[serde_json::Value]) {
+    assert!(stored.iter().all(|t| t["purpose"] == "experiment"), "every trial is an experiment");
+    let drawer = DeviceKind::Drawer.epc();
+    let on_drawer = stored.iter().filter(|t| t["epc"] == drawer.as_hex()).count();
+    assert!(on_drawer > 0);
+    let real_use = registry.stats(drawer.as_hex(), None).await;
+    assert_eq!(real_use["groups"], serde_json::json!([]), "no real use yet: {real_use}");
+    assert_eq!(real_use["not_counted"], serde_json::json!({ "experiment": on_drawer }));
+    let with_experiment = registry.stats(drawer.as_hex(), Some("experiment")).await;
+    let attempts: usize = with_experiment["groups"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|g| g["attempts"].as_u64().unwrap() as usize)
+        .sum();
+    assert_eq!(attempts, on_drawer);
 }
 
 async fn second_class(registry: &support::Registry, dir: &std::path::Path) -> RegistryClient {

@@ -252,6 +252,7 @@ fn trial_record(
         forces,
         measurements,
         start_pose: acting.config.start_pose,
+        purpose: acting.config.purpose,
         received_at: None,
         seq: None,
     }

@@ -1,6 +1,6 @@
 //! The four phases in order, ending in a trial recorded through the registry client.
 
-use pps_schema::StartPose;
+use pps_schema::{Purpose, StartPose};
 use uuid::Uuid;
 
 use super::approach::{drive_to_waypoint, look_for_tag_and_surface};
@@ -47,6 +47,9 @@ pub struct TaskConfig {
     pub start_pose: Option<StartPose>,
     /// The registry task this run does, recorded in the trial's `measurements.task`.
     pub task: Option<Uuid>,
+    /// Why the task is done: an experiment's trials are kept out of the registry's success
+    /// rates, reliability and learning.
+    pub purpose: Purpose,
 }
 
 impl Default for TaskConfig {
@@ -66,6 +69,7 @@ impl Default for TaskConfig {
             rfid_margin_db: 3.0,
             start_pose: None,
             task: None,
+            purpose: Purpose::Use,
         }
     }
 }

@@ -105,6 +105,19 @@ impl Registry {
         page["items"].as_array().unwrap().clone()
     }
 
+    /// A tag's success statistics, as the tag page asks for them (`include`: `experiment,test`).
+    pub async fn stats(&self, epc: &str, include: Option<&str>) -> serde_json::Value {
+        let include = include.map(|purposes| format!("?include={purposes}")).unwrap_or_default();
+        let response = reqwest::Client::new()
+            .get(format!("{}/api/v1/tags/{epc}/stats{include}", self.url()))
+            .bearer_auth(&self.admin)
+            .send()
+            .await
+            .unwrap();
+        assert_eq!(response.status(), 200);
+        response.json().await.unwrap()
+    }
+
     /// Changes a tag's entry as a caretaker would: read it, edit it, save it over that revision.
     pub async fn edit_tag(&self, epc: &str, edit: impl FnOnce(&mut serde_json::Value)) {
         let http = reqwest::Client::new();
