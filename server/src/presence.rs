@@ -9,6 +9,7 @@
 use std::collections::HashMap;
 use std::sync::RwLock;
 use std::sync::atomic::{AtomicBool, AtomicI64, Ordering};
+use std::time::Duration;
 
 use time::OffsetDateTime;
 
@@ -16,6 +17,10 @@ use crate::clock;
 
 /// How finely a robot's last-seen time is kept.
 const RESOLUTION_MS: i64 = 1000;
+
+/// A robot seen within this long is online: a working robot claims or heartbeats far more
+/// often.
+pub const ONLINE_WITHIN: Duration = Duration::from_secs(60);
 
 #[derive(Debug, Default)]
 struct Seen {
@@ -76,6 +81,19 @@ impl Presence {
         seen.get(robot).map(Seen::formatted)
     }
 
+    /// How long ago the robot was last seen; `None` when it never was.
+    pub fn seen_ago(&self, robot: &str) -> Option<Duration> {
+        let seen = self.seen.read().unwrap_or_else(|e| e.into_inner());
+        let at_ms = seen.get(robot)?.at_ms.load(Ordering::Relaxed);
+        let ago_ms = unix_ms(OffsetDateTime::now_utc()) - at_ms;
+        Some(Duration::from_millis(u64::try_from(ago_ms).unwrap_or(0)))
+    }
+
+    /// Whether the robot was seen within [`ONLINE_WITHIN`].
+    pub fn online(&self, robot: &str) -> bool {
+        self.seen_ago(robot).is_some_and(|ago| ago <= ONLINE_WITHIN)
+    }
+
     /// The sightings not yet flushed, marking them flushed.
     pub fn take_unflushed(&self) -> Vec<(String, String)> {
         let seen = self.seen.read().unwrap_or_else(|e| e.into_inner());
@@ -105,6 +123,8 @@ mod tests {
         assert!(clock::parse(&flushed[0].1).is_some(), "{}", flushed[0].1);
         assert!(presence.take_unflushed().is_empty(), "nothing new to flush");
         assert_eq!(presence.last_seen("el-e-1"), Some(flushed[0].1.clone()));
+        assert!(presence.online("el-e-1"));
+        assert!(!presence.online("pr2-1"), "never seen");
     }
 
     #[test]
@@ -113,6 +133,8 @@ mod tests {
         presence.load(vec![("pr2-1".into(), "2026-11-22T10:00:00.000Z".into())]);
         assert_eq!(presence.last_seen("pr2-1").as_deref(), Some("2026-11-22T10:00:00.000Z"));
         assert!(presence.take_unflushed().is_empty());
+        assert!(!presence.online("pr2-1"), "seen long ago");
+        assert!(presence.seen_ago("pr2-1").is_some_and(|ago| ago > ONLINE_WITHIN));
         presence.saw("pr2-1");
         assert_eq!(presence.take_unflushed().len(), 1, "seen now, a second and more later");
     }

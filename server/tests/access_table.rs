@@ -111,7 +111,12 @@ fn rule(route: &RouteSpec) -> Rule {
         ("GET", "/api/v1/tasks" | "/api/v1/tasks/{id}") => ThatRobotAndEditors,
         // "that robot" and "the holder".
         ("POST", "/api/v1/robots/{robot}/tasks/claim") => ThatRobot,
-        ("POST", "/api/v1/tasks/{id}/heartbeat" | "/api/v1/tasks/{id}/finish") => ThatRobot,
+        (
+            "POST",
+            "/api/v1/tasks/{id}/heartbeat"
+            | "/api/v1/tasks/{id}/finish"
+            | "/api/v1/tasks/{id}/decline",
+        ) => ThatRobot,
         ("PUT", "/api/v1/robots/{robot}") => Admin,
         ("GET" | "POST", "/api/v1/users" | "/api/v1/tokens") => Admin,
         ("DELETE", "/api/v1/users/{name}" | "/api/v1/tokens/{id}") => Admin,
@@ -179,6 +184,10 @@ fn probe(route: &RouteSpec, fixture: &Fixture) -> Probe {
         (_, "/api/v1/tasks/{id}/finish") => (
             format!("/api/v1/tasks/{}/finish", fixture.task_id),
             Some(json!({ "trial": TRIAL_ID, "outcome": "success" })),
+        ),
+        (_, "/api/v1/tasks/{id}/decline") => (
+            format!("/api/v1/tasks/{}/decline", fixture.task_id),
+            Some(json!({ "reason": "its arm cannot reach the switch" })),
         ),
         (_, path) if path.starts_with("/api/v1/tasks/{id}") => {
             (path.replace("{id}", &fixture.task_id), None)

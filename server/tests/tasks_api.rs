@@ -618,3 +618,140 @@ async fn sixteen_robots_claiming_two_hundred_tasks_get_each_exactly_once() {
     let claimed_list = server.get_json("/api/v1/tasks?state=claimed&limit=500").await;
     assert_eq!(claimed_list["items"].as_array().unwrap().len(), 200);
 }
+
+/// The reason a robot gives that has no device with the tag.
+const NOT_IN_ITS_ROOM: &str = "no device in its room has this tag";
+
+async fn declined(server: &TestServer, token: &str, task: &Value, reason: &str) -> Response {
+    let path = format!("/api/v1/tasks/{}/decline", id(task));
+    post(server, &path, token, Some(json!({ "reason": reason }))).await
+}
+
+#[tokio::test]
+async fn a_declined_task_goes_to_the_others_and_never_back_to_the_robot_that_declined() {
+    let server = TestServer::start().await;
+    let stretch = robot(&server, "stretch-1", "stretch").await;
+    let el_e = robot(&server, "el-e-1", "el-e").await;
+    let task = asked(&server, json!({ "epc": LAMP, "action": "on" })).await;
+    let held = claimed(&server, &stretch, "stretch-1").await;
+    assert_eq!(held["id"], task["id"]);
+
+    let taken =
+        problem(declined(&server, &el_e, &task, NOT_IN_ITS_ROOM).await, StatusCode::CONFLICT);
+    assert!(taken.await["detail"].as_str().unwrap().contains("stretch-1 holds"));
+    for bad in [json!({}), json!({ "reason": " " }), json!({ "reason": "a\nb" })] {
+        let path = format!("/api/v1/tasks/{}/decline", id(&task));
+        let refused = problem(
+            post(&server, &path, &stretch, Some(bad)).await,
+            StatusCode::UNPROCESSABLE_ENTITY,
+        )
+        .await;
+        assert_eq!(refused["errors"][0]["pointer"], "/reason", "{refused}");
+    }
+    let unchanged = server.get_json(&format!("/api/v1/tasks/{}", id(&task))).await;
+    assert_eq!(
+        (unchanged["state"].as_str(), unchanged["claimed_by"].as_str()),
+        (Some("claimed"), Some("stretch-1"))
+    );
+
+    let response = declined(&server, &stretch, &task, &format!("  {NOT_IN_ITS_ROOM} ")).await;
+    assert_eq!(response.status(), StatusCode::OK);
+    let back: Value = response.json().await.unwrap();
+    assert_eq!(back["state"], "queued");
+    assert_eq!(back["claimed_by"], Value::Null);
+    assert_eq!(back["attempts"], 0, "a decline is not a lease run out: {back}");
+    assert_eq!(back["declined"].as_array().unwrap().len(), 1, "{back}");
+    assert_eq!(back["declined"][0]["robot"], "stretch-1");
+    assert_eq!(back["declined"][0]["reason"], NOT_IN_ITS_ROOM);
+    assert!(pps_server::clock::parse(back["declined"][0]["at"].as_str().unwrap()).is_some());
+    let listed = server.get_json("/api/v1/tasks").await;
+    assert_eq!(listed["items"][0]["declined"], back["declined"], "reads show the decline");
+
+    assert_eq!(claim(&server, &stretch, "stretch-1", 0.0).await.status(), StatusCode::NO_CONTENT);
+    let again: Value =
+        declined(&server, &stretch, &task, "another reason").await.json().await.unwrap();
+    assert_eq!(again["declined"], back["declined"], "declining twice changes nothing");
+    let listed = server.get("/api/v1/tasks", &stretch).await.json::<Value>().await.unwrap();
+    assert_eq!(listed["items"][0]["declined"], back["declined"], "it held it, so it sees it");
+    let got = claimed(&server, &el_e, "el-e-1").await;
+    assert_eq!(got["id"], task["id"], "el-e-1 is");
+    assert_eq!(got["attempts"], 1);
+}
+
+#[tokio::test]
+async fn only_the_holder_or_a_robot_the_queued_task_is_meant_for_may_decline_it() {
+    let server = TestServer::start().await;
+    let stretch = robot(&server, "stretch-1", "stretch").await;
+    let el_e = robot(&server, "el-e-1", "el-e").await;
+    let for_el_e = asked(&server, json!({ "epc": LAMP, "action": "on", "robot": "el-e-1" })).await;
+    let refused = problem(
+        declined(&server, &stretch, &for_el_e, NOT_IN_ITS_ROOM).await,
+        StatusCode::FORBIDDEN,
+    )
+    .await;
+    assert!(
+        refused["detail"].as_str().unwrap().contains("not meant for robot stretch-1"),
+        "{refused}"
+    );
+    let before_claiming = declined(&server, &el_e, &for_el_e, NOT_IN_ITS_ROOM).await;
+    assert_eq!(before_claiming.status(), StatusCode::OK, "queued and meant for el-e-1");
+
+    let ended = asked(&server, json!({ "epc": LAMP, "action": "off" })).await;
+    let path = format!("/api/v1/tasks/{}/cancel", id(&ended));
+    assert_eq!(post(&server, &path, &server.admin, None).await.status(), StatusCode::OK);
+    problem(declined(&server, &el_e, &ended, NOT_IN_ITS_ROOM).await, StatusCode::CONFLICT).await;
+    let missing = json!({ "id": uuid::Uuid::new_v4() });
+    problem(declined(&server, &el_e, &missing, NOT_IN_ITS_ROOM).await, StatusCode::NOT_FOUND).await;
+    let by_a_person = declined(&server, &server.admin, &for_el_e, NOT_IN_ITS_ROOM).await;
+    problem(by_a_person, StatusCode::FORBIDDEN).await;
+}
+
+#[tokio::test]
+async fn when_every_robot_that_could_do_it_declined_the_task_says_so_at_once() {
+    let server = TestServer::start().await;
+    let stretch = robot(&server, "stretch-1", "stretch").await;
+    register_robot(&server, "pusher-1", "el-e", &["push"], 15.0).await;
+    let pusher = server.token(Role::Robot, "pusher-1").await;
+    // Both robots are online: each has just asked for work.
+    assert_eq!(claim(&server, &pusher, "pusher-1", 0.0).await.status(), StatusCode::NO_CONTENT);
+    assert_eq!(claim(&server, &stretch, "stretch-1", 0.0).await.status(), StatusCode::NO_CONTENT);
+    let task = asked(&server, json!({ "epc": LAMP, "action": "on" })).await;
+    assert_eq!(task["waiting_for"], json!(["stretch-1"]), "{task}");
+    assert_eq!(task["stuck"], Value::Null);
+
+    claimed(&server, &stretch, "stretch-1").await;
+    let back: Value =
+        declined(&server, &stretch, &task, NOT_IN_ITS_ROOM).await.json().await.unwrap();
+    let truth = "stretch-1 declined: no device in its room has this tag; no other robot can do it";
+    assert_eq!(back["stuck"], truth, "{back}");
+    assert_eq!(back["waiting_for"], json!([]));
+    let read = server.get_json(&format!("/api/v1/tasks/{}", id(&task))).await;
+    assert_eq!((read["state"].as_str(), read["stuck"].as_str()), (Some("queued"), Some(truth)));
+}
+
+#[tokio::test]
+async fn a_task_no_online_robot_can_take_says_so_until_one_comes_online() {
+    let server = TestServer::start().await;
+    let el_e = robot(&server, "el-e-1", "el-e").await;
+    register_robot(&server, "pusher-1", "el-e", &["push"], 15.0).await;
+    let task = asked(&server, json!({ "epc": LAMP, "action": "on" })).await;
+    assert_eq!(
+        task["stuck"],
+        "no robot that can do it is online (seen in the last 60 seconds): el-e-1 has not been \
+         seen yet",
+        "{task}"
+    );
+    assert_eq!(task["waiting_for"], json!([]));
+
+    assert_eq!(server.get("/api/v1/tasks", &el_e).await.status(), StatusCode::OK);
+    let read = server.get_json(&format!("/api/v1/tasks/{}", id(&task))).await;
+    assert_eq!(read["waiting_for"], json!(["el-e-1"]), "{read}");
+    assert_eq!(read["stuck"], Value::Null);
+
+    let nobody = asked(&server, json!({ "epc": LAMP, "action": "on", "class": "el-e" })).await;
+    let path = format!("/api/v1/tasks/{}/cancel", id(&task));
+    assert_eq!(post(&server, &path, &server.admin, None).await.status(), StatusCode::OK);
+    let cancelled = server.get_json(&format!("/api/v1/tasks/{}", id(&task))).await;
+    assert_eq!(cancelled["stuck"], Value::Null, "only a queued task waits");
+    assert_eq!(nobody["waiting_for"], json!(["el-e-1"]), "{nobody}");
+}

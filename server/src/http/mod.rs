@@ -139,6 +139,13 @@ pub fn router_with_routes(state: AppState) -> (Router, Vec<RouteSpec>) {
             tasks::lease::finish,
             tasks::lease::FINISH,
         )
+        .add(
+            Method::POST,
+            "/api/v1/tasks/{id}/decline",
+            Robot,
+            tasks::decline::decline,
+            tasks::decline::DECLINE,
+        )
         .add(get(), "/api/v1/tokens", Admin, tokens::list, tokens::LIST)
         .add(Method::POST, "/api/v1/tokens", Admin, tokens::create, tokens::CREATE)
         .add(Method::DELETE, "/api/v1/tokens/{id}", Admin, tokens::revoke, tokens::REVOKE)

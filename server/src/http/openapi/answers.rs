@@ -223,6 +223,9 @@ pub(super) fn shapes() -> Vec<(&'static str, Value)> {
                     "trial",
                     "reason",
                     "updated_at",
+                    "declined",
+                    "waiting_for",
+                    "stuck",
                 ],
                 json!({
                     "id": { "type": "string", "format": "uuid" },
@@ -246,7 +249,29 @@ pub(super) fn shapes() -> Vec<(&'static str, Value)> {
                     "holders": { "type": "array", "items": component("robot/$defs/robot_id") },
                     "trial": nullable(json!({ "type": "string", "format": "uuid" })),
                     "reason": nullable(text()),
-                    "updated_at": time()
+                    "updated_at": time(),
+                    "declined": {
+                        "description": "Every robot that declined it and why, in order; it is \
+                            never offered to them again",
+                        "type": "array",
+                        "items": object(&["robot", "reason", "at"], json!({
+                            "robot": component("robot/$defs/robot_id"),
+                            "reason": text(),
+                            "at": time()
+                        }))
+                    },
+                    "waiting_for": {
+                        "description": "While queued: the robots online (seen in the last \
+                            minute) that may take it now",
+                        "type": "array",
+                        "items": component("robot/$defs/robot_id")
+                    },
+                    "stuck": {
+                        "description": "While queued and no robot online may take it: why, in \
+                            words (who declined and why, who could but is offline, or that no \
+                            robot can). It stays queued until a robot can take it.",
+                        "anyOf": [text(), { "type": "null" }]
+                    }
                 }),
             ),
         ),
@@ -274,6 +299,24 @@ pub(super) fn shapes() -> Vec<(&'static str, Value)> {
                 "properties": {
                     "trial": { "type": "string", "format": "uuid" },
                     "outcome": { "enum": ["success", "failure", "aborted", "error"] }
+                }
+            }),
+        ),
+        (
+            "task_decline",
+            json!({
+                "type": "object",
+                "required": ["reason"],
+                "additionalProperties": false,
+                "properties": {
+                    "reason": {
+                        "description": "Why this robot cannot do the task: one line of plain \
+                            words",
+                        "type": "string",
+                        "minLength": 1,
+                        "maxLength": 500,
+                        "pattern": "^[^\\u0000-\\u001f\\u007f-\\u009f]*[^\\s\\u0000-\\u001f\\u007f-\\u009f][^\\u0000-\\u001f\\u007f-\\u009f]*$"
+                    }
                 }
             }),
         ),

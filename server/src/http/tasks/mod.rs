@@ -2,8 +2,10 @@
 //! under a lease ([`lease`]) and finish it with the trial it ended in (DESIGN §8).
 
 mod availability;
+pub mod decline;
 pub mod lease;
 mod offer;
+mod outlook;
 mod request;
 
 use axum::Json;
@@ -70,7 +72,8 @@ pub async fn create(
     state.feed.committed();
     state.tasks.changed();
     let location = format!("/api/v1/tasks/{}", row.id);
-    Ok((StatusCode::CREATED, [(LOCATION, location)], Json(row.to_json())).into_response())
+    let shown = outlook::shown(&state, &row).await?;
+    Ok((StatusCode::CREATED, [(LOCATION, location)], Json(shown)).into_response())
 }
 
 #[derive(Debug, Deserialize)]
@@ -144,7 +147,7 @@ pub async fn list(
         page.items = offered;
     }
     Ok(Json(page::Page {
-        items: page.items.iter().map(TaskRow::to_json).collect(),
+        items: outlook::shown_all(&state, &page.items).await?,
         next_cursor: page.next_cursor,
     }))
 }
@@ -167,7 +170,7 @@ pub async fn get(
             row.id
         )));
     }
-    Ok(Json(row.to_json()))
+    Ok(Json(outlook::shown(&state, &row).await?))
 }
 
 pub const CANCEL: Doc = Doc::new("cancelTask", "Cancel a queued or claimed task")
@@ -217,6 +220,12 @@ async fn robot_and_class(
     let robot = caller.own_robot()?.clone();
     let class = robots::get(state.db.reader(), &robot).await?.and_then(|r| r.class);
     Ok((robot, class))
+}
+
+/// Whether the task is meant for this robot at all (its targets; not yet its abilities).
+fn targets(task: &TaskRow, robot: &RobotId, class: Option<&str>) -> bool {
+    task.robot.as_ref().is_none_or(|r| r == robot)
+        && task.class.as_deref().is_none_or(|c| Some(c) == class)
 }
 
 /// A robot sees the tasks it holds or held, and the queued ones it could claim.

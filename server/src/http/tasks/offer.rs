@@ -14,6 +14,7 @@ use pps_schema::{Epc, RobotId};
 use time::OffsetDateTime;
 
 use super::availability::why_not;
+use super::targets;
 use crate::clock;
 use crate::error::ApiError;
 use crate::state::AppState;
@@ -30,12 +31,6 @@ fn rank(reliable_classes: &[String], class: Option<&str>, arrival: u64) -> (bool
     (!reliable, arrival)
 }
 
-/// Whether the task is meant for this robot at all (its targets; not yet its abilities).
-fn targets(task: &TaskRow, robot: &RobotId, class: Option<&str>) -> bool {
-    task.robot.as_ref().is_none_or(|r| r == robot)
-        && task.class.as_deref().is_none_or(|c| Some(c) == class)
-}
-
 /// What one look found out, so many tasks on the same tag and action cost one check each.
 #[derive(Default)]
 struct Memo {
@@ -44,13 +39,17 @@ struct Memo {
 }
 
 impl Memo {
-    /// Whether `robot` can run the task's action (its effective entry says so).
+    /// Whether `robot` can run the task's action (its effective entry says so) and did not
+    /// decline the task.
     async fn can(
         &mut self,
         state: &AppState,
         task: &TaskRow,
         robot: &RobotId,
     ) -> Result<bool, ApiError> {
+        if task.declined_by(robot) {
+            return Ok(false);
+        }
         let key = (task.epc.clone(), task.action.clone(), robot.clone());
         if let Some(&can) = self.can.get(&key) {
             return Ok(can);

@@ -13,7 +13,8 @@ use crate::db::Dialect;
 use crate::store::columns::Flag;
 
 /// Tasks `robot` (of `class`) could claim now, oldest first: queued ones, and claimed ones whose
-/// lease ran out but that have attempts left, that target it, its class or anyone.
+/// lease ran out but that have attempts left, that target it, its class or anyone, and that it
+/// has not declined.
 #[tracing::instrument(skip_all)]
 pub async fn claimable(
     pool: &AnyPool,
@@ -22,21 +23,37 @@ pub async fn claimable(
     now: &str,
     limit: u32,
 ) -> sqlx::Result<Vec<TaskRow>> {
-    sqlx::query_as(concat!(
-        "select ",
-        columns!(),
-        " from tasks
-         where (state = 'queued' or (state = 'claimed' and lease_until <= $1 and attempts < $2))
-           and (robot is null or robot = $3) and (class is null or class = $4)
-         order by seq limit $5"
-    ))
-    .bind(now)
-    .bind(MAX_ATTEMPTS)
-    .bind(robot.as_str())
-    .bind(class)
-    .bind(i64::from(limit))
-    .fetch_all(pool)
-    .await
+    macro_rules! claimable_unless {
+        ($declined:literal) => {
+            concat!(
+                "select ",
+                columns!(),
+                " from tasks
+                 where (state = 'queued' or (state = 'claimed' and lease_until <= $1 and attempts < $2))
+                   and (robot is null or robot = $3) and (class is null or class = $4)
+                   and not exists (",
+                $declined,
+                ") order by seq limit $5"
+            )
+        };
+    }
+    let statement = Dialect::of_pool(pool).pick(
+        claimable_unless!(
+            "select 1 from json_each(declines) where json_extract(value, '$.robot') = $3"
+        ),
+        claimable_unless!(
+            "select 1 from jsonb_array_elements(declines::jsonb) as declined(value) \
+             where declined.value ->> 'robot' = $3"
+        ),
+    );
+    sqlx::query_as(statement)
+        .bind(now)
+        .bind(MAX_ATTEMPTS)
+        .bind(robot.as_str())
+        .bind(class)
+        .bind(i64::from(limit))
+        .fetch_all(pool)
+        .await
 }
 
 /// Whether any task could be claimed now by some robot: queued, or its lease ran out with

@@ -3,7 +3,7 @@
 //! Every change to a task appends its `task_changed` event in the same transaction, so the feed
 //! never misses one and never announces one that did not commit. Here: the row, asking for a
 //! task, reading and listing tasks, cancelling; the lease (claim, heartbeat, finish, the sweep)
-//! is `lease.rs`.
+//! is `lease.rs`, a robot's decline `decline.rs`.
 
 use pps_schema::{Epc, RobotId};
 use serde_json::{Value, json};
@@ -45,6 +45,16 @@ pub struct TaskRow {
     pub trial: Option<Uuid>,
     pub reason: Option<String>,
     pub updated_at: String,
+    /// JSON array of every decline, in order: `{"robot", "reason", "at"}`.
+    pub declines: String,
+}
+
+/// A robot's word that it cannot do a task, and why.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Decline {
+    pub robot: RobotId,
+    pub reason: String,
+    pub at: String,
 }
 
 impl TaskRow {
@@ -67,7 +77,21 @@ impl TaskRow {
             "trial": self.trial,
             "reason": self.reason,
             "updated_at": self.updated_at,
+            "declined": self.declined(),
+            // Worked out when people read a queued task (the HTTP layer's outlook).
+            "waiting_for": [],
+            "stuck": null,
         })
+    }
+
+    /// Every robot that declined the task, with its reason, in order.
+    pub fn declined(&self) -> Vec<Decline> {
+        serde_json::from_str(&self.declines).unwrap_or_default()
+    }
+
+    /// Whether `robot` declined the task: it is never offered to it again.
+    pub fn declined_by(&self, robot: &RobotId) -> bool {
+        self.declined().iter().any(|decline| &decline.robot == robot)
     }
 
     /// Every robot that held the task.
@@ -93,12 +117,14 @@ impl TaskRow {
 macro_rules! columns {
     () => {
         "seq, id, epc, action, robot, class, note, state, created_by, created_at, claimed_by, \
-         lease_until, attempts, holders, trial, reason, updated_at"
+         lease_until, attempts, holders, trial, reason, updated_at, declines"
     };
 }
 
+mod decline;
 mod lease;
 
+pub use decline::decline;
 pub use lease::{
     any_claimable, any_lease_expired, claim, claimable, expire_leases, extend_lease, finish,
 };

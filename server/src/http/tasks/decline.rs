@@ -1,0 +1,177 @@
+//! `POST /api/v1/tasks/{id}/decline`: a robot that cannot do a task says so, in words, instead
+//! of letting its lease run out.
+//!
+//! Who may decline: the robot that holds the task, or any robot the queued task is meant for
+//! (it targets that robot, its class or anyone), whether or not the task was offered to it yet:
+//! a robot that knows it cannot do a task spares the others waiting for it. The task goes back
+//! to the queue and is never offered to that robot again. Declining twice is answered with the
+//! task as it is; an ended task, or one another robot holds, cannot be declined (409).
+
+use axum::Json;
+use axum::extract::State;
+use pps_schema::{FieldError, RobotId};
+use serde_json::Value;
+
+use super::{TASK_ID, find, outlook, targets};
+use crate::error::ApiError;
+use crate::http::extract::{Caller, JsonBody};
+use crate::http::ids::{InPath, TaskId};
+use crate::http::openapi::{Body, Doc, Reply};
+use crate::state::AppState;
+use crate::store::robots;
+use crate::store::tasks::{self, TaskRow};
+
+/// The longest reason a robot may give, in characters.
+pub const MAX_REASON_CHARS: usize = 500;
+
+pub const DECLINE: Doc = Doc::new("declineTask", "Say this robot cannot do a task, and why")
+    .describe(
+        "By the robot that holds the task, or a robot the queued task is meant for. The task \
+         goes back to the queue for the other robots and is never offered to this robot \
+         again; its `declined` lists who declined and why. Declining again is answered with \
+         the task as it is.",
+    )
+    .params(&[TASK_ID])
+    .body(
+        Body::json("task_decline", "Why this robot cannot do the task, in plain words")
+            .example(r#"{ "reason": "no device in its room has this tag" }"#),
+    )
+    .replies(&[
+        Reply::json(200, "The task, back in the queue, with this decline", "task"),
+        Reply::problem(403, "The task is not meant for this robot and it never held it"),
+        Reply::problem(404, "No task has this id"),
+        Reply::problem(409, "The task has ended, or another robot holds it"),
+        Reply::problem(422, "The reason is missing, empty, too long or not plain words"),
+    ]);
+
+pub async fn decline(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    InPath(TaskId(id)): InPath<TaskId>,
+    JsonBody(body): JsonBody,
+) -> Result<Json<Value>, ApiError> {
+    let robot = caller.own_robot()?;
+    let reason = parse_reason(&body)?;
+    let class = robots::get(state.db.reader(), robot).await?.and_then(|r| r.class);
+    let task = find(&state, &id).await?;
+    if let Some(refused) = refusal(&task, robot, class.as_deref()) {
+        return Err(refused);
+    }
+    let mut tx = state.db.begin_write().await?;
+    let declined = tasks::decline(&mut tx, &id, robot, &reason).await?;
+    tx.commit().await?;
+    let task = match declined {
+        Some(task) => {
+            state.feed.committed();
+            // Back in the queue: a robot waiting in line may take it now.
+            state.tasks.changed();
+            task
+        }
+        // Declined already, or the task changed between the look and the write.
+        None => {
+            let task = find(&state, &id).await?;
+            if let Some(refused) = refusal(&task, robot, class.as_deref()) {
+                return Err(refused);
+            }
+            task
+        }
+    };
+    Ok(Json(outlook::shown(&state, &task).await?))
+}
+
+/// Why `robot` may not decline `task` now; `None` when it may, or did already.
+fn refusal(task: &TaskRow, robot: &RobotId, class: Option<&str>) -> Option<ApiError> {
+    if task.declined_by(robot) {
+        return None;
+    }
+    let held = task.claimed_by.as_ref() == Some(robot) || task.holders().contains(robot);
+    if !held && !targets(task, robot, class) {
+        return Some(ApiError::Forbidden(format!(
+            "task {} is not meant for robot {robot}; a robot declines only tasks it holds or \
+             that are meant for it",
+            task.id
+        )));
+    }
+    match (task.state.as_str(), task.claimed_by.as_ref()) {
+        ("queued", _) => None,
+        ("claimed", Some(holder)) if holder == robot => None,
+        ("claimed", Some(holder)) => Some(ApiError::Conflict(format!(
+            "robot {holder} holds task {} now; a robot declines a task it holds or one \
+             waiting in the queue",
+            task.id
+        ))),
+        (ended, _) => Some(ApiError::Conflict(format!(
+            "task {} is {ended} already; there is nothing left to decline",
+            task.id
+        ))),
+    }
+}
+
+/// The decline body: `{"reason": "..."}`, a line of plain words of 1 to 500 characters.
+fn parse_reason(body: &Value) -> Result<String, ApiError> {
+    let Some(object) = body.as_object() else {
+        return Err(ApiError::invalid_at(
+            "",
+            "a decline is a JSON object: {\"reason\": \"why this robot cannot do it\"}",
+        ));
+    };
+    let mut errors: Vec<FieldError> = object
+        .keys()
+        .filter(|key| key.as_str() != "reason")
+        .map(|key| {
+            FieldError::new(
+                pps_schema::pointer::join("", key),
+                format!("a decline has no field {key}; it takes only reason"),
+            )
+        })
+        .collect();
+    let reason = object.get("reason").and_then(Value::as_str).map(str::trim);
+    match reason {
+        None => errors.push(FieldError::new(
+            "/reason",
+            "reason says in words why this robot cannot do the task",
+        )),
+        Some("") => errors.push(FieldError::new("/reason", "reason is empty; say in words why")),
+        Some(reason) if reason.chars().count() > MAX_REASON_CHARS => errors.push(FieldError::new(
+            "/reason",
+            format!(
+                "reason has {} characters; say it in at most {MAX_REASON_CHARS}",
+                reason.chars().count()
+            ),
+        )),
+        Some(reason) if reason.chars().any(char::is_control) => errors.push(FieldError::new(
+            "/reason",
+            "reason is one line of plain words, without line breaks or control characters",
+        )),
+        Some(_) => {}
+    }
+    match reason {
+        Some(reason) if errors.is_empty() => Ok(reason.to_owned()),
+        _ => Err(ApiError::Invalid(errors)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    #[test]
+    fn a_reason_is_one_line_of_words_within_bounds() {
+        let words = "no device in its room has this tag";
+        assert_eq!(parse_reason(&json!({ "reason": format!("  {words} ") })).unwrap(), words);
+        for bad in [
+            json!({}),
+            json!({ "reason": "  " }),
+            json!({ "reason": 7 }),
+            json!({ "reason": "x".repeat(MAX_REASON_CHARS + 1) }),
+            json!({ "reason": "two\nlines" }),
+            json!({ "reason": "fine", "robot": "el-e-1" }),
+            json!("fine"),
+        ] {
+            assert!(matches!(parse_reason(&bad), Err(ApiError::Invalid(_))), "{bad} is refused");
+        }
+        let longest = "é".repeat(MAX_REASON_CHARS);
+        assert_eq!(parse_reason(&json!({ "reason": longest })).unwrap(), longest);
+    }
+}
