@@ -1,7 +1,9 @@
 //! A simulated robot that does what caretakers ask (DESIGN §8): it claims the next task the
 //! registry offers it, runs it in the simulator exactly as `pps-robot run` does (the four
 //! phases, the trial through the outbox, the task's id in the trial's `measurements.task`),
-//! heartbeats while it works, finishes the task with the trial and claims the next.
+//! heartbeats while it works, finishes the task with the trial and claims the next. A task on
+//! a tag that no device of its simulated room carries it declines at once, saying so, so the
+//! registry offers it to the other robots and the caretaker reads why.
 //!
 //! `pps-robot work` parses its settings and prints what [`Worker::work`] says; the loop, its
 //! retries and the lease live here.
@@ -24,6 +26,8 @@ const CLAIM_WAIT: Duration = Duration::from_secs(5);
 const RETRY_AFTER: Duration = Duration::from_secs(2);
 /// Finishing a done task is tried this often (RETRY_AFTER apart) while the registry is away.
 const FINISH_TRIES: u32 = 10;
+/// Why the simulated robot declines a task on a tag it cannot find, in the caretaker's words.
+const NOT_IN_THE_ROOM: &str = "no device in its simulated room has this tag";
 
 /// What the worker has to say: how a task went, or why it pauses or stops.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -101,10 +105,13 @@ async fn work_on(
 ) -> anyhow::Result<String> {
     let said = format!("task {}: {} on {}", task.id, task.action, task.epc);
     let Some(device) = DeviceKind::ALL.into_iter().find(|d| d.epc() == task.epc) else {
-        return Ok(format!(
-            "{said}: no device of the simulated room has this tag; its lease will run out and \
-             the task go to another robot"
-        ));
+        return Ok(match registry.decline_task(task.id, NOT_IN_THE_ROOM).await {
+            Ok(_) => format!("{said}: declined: {NOT_IN_THE_ROOM}"),
+            Err(error) => format!(
+                "{said}: {NOT_IN_THE_ROOM}, but the decline did not reach the registry ({error}); \
+                 its lease will run out and the task go to another robot"
+            ),
+        });
     };
     let heartbeat = tokio::spawn(keep_lease(registry.clone(), task.clone()));
     let trial =

@@ -1,5 +1,5 @@
 //! The robot's side of the registry's tasks (DESIGN §8): claim the next one under a lease,
-//! keep the lease alive, finish it with the trial it ended in.
+//! keep the lease alive, finish it with the trial it ended in, or decline it with a reason.
 
 use std::time::Duration;
 
@@ -82,6 +82,13 @@ impl RegistryClient {
     ) -> Result<Task, RegistryError> {
         let body = serde_json::json!({ "trial": trial, "outcome": outcome.as_str() });
         self.post_task(&format!("/api/v1/tasks/{id}/finish"), Some(body)).await
+    }
+
+    /// Says this robot cannot do the task, and why in words (at most 500 characters, one
+    /// line): the registry gives it to the other robots and never offers it to this one again.
+    pub async fn decline_task(&self, id: Uuid, reason: &str) -> Result<Task, RegistryError> {
+        let body = serde_json::json!({ "reason": reason });
+        self.post_task(&format!("/api/v1/tasks/{id}/decline"), Some(body)).await
     }
 
     async fn post_task(
