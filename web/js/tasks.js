@@ -15,16 +15,30 @@ export function forWhom(task) {
   return 'any robot that can';
 }
 
+/** "stretch-1", "stretch-1 or el-e-1", "stretch-1, el-e-1 or pr2-1". */
+export function eitherOf(robots) {
+  if (robots.length <= 1) return robots.join('');
+  return `${robots.slice(0, -1).join(', ')} or ${robots[robots.length - 1]}`;
+}
+
 /** The task's state as a short phrase and the badge class it is shown with. */
 export function stateOf(task) {
   switch (task.state) {
-    case 'queued': return { text: task.attempts > 0 ? 'waiting for another robot' : 'waiting for a robot', badge: 'warn' };
+    case 'queued':
+      if (task.stuck) return { text: 'no robot can take it now', badge: 'bad' };
+      if (task.waiting_for?.length) return { text: `waiting for ${eitherOf(task.waiting_for)}`, badge: 'warn' };
+      return { text: task.attempts > 0 ? 'waiting for another robot' : 'waiting for a robot', badge: 'warn' };
     case 'claimed': return { text: `being done by ${task.claimed_by}`, badge: 'warn' };
     case 'done': return { text: `done by ${task.claimed_by}`, badge: 'good' };
     case 'failed': return { text: 'failed', badge: 'bad' };
     case 'cancelled': return { text: 'cancelled', badge: '' };
     default: return { text: String(task.state), badge: '' };
   }
+}
+
+/** Why a waiting task will not be taken ("stretch-1 declined: …; no other robot can do it"), or null. */
+export function stuckReason(task) {
+  return task.state === 'queued' && task.stuck ? task.stuck : null;
 }
 
 /** Asks the registry for a task; returns the stored task. */

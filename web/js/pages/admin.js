@@ -1,9 +1,9 @@
-// For admins: the logins of the web UI and the API tokens robots and scripts use. A new
-// token's secret is shown once, right after it is made.
+// For admins: the logins of the web UI, the robots, and the API tokens robots and scripts use.
+// A new token's secret is shown once, right after it is made.
 
 import { getAll, request, seg } from '../api.js';
 import { askPassword, confirmDialog } from '../dialog.js';
-import { cell, field, h, replace } from '../dom.js';
+import { cell, field, h, replace, uid } from '../dom.js';
 import { when } from '../format.js';
 import * as session from '../session.js';
 
@@ -82,6 +82,72 @@ async function usersSection() {
     h('p', { class: 'help' }, 'People who log in here.'), list, h('h3', {}, 'Add a user'), form, status);
 }
 
+/** The behaviours of the paper, as a caretaker would say what a robot can do. */
+const BEHAVIOURS = [
+  ['light_switch', 'Flip a light switch'],
+  ['push', 'Push a button or rocker switch'],
+  ['pull_back', 'Pull open a drawer or door'],
+  ['pull_lamp', 'Pull a lamp\'s chain'],
+  ['drop', 'Drop something into a bin'],
+];
+
+/** Shows a robot token once, with what to do with it. */
+function showSecret(into, title, token) {
+  const secret = h('input', { type: 'text', readOnly: true, value: token, class: 'secret', 'aria-label': 'The new token' });
+  secret.addEventListener('focus', () => secret.select());
+  replace(into, h('div', { class: 'banner' },
+    h('p', {}, h('strong', {}, title), ' It is shown only now: copy it into the robot.'),
+    secret));
+  secret.focus();
+}
+
+function robotsSection() {
+  const status = h('p', { class: 'status', role: 'status', 'aria-live': 'polite' });
+  const minted = h('div', { 'aria-live': 'polite', id: 'robot-token' });
+  const id = field({ label: 'Robot id', control: h('input', { type: 'text', autocomplete: 'off', autocapitalize: 'none', name: 'robot-id' }), help: 'How the robot names itself, e.g. stretch-2: letters, digits, “.”, “_” and “-”.' });
+  const name = field({ label: 'Name', control: h('input', { type: 'text', autocomplete: 'off', name: 'robot-name' }), help: 'A name people recognise, e.g. “Kitchen Stretch”. Leave empty to use the id.' });
+  const kind = field({ label: 'Class', control: h('input', { type: 'text', autocomplete: 'off', autocapitalize: 'none', name: 'robot-class' }), help: 'The kind of robot, e.g. stretch or el-e: robots of a class learn together.' });
+  const abilities = BEHAVIOURS.map(([value, label]) => {
+    const box = h('input', { type: 'checkbox', id: uid('can'), name: 'capability', value, checked: true });
+    return { value, box, wrapper: h('div', { class: 'field checkbox' }, box, h('label', { for: box.id }, label)) };
+  });
+  const form = h('form', { class: 'add-robot', novalidate: true }, id.wrapper, name.wrapper, kind.wrapper,
+    h('fieldset', { class: 'section' }, h('legend', {}, 'What it can do'), abilities.map((a) => a.wrapper)),
+    h('button', { type: 'submit', class: 'primary' }, 'Add robot'));
+  form.addEventListener('submit', async (event) => {
+    event.preventDefault();
+    const robot = id.control.value.trim();
+    if (!robot) {
+      status.textContent = 'Not added: give the robot an id, e.g. stretch-2.';
+      id.control.focus();
+      return;
+    }
+    const body = {
+      id: robot,
+      name: name.control.value.trim() || robot,
+      class: kind.control.value.trim() || null,
+      capabilities: abilities.filter((a) => a.box.checked).map((a) => a.value),
+    };
+    try {
+      const known = await request('GET', `/api/v1/robots/${seg(robot)}`).then(() => true, (error) => (error.status === 404 ? false : Promise.reject(error)));
+      if (known) {
+        status.textContent = `Not added: a robot called ${robot} exists already; choose another id.`;
+        return;
+      }
+      await request('PUT', `/api/v1/robots/${seg(robot)}`, { body });
+      const { data } = await request('POST', '/api/v1/tokens', { body: { role: 'robot', name: robot } });
+      showSecret(minted, `Added ${robot}. Its token:`, data.token);
+      status.textContent = `Added ${robot}; give it the token above.`;
+      form.reset();
+    } catch (error) {
+      status.textContent = `Not added: ${problemText(error)}`;
+    }
+  });
+  return h('section', { 'aria-labelledby': 'robots-h' }, h('h2', { id: 'robots-h' }, 'Add a robot'),
+    h('p', { class: 'help' }, 'A robot needs an entry here and a token to call the registry. The Robots page shows what each is doing.'),
+    minted, form, status);
+}
+
 async function tokensSection() {
   const list = h('div');
   const status = h('p', { class: 'status', role: 'status', 'aria-live': 'polite' });
@@ -133,12 +199,7 @@ async function tokensSection() {
     if (days.control.value.trim()) body.expires_in_days = Number(days.control.value.trim());
     try {
       const { data } = await request('POST', '/api/v1/tokens', { body });
-      const secret = h('input', { type: 'text', readOnly: true, value: data.token, class: 'secret', 'aria-label': 'The new token' });
-      secret.addEventListener('focus', () => secret.select());
-      replace(minted, h('div', { class: 'banner' },
-        h('p', {}, h('strong', {}, `Token for ${data.name} (${data.role}). `), 'It is shown only now: copy it into the robot or script.'),
-        secret));
-      secret.focus();
+      showSecret(minted, `Token for ${data.name} (${data.role}).`, data.token);
       status.textContent = '';
       form.reset();
       show();
@@ -161,5 +222,5 @@ export async function render(main) {
     }
   };
   const [users, tokens] = await Promise.all([guarded(usersSection, 'Users'), guarded(tokensSection, 'API tokens')]);
-  replace(main, h('h1', {}, 'Admin'), users, tokens);
+  replace(main, h('h1', {}, 'Admin'), users, robotsSection(), tokens);
 }

@@ -1,15 +1,46 @@
-// The robots the registry knows: class, capabilities, limits, when each was last seen and the
-// task each is doing now (live).
+// The robots the registry knows: which are on now (seen within the last minute), what each is
+// doing, what waits for whom, and class, capabilities, limits (live).
 
 import { getAll, seg } from '../api.js';
 import { cell, debounce, h, replace } from '../dom.js';
 import { subscribe } from '../events.js';
 import { ago } from '../format.js';
+import { eitherOf, forWhom, stuckReason } from '../tasks.js';
 
-/** What the robot is doing now: the task it holds, or nothing. */
-function doing(task, names) {
-  if (!task) return h('span', { class: 'muted' }, 'nothing asked');
-  return h('span', {}, h('strong', {}, task.action), ' on ', h('a', { href: `#/tags/${seg(task.epc)}` }, names.get(task.epc) ?? task.epc));
+/** A robot seen within this long is on: a working robot asks for work far more often. */
+const ONLINE_MS = 60000;
+/** How often the page looks again: being on is a matter of time, not of events. */
+const RECHECK_MS = 15000;
+
+function online(robot) {
+  return Boolean(robot.last_seen) && Date.now() - new Date(robot.last_seen).getTime() <= ONLINE_MS;
+}
+
+/** A task as a caretaker says it: "off on Bedside lamp". */
+function what(task, names) {
+  return [h('strong', {}, task.action), ' on ', h('a', { href: `#/tags/${seg(task.epc)}` }, names.get(task.epc) ?? task.epc)];
+}
+
+/** What the robot is doing now: the task it holds, the one it is about to take, or why none. */
+function doing(robot, held, waiting, names) {
+  const task = held.get(robot.id);
+  if (task) return h('span', {}, ...what(task, names));
+  const next = waiting.find((t) => (t.waiting_for ?? []).includes(robot.id));
+  if (next) return h('span', {}, 'about to take ', ...what(next, names));
+  if (online(robot)) return h('span', { class: 'muted' }, 'free: nothing it can do is waiting');
+  return h('span', { class: 'muted' }, 'off');
+}
+
+/** The tasks waiting for a robot, each with whom it waits for or why none will take it. */
+function waitingList(waiting, names) {
+  if (waiting.length === 0) return h('p', { class: 'muted', id: 'waiting' }, 'Nothing is waiting for a robot.');
+  return h('ul', { class: 'waiting', id: 'waiting' }, waiting.map((task) => {
+    const stuck = stuckReason(task);
+    return h('li', { dataset: { task: task.id } }, ...what(task, names), h('span', { class: 'muted' }, ` (for ${forWhom(task)})`), ': ',
+      stuck
+        ? h('span', { class: 'stuck-inline' }, h('strong', {}, 'no robot can take it now'), ` (${stuck})`)
+        : `waits for ${eitherOf(task.waiting_for ?? []) || 'a robot'}`);
+  }));
 }
 
 export async function render(main) {
@@ -19,16 +50,24 @@ export async function render(main) {
   const names = new Map(tags.map((t) => [t.epc, t.properties?.name || t.epc]));
   const show = async () => {
     const robots = await getAll('/api/v1/robots?limit=500');
-    const held = await getAll('/api/v1/tasks?state=claimed&limit=500', { maxPages: 1 }).catch(() => []);
-    const holding = new Map(held.map((task) => [task.claimed_by, task]));
-    replace(box, robots.length === 0
-      ? h('p', { class: 'muted' }, 'No robots yet. An admin registers one with PUT /api/v1/robots/{id}; a robot with a token shows up when it first calls the registry.')
-      : h('table', { class: 'robots responsive' },
-        h('thead', {}, h('tr', {}, ['Robot', 'Class', 'Doing now', 'Capabilities', 'Max force', 'Last seen'].map((label) => h('th', { scope: 'col' }, label)))),
-        h('tbody', {}, robots.map((robot) => h('tr', { dataset: { robot: robot.id } },
+    const claimed = await getAll('/api/v1/tasks?state=claimed&limit=500', { maxPages: 1 }).catch(() => []);
+    const waiting = await getAll('/api/v1/tasks?state=queued&limit=200', { maxPages: 1 }).catch(() => []);
+    const held = new Map(claimed.map((task) => [task.claimed_by, task]));
+    const on = robots.filter(online).length;
+    replace(box,
+      h('h2', {}, 'Waiting for a robot'),
+      waitingList(waiting, names),
+      h('h2', {}, 'Robots'),
+      robots.length === 0
+        ? h('p', { class: 'muted' }, 'No robots yet. An admin adds one on the Admin page; a robot with a token shows up when it first calls the registry.')
+        : h('p', { class: 'help', id: 'robots-on' }, `${on} of ${robots.length} on now (seen in the last minute).`),
+      robots.length === 0 ? null : h('table', { class: 'robots responsive' },
+        h('thead', {}, h('tr', {}, ['Robot', 'On now', 'Doing now', 'Class', 'Capabilities', 'Max force', 'Last seen'].map((label) => h('th', { scope: 'col' }, label)))),
+        h('tbody', {}, robots.map((robot) => h('tr', { dataset: { robot: robot.id, online: online(robot) ? 'yes' : 'no' } },
           h('th', { scope: 'row', dataset: { label: 'Robot' } }, robot.name ?? robot.id, h('div', { class: 'muted' }, h('code', {}, robot.id))),
+          cell('On now', online(robot) ? h('span', { class: 'badge good' }, 'on') : h('span', { class: 'badge' }, 'off')),
+          cell('Doing now', doing(robot, held, waiting, names)),
           cell('Class', robot.class ?? 'not set'),
-          cell('Doing now', doing(holding.get(robot.id), names)),
           cell('Capabilities', (robot.capabilities ?? []).length
             ? h('ul', { class: 'chips' }, robot.capabilities.map((c) => h('li', {}, c))) : '—'),
           cell('Max force', typeof robot.limits?.max_force === 'number' ? `${robot.limits.max_force} N` : '—'),
@@ -37,7 +76,12 @@ export async function render(main) {
   replace(main, h('h1', {}, 'Robots'), box);
   await show();
   const changed = debounce(() => show().catch(() => {}), 150);
-  return subscribe((type) => {
+  const unsubscribe = subscribe((type) => {
     if (type === 'robot_changed' || type === 'task_changed') changed();
   });
+  const every = setInterval(changed, RECHECK_MS);
+  return () => {
+    clearInterval(every);
+    unsubscribe();
+  };
 }

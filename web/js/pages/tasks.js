@@ -1,11 +1,15 @@
 // What caretakers asked robots to do, newest first, with how each stands (live), who holds it,
-// the trial it ended in, and a way to cancel what has not ended.
+// who declined it and why, why a waiting task is stuck, the trial it ended in, and a way to
+// cancel what has not ended.
 
 import { getAll, query, seg } from '../api.js';
 import { cell, debounce, h, replace, uid } from '../dom.js';
 import { subscribe } from '../events.js';
-import { when } from '../format.js';
-import { cancel, forWhom, stateOf } from '../tasks.js';
+import { ago, when } from '../format.js';
+import { cancel, forWhom, stateOf, stuckReason } from '../tasks.js';
+
+/** How often waiting tasks are looked at again: a robot counts as on for a minute after it was seen. */
+const ONLINE_CHECK_MS = 15000;
 
 const STATES = [['', 'All'], ['queued', 'Waiting'], ['claimed', 'Being done'], ['done', 'Done'], ['failed', 'Failed'], ['cancelled', 'Cancelled']];
 
@@ -32,12 +36,20 @@ function taskRow(task, names, refresh) {
       },
     }, 'Cancel')
     : null;
-  return h('tr', { dataset: { task: task.id, state: task.state } },
+  const stuck = stuckReason(task);
+  const declines = (task.declined ?? []).length
+    ? h('ul', { class: 'declines' }, task.declined.map((d) => h('li', { dataset: { robot: d.robot } },
+      h('strong', {}, `${d.robot} declined`), `: ${d.reason}`, h('span', { class: 'muted' }, ` (${ago(d.at)})`))))
+    : null;
+  return h('tr', { dataset: { task: task.id, state: task.state, stuck: stuck ? 'yes' : 'no' } },
     cell('Asked', when(task.created_at), h('div', { class: 'muted' }, `by ${task.created_by}`)),
     cell('Tag', h('a', { href: `#/tags/${seg(task.epc)}` }, name)),
     cell('Action', h('strong', {}, task.action), task.note ? h('div', { class: 'muted' }, task.note) : null),
     cell('For', forWhom(task)),
-    cell('State', h('span', { class: ['badge', badge] }, text), task.reason ? h('div', { class: 'muted' }, task.reason) : null,
+    cell('State', h('span', { class: ['badge', badge] }, text),
+      stuck ? h('p', { class: 'stuck' }, h('strong', {}, 'Why it waits: '), stuck, '. It stays waiting until a robot can take it; cancel it if it is no longer wanted.') : null,
+      declines,
+      task.reason ? h('div', { class: 'muted' }, task.reason) : null,
       task.attempts > 1 ? h('div', { class: 'muted' }, `attempt ${task.attempts}`) : null),
     cell('Trial', task.trial ? h('a', { href: `#/tags/${seg(task.epc)}`, dataset: { trial: task.trial } }, `trial ${task.trial.slice(0, 8)}`) : '—'),
     cell('Cancel', stop, status));
@@ -61,12 +73,18 @@ export async function render(main) {
   };
   filter.addEventListener('change', () => show().catch(() => {}));
   replace(main, h('h1', {}, 'Tasks'),
-    h('p', { class: 'help' }, 'What caretakers asked robots to do. A robot that stops answering loses its task after its lease, and another robot takes it; after three such attempts the task fails.'),
+    h('p', { class: 'help' }, 'What caretakers asked robots to do. A robot that cannot do a task says why and leaves it to the others; when no robot that is on can take it, the task says so here at once. A robot that stops answering loses its task after a while and another robot takes it; after three such attempts the task fails.'),
     h('div', { class: 'field narrow' }, h('label', { for: filterId }, 'Show'), filter),
     box);
   await show();
   const changed = debounce(() => show().catch(() => {}), 150);
-  return subscribe((type) => {
+  const unsubscribe = subscribe((type) => {
     if (type === 'task_changed') changed();
   });
+  // Robots going quiet changes what a waiting task can hope for without any event.
+  const every = setInterval(changed, ONLINE_CHECK_MS);
+  return () => {
+    clearInterval(every);
+    unsubscribe();
+  };
 }
