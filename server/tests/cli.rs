@@ -13,6 +13,12 @@ fn cli(db: &Path, args: &[&str]) -> std::process::Output {
     Command::new(BIN).args(args).arg("--db").arg(db).output().unwrap()
 }
 
+/// Creates the database at `db`, as `pps-server migrate` does for an operator.
+fn migrate(db: &Path) {
+    let output = Command::new(BIN).arg("migrate").arg("--db").arg(db).output().unwrap();
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+}
+
 fn stdout(output: &std::process::Output) -> String {
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     String::from_utf8(output.stdout.clone()).unwrap()
@@ -121,12 +127,14 @@ fn nix_terminate(child: &Child) {
 fn export_import_round_trips_and_a_bad_import_changes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let source = dir.path().join("a.db");
+    migrate(&source);
     stdout(&cli(&source, &["seed"]));
     let exported = stdout(&cli(&source, &["export"]));
     let tags: Vec<Value> = serde_json::from_str(&exported).unwrap();
     assert_eq!(tags.len(), 5);
 
     let target = dir.path().join("b.db");
+    migrate(&target);
     let mut import = Command::new(BIN)
         .args(["import", "--db"])
         .arg(&target)
@@ -154,6 +162,7 @@ fn export_import_round_trips_and_a_bad_import_changes_nothing() {
     let file = dir.path().join("broken.json");
     std::fs::write(&file, serde_json::to_string(&broken).unwrap()).unwrap();
     let fresh = dir.path().join("c.db");
+    migrate(&fresh);
     let failed = cli(&fresh, &["import", file.to_str().unwrap()]);
     assert!(!failed.status.success());
     let message = String::from_utf8_lossy(&failed.stderr);
@@ -165,6 +174,7 @@ fn export_import_round_trips_and_a_bad_import_changes_nothing() {
 fn token_create_checks_its_arguments() {
     let dir = tempfile::tempdir().unwrap();
     let db = dir.path().join("t.db");
+    migrate(&db);
     let bad_robot = cli(&db, &["token", "create", "--role", "robot", "--name", "Not A Robot Id"]);
     assert!(!bad_robot.status.success());
     let bad_expiry =
@@ -188,6 +198,7 @@ fn no_secret_is_stored_or_logged_in_plain_text() {
     let dir = tempfile::tempdir().unwrap();
     let db = dir.path().join("secrets.db");
     let password = "correct horse battery staple";
+    migrate(&db);
     let mut add = Command::new(BIN)
         .args(["user", "add", "anna", "--role", "caretaker", "--password-stdin", "--db"])
         .arg(&db)
@@ -259,4 +270,149 @@ fn no_secret_is_stored_or_logged_in_plain_text() {
             );
         }
     }
+}
+
+/// Every command but `serve` and `migrate`, with the arguments it needs beyond `--db`.
+const COMMANDS_ON_A_REGISTRY: &[&[&str]] = &[
+    &["token", "create", "--role", "admin", "--name", "me"],
+    &["token", "list"],
+    &["token", "revoke", "0"],
+    &["user", "add", "anna", "--role", "admin", "--password-stdin"],
+    &["seed"],
+    &["export"],
+    &["import", "tags.json"],
+    &["backup", "--to", "copy.db"],
+    &["export-trials", "--format", "jsonl"],
+    &["thin-forces", "--older-than", "30"],
+];
+
+/// A typo or the wrong directory must not make a fresh, empty registry that then refuses the
+/// token just minted in it.
+#[test]
+fn commands_other_than_serve_and_migrate_refuse_a_missing_database() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("tags.json"), "[]").unwrap();
+    let absolute = dir.path().canonicalize().unwrap().join("pps.bd");
+    for args in COMMANDS_ON_A_REGISTRY {
+        let output = Command::new(BIN)
+            .args(*args)
+            .args(["--db", "pps.bd"])
+            .current_dir(dir.path().canonicalize().unwrap())
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        assert!(!output.status.success(), "{args:?} succeeded");
+        let said = String::from_utf8_lossy(&output.stderr);
+        let expected = format!(
+            "error: there is no database at {0}; create it with `pps-server migrate --db {0}`",
+            absolute.display()
+        );
+        assert!(said.starts_with(&expected), "{args:?} said: {said}");
+        assert_eq!(said.lines().count(), 1, "{args:?} said one sentence: {said}");
+        assert!(!absolute.exists(), "{args:?} created the database");
+    }
+    let names: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|entry| entry.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, ["tags.json"], "no command left a file behind");
+
+    migrate(&absolute);
+    assert!(absolute.exists());
+    let token = stdout(&cli(&absolute, &["token", "create", "--role", "admin", "--name", "me"]));
+    assert!(token.starts_with("pps_"));
+}
+
+#[test]
+fn serve_on_a_port_in_use_touches_no_database() {
+    let dir = tempfile::tempdir().unwrap();
+    let db = dir.path().join("pps.db");
+    let taken = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let address = taken.local_addr().unwrap().to_string();
+    let output = Command::new(BIN)
+        .args(["serve", "--listen", &address, "--db"])
+        .arg(&db)
+        .env("RUST_LOG", "warn")
+        .output()
+        .unwrap();
+    assert!(!output.status.success());
+    let said = String::from_utf8_lossy(&output.stderr);
+    assert!(said.contains(&format!("cannot listen on {address}")), "{said}");
+    assert!(!db.exists(), "the database was created before the port was checked");
+}
+
+#[test]
+fn commands_that_write_a_file_say_what_they_wrote() {
+    let dir = tempfile::tempdir().unwrap();
+    let db = dir.path().join("pps.db");
+    migrate(&db);
+    stdout(&cli(&db, &["seed"]));
+    let tags = dir.path().join("tags.json");
+    let output = cli(&db, &["export", "--out", tags.to_str().unwrap()]);
+    assert_eq!(stdout(&output), "");
+    assert_eq!(
+        String::from_utf8_lossy(&output.stderr).trim(),
+        format!("wrote 5 tags to {}", tags.display())
+    );
+    assert_eq!(
+        serde_json::from_slice::<Vec<Value>>(&std::fs::read(&tags).unwrap()).unwrap().len(),
+        5
+    );
+
+    let trials = dir.path().join("trials.csv");
+    let output = cli(&db, &["export-trials", "--format", "csv", "--out", trials.to_str().unwrap()]);
+    assert_eq!(stdout(&output), "");
+    assert_eq!(
+        String::from_utf8_lossy(&output.stderr).trim(),
+        format!("exported 0 trials to {}", trials.display())
+    );
+    assert!(trials.exists());
+}
+
+#[test]
+fn a_template_is_a_seed_entry_ready_to_put_under_a_new_epc() {
+    let template =
+        |args: &[&str]| Command::new(BIN).args(["tags", "template"]).args(args).output().unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let output = template(&[
+        "light-switch",
+        "--epc",
+        "e2003412000000000000abcd",
+        "--name",
+        "desk lamp switch",
+    ]);
+    let entry: Value = serde_json::from_str(&stdout(&output)).unwrap();
+    assert_eq!(entry["epc"], "E2003412000000000000ABCD");
+    assert_eq!(entry["properties"]["type"], "light switch");
+    assert_eq!(entry["properties"]["name"], "desk lamp switch");
+    assert_eq!(entry["actions"]["on"], "flip_up");
+
+    let mut served = serve(&dir.path().join("pps.db"));
+    let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().unwrap();
+    let status = runtime.block_on(async {
+        reqwest::Client::new()
+            .put(format!("{}/api/v1/tags/E2003412000000000000ABCD", served.url))
+            .bearer_auth(&served.admin)
+            .header("if-none-match", "*")
+            .json(&entry)
+            .send()
+            .await
+            .unwrap()
+            .status()
+    });
+    assert_eq!(status, 201);
+    nix_terminate(&served.child);
+    assert!(served.child.wait().unwrap().success());
+
+    let unknown = template(&["toaster"]);
+    assert!(!unknown.status.success());
+    let said = String::from_utf8_lossy(&unknown.stderr);
+    assert_eq!(
+        said.trim(),
+        "error: there is no device kind \"toaster\"; the kinds are: light switch, ada light \
+         switch, lamp, drawer, trash can"
+    );
+    let bad_epc = template(&["lamp", "--epc", "xyz"]);
+    assert!(!bad_epc.status.success());
+    assert!(String::from_utf8_lossy(&bad_epc.stderr).starts_with("error: --epc xyz: "));
 }

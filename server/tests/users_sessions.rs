@@ -409,6 +409,8 @@ fn the_cli_adds_users_from_stdin_and_an_admin_user_counts_as_the_first_admin() {
     let bin = env!("CARGO_BIN_EXE_pps-server");
     let dir = tempfile::tempdir().unwrap();
     let db = dir.path().join("pps.db");
+    let migrated = Command::new(bin).args(["migrate", "--db"]).arg(&db).output().unwrap();
+    assert!(migrated.status.success(), "{}", String::from_utf8_lossy(&migrated.stderr));
     let add = |name: &str, role: &str, input: &str| {
         let mut child = Command::new(bin)
             .args(["user", "add", name, "--role", role, "--password-stdin", "--db"])

@@ -130,6 +130,7 @@ fn outbox_ids(client: &RegistryClient) -> HashSet<String> {
 async fn a_killed_registry_loses_no_acknowledged_trial_and_outboxes_deliver_the_rest() {
     let dir = tempfile::tempdir().unwrap();
     let db: PathBuf = dir.path().join("pps.db");
+    cli(&db, &["migrate"]);
     let admin = cli(&db, &["token", "create", "--role", "admin", "--name", "crash test"]);
     let port = std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
     let url = format!("http://127.0.0.1:{port}");

@@ -21,8 +21,9 @@ use crate::{retention, transport};
 #[derive(Debug, Parser)]
 #[command(name = "pps-server", version, about = "The PPS-tag registry for mobile robots")]
 pub struct Cli {
-    /// The database: a SQLite file (created and migrated when missing), or
-    /// postgres://USER[:PASSWORD]@HOST[:PORT]/DB for one shared by several replicas.
+    /// The database: a SQLite file, or postgres://USER[:PASSWORD]@HOST[:PORT]/DB for one shared
+    /// by several replicas. Only `serve` and `migrate` create it; other commands refuse a
+    /// missing one.
     #[arg(long, global = true, env = "PPS_DB", default_value = "pps.db")]
     db: Location,
     #[command(subcommand)]
@@ -35,6 +36,9 @@ enum Command {
     Serve(ServeArgs),
     /// Create or migrate the database, then exit.
     Migrate,
+    /// Work with tag entries without a database.
+    #[command(subcommand)]
+    Tags(TagsCommand),
     /// Load the paper's five devices again (creating missing ones, restoring changed ones).
     Seed,
     /// Print every tag as one JSON array.
@@ -173,6 +177,22 @@ enum TokenCommand {
 }
 
 #[derive(Debug, Subcommand)]
+enum TagsCommand {
+    /// Print a tag entry, ready to PUT, for a device kind of the paper: light switch, ada light
+    /// switch, lamp, drawer or trash can.
+    Template {
+        /// The device kind (`light-switch` and `light_switch` spell `light switch` too).
+        kind: String,
+        /// The EPC of the new tag (hex or EPC tag URI); without it, the seed's own.
+        #[arg(long)]
+        epc: Option<String>,
+        /// The name people see; without it, the seed's own.
+        #[arg(long)]
+        name: Option<String>,
+    },
+}
+
+#[derive(Debug, Subcommand)]
 enum UserCommand {
     /// Make a login for the web UI (the password is stored only as an argon2id hash).
     Add {
@@ -189,12 +209,23 @@ enum UserCommand {
 
 impl Cli {
     pub async fn run(self) -> anyhow::Result<()> {
-        if matches!(self.command, Command::Backup { .. }) && self.db.file().is_none() {
+        let command = match self.command {
+            // Serve opens (and may create) the database itself, once it holds its port.
+            Command::Serve(args) => return serve::serve(&self.db, args).await,
+            Command::Tags(TagsCommand::Template { kind, epc, name }) => {
+                return tags::template(&kind, epc.as_deref(), name.as_deref());
+            }
+            command => command,
+        };
+        if matches!(command, Command::Backup { .. }) && self.db.file().is_none() {
             bail!("{}", crate::backup::NOT_ON_POSTGRES);
         }
-        let db = Db::open(&self.db).await?;
-        let result = match self.command {
-            Command::Serve(args) => serve::serve(db.clone(), args).await,
+        let db = match command {
+            Command::Migrate => Db::open(&self.db).await?,
+            _ => Db::open_existing(&self.db).await?,
+        };
+        let result = match command {
+            Command::Serve(_) | Command::Tags(_) => unreachable!("run before the database opens"),
             Command::Migrate => {
                 eprintln!("database {} is migrated", self.db);
                 Ok(())

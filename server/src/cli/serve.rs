@@ -4,7 +4,7 @@
 use anyhow::{Context, bail};
 
 use super::ServeArgs;
-use crate::db::Db;
+use crate::db::{Db, Location};
 use crate::retention::Age;
 use crate::state::AppState;
 use crate::store::tokens;
@@ -39,15 +39,18 @@ fn transport(args: &ServeArgs) -> anyhow::Result<Transport> {
     })
 }
 
-pub(super) async fn serve(db: Db, args: ServeArgs) -> anyhow::Result<()> {
+/// Serves the registry at `location`. The TLS files and the port come first: a server that
+/// cannot start must leave no database behind, created or seeded.
+pub(super) async fn serve(location: &Location, args: ServeArgs) -> anyhow::Result<()> {
     let transport = transport(&args)?;
+    let listener = tokio::net::TcpListener::bind(args.listen)
+        .await
+        .with_context(|| format!("cannot listen on {}", args.listen))?;
+    let db = Db::open(location).await?;
     let seeded = seed::seed_if_empty(&db).await?;
     if seeded > 0 {
         tracing::info!(tags = seeded, "seeded an empty registry with the paper's devices");
     }
-    let listener = tokio::net::TcpListener::bind(args.listen)
-        .await
-        .with_context(|| format!("cannot listen on {}", args.listen))?;
     let address = listener.local_addr()?;
     let url = format!("{}://{address}/", transport.scheme());
     if let Some(minted) = tokens::create_first_admin(&db).await? {
@@ -58,9 +61,11 @@ pub(super) async fn serve(db: Db, args: ServeArgs) -> anyhow::Result<()> {
         transport,
         thin_forces_after: args.thin_forces_after.map(|days| Age { days }),
     };
-    let state =
-        AppState::new(db).with_task_lease(std::time::Duration::from_secs_f64(args.task_lease));
-    crate::serve_with(listener, state, options, shutdown_signal()).await?;
+    let state = AppState::new(db.clone())
+        .with_task_lease(std::time::Duration::from_secs_f64(args.task_lease));
+    let served = crate::serve_with(listener, state, options, shutdown_signal()).await;
+    db.close().await;
+    served?;
     tracing::info!("stopped");
     Ok(())
 }

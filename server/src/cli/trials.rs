@@ -35,7 +35,10 @@ pub(super) async fn export_trials(db: &Db, args: ExportTrialsArgs) -> anyhow::Re
             export::export_trials(db.reader(), &filter, format, std::io::stdout().lock()).await?
         }
     };
-    eprintln!("exported {written} trials");
+    match &args.out {
+        Some(path) => eprintln!("exported {written} trials to {}", path.display()),
+        None => eprintln!("exported {written} trials"),
+    }
     Ok(())
 }
 

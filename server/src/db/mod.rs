@@ -14,6 +14,7 @@
 
 mod dialect;
 mod location;
+mod missing;
 mod readiness;
 mod unwritable;
 
@@ -21,7 +22,7 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::Duration;
 
-use anyhow::Context;
+use anyhow::{Context, bail};
 use sqlx::AnyConnection;
 use sqlx::any::AnyPoolOptions;
 use sqlx::{Any, AnyPool, Connection, Transaction};
@@ -55,11 +56,32 @@ pub struct Db {
 impl Db {
     /// Opens (creating a missing SQLite file) and migrates the database at `location`.
     pub async fn open(location: &Location) -> anyhow::Result<Self> {
+        Self::open_as(location, Create::IfMissing).await
+    }
+
+    /// Opens and migrates the registry at `location`, refusing one that does not exist yet:
+    /// for every command but `serve` and `migrate`, a missing database is a typo or the wrong
+    /// directory, and a fresh empty one would only hide that.
+    pub async fn open_existing(location: &Location) -> anyhow::Result<Self> {
+        Self::open_as(location, Create::Never).await
+    }
+
+    async fn open_as(location: &Location, create: Create) -> anyhow::Result<Self> {
         sqlx::any::install_default_drivers();
+        if let (Location::File(path), Create::Never) = (location, create)
+            && !path.exists()
+        {
+            bail!("{}", missing::sqlite(path));
+        }
         let (read, write, dialect) = match location {
             Location::File(path) => open_sqlite(path).await?,
             Location::Postgres(url) => open_postgres(url, location).await?,
         };
+        if create == Create::Never && dialect == Dialect::Postgres && !migrated(&write).await? {
+            read.close().await;
+            write.close().await;
+            bail!("{}", missing::postgres(location));
+        }
         let migrations = match dialect {
             Dialect::Sqlite => &SQLITE_MIGRATIONS,
             Dialect::Postgres => &POSTGRES_MIGRATIONS,
@@ -120,6 +142,25 @@ impl Db {
         self.read.close().await;
         self.write.close().await;
     }
+}
+
+/// Whether opening may make the registry: a SQLite file, or the tables in a PostgreSQL
+/// database (the database itself is always made by PostgreSQL's own tools).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Create {
+    IfMissing,
+    Never,
+}
+
+/// Whether the registry's tables were ever made in this PostgreSQL database.
+async fn migrated(pool: &AnyPool) -> anyhow::Result<bool> {
+    let count: i64 = sqlx::query_scalar(
+        "select count(*) from information_schema.tables where table_name = '_sqlx_migrations'",
+    )
+    .fetch_one(pool)
+    .await
+    .context("cannot tell whether the database holds a registry")?;
+    Ok(count > 0)
 }
 
 async fn open_sqlite(path: &Path) -> anyhow::Result<(AnyPool, AnyPool, Dialect)> {
