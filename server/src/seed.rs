@@ -39,6 +39,19 @@ pub fn seed_entries() -> anyhow::Result<Vec<Value>> {
         .collect()
 }
 
+/// The seed entry of a device kind (its `properties.type`); `-` and `_` spell a space.
+pub fn template(kind: &str) -> anyhow::Result<Value> {
+    let wanted = kind.trim().to_lowercase().replace(['-', '_'], " ");
+    let seeds = seed_entries()?;
+    let kinds: Vec<&str> =
+        seeds.iter().filter_map(|entry| entry["properties"]["type"].as_str()).collect();
+    let Some(found) = seeds.iter().find(|entry| entry["properties"]["type"] == wanted.as_str())
+    else {
+        bail!("there is no device kind {kind:?}; the kinds are: {}", kinds.join(", "));
+    };
+    Ok(found.clone())
+}
+
 /// Seeds the registry when it holds no tags at all; returns how many were loaded. The count is
 /// taken under the write lock, so of several replicas starting together on one empty database
 /// exactly one seeds it.

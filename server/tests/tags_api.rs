@@ -103,6 +103,48 @@ async fn create_replace_and_their_preconditions() {
     problem(nothing_there, StatusCode::PRECONDITION_FAILED).await;
 }
 
+/// `r1` without its quotes means `"r1"`: the answer says so instead of claiming the tag changed.
+#[tokio::test]
+async fn an_unquoted_etag_is_a_bad_request_that_shows_the_quoted_form() {
+    let server = TestServer::start().await;
+    let path = format!("/api/v1/tags/{DRAWER}");
+    let entry = server.get_json(&path).await;
+    let mut edited = entry.clone();
+    edited["properties"]["location"]["room"] = "attic".into();
+
+    let unquoted = server.put(&path, &server.admin, &edited, Some(("if-match", "r1"))).await;
+    let body = problem(unquoted, StatusCode::BAD_REQUEST).await;
+    assert!(body["detail"].as_str().unwrap().contains(r#"If-Match: "r1""#), "{body}");
+    let archive = server
+        .request(Method::DELETE, &path, Some(&server.admin))
+        .header("if-match", "r1")
+        .send()
+        .await
+        .unwrap();
+    problem(archive, StatusCode::BAD_REQUEST).await;
+    assert_eq!(server.get_json(&path).await, entry, "a failed request changes nothing");
+
+    let read = server
+        .request(Method::GET, &path, Some(&server.admin))
+        .header("if-none-match", "r1")
+        .send()
+        .await
+        .unwrap();
+    let body = problem(read, StatusCode::BAD_REQUEST).await;
+    assert!(body["detail"].as_str().unwrap().contains(r#"If-None-Match: "r1""#), "{body}");
+    let robot = server.token(pps_server::auth::Role::Robot, "el-e-1").await;
+    let effective = server
+        .request(Method::GET, &format!("/api/v1/robots/el-e-1/tags/{DRAWER}"), Some(&robot))
+        .header("if-none-match", "r1")
+        .send()
+        .await
+        .unwrap();
+    problem(effective, StatusCode::BAD_REQUEST).await;
+
+    let quoted = server.put(&path, &server.admin, &edited, Some(("if-match", "\"r1\""))).await;
+    assert_eq!(quoted.status(), StatusCode::OK);
+}
+
 #[tokio::test]
 async fn two_caretakers_saving_the_same_revision_one_wins() {
     let server = TestServer::start().await;

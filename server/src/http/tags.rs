@@ -76,7 +76,7 @@ pub async fn get(
 ) -> Result<Response, ApiError> {
     let tag = tags::get(state.db.reader(), &epc).await?.ok_or_else(|| not_found(&epc))?;
     let etag = precondition::tag_etag(tag.revision);
-    if precondition::not_modified(&headers, &etag) {
+    if precondition::not_modified(&headers, &etag)? {
         return Ok((StatusCode::NOT_MODIFIED, [(ETAG, etag)]).into_response());
     }
     Ok(with_etag(StatusCode::OK, &tag))

@@ -82,8 +82,10 @@ impl Asset {
 
     fn respond(&'static self, headers: &HeaderMap) -> Response {
         let cache = [(CACHE_CONTROL, "no-cache"), (ETAG, self.etag.as_str())];
-        if precondition::not_modified(headers, &self.etag) {
-            return (StatusCode::NOT_MODIFIED, cache).into_response();
+        match precondition::not_modified(headers, &self.etag) {
+            Ok(true) => return (StatusCode::NOT_MODIFIED, cache).into_response(),
+            Ok(false) => {}
+            Err(error) => return error.into_response(),
         }
         (cache, [(CONTENT_TYPE, self.content_type)], self.body.as_slice()).into_response()
     }

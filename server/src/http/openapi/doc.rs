@@ -143,7 +143,8 @@ impl Param {
     /// On a read: the ETag the client holds, answered with 304 while it is current.
     pub const IF_NONE_MATCH_READ: Self = Self::header(
         "If-None-Match",
-        "ETags the client already holds (or `*`); 304 Not Modified when one is current",
+        "ETags the client already holds, each in double quotes (`\"r3\"`), or `*`; 304 Not \
+         Modified when one is current; 400 when one is not quoted",
     );
     /// On a write: `*` to create only if nothing exists yet.
     pub const IF_NONE_MATCH_CREATE: Self = Self::header(
@@ -153,7 +154,8 @@ impl Param {
     .example("*");
     pub const IF_MATCH: Self = Self::header(
         "If-Match",
-        "The ETag of the revision the change is based on (or `*`); 412 if it is not current",
+        "The ETag of the revision the change is based on, in double quotes as the ETag header \
+         gives it (`\"r3\"`), or `*`; 412 if it is not current; 400 if it is not quoted",
     );
 }
 
