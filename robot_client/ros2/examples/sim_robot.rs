@@ -42,6 +42,10 @@ struct Args {
     /// Seconds between clicks and inventory rounds (the sensors stream twice as often).
     #[arg(long, default_value_t = 4.0)]
     every: f64,
+    /// Stop after this many clicks (and one more period for the node's answers); without it,
+    /// run until Ctrl-C.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    clicks: Option<u64>,
     /// The only interface DDS uses, e.g. 127.0.0.1 inside the namespace.
     #[arg(long, env = "PPS_DDS_INTERFACE")]
     dds_interface: Option<std::net::IpAddr>,
@@ -162,8 +166,13 @@ async fn main() -> anyhow::Result<()> {
         }
     });
 
+    match args.clicks {
+        Some(n) => eprintln!("publishing; stops after {n} clicks, or press Ctrl-C"),
+        None => eprintln!("publishing until you press Ctrl-C (--clicks N stops after N clicks)"),
+    }
     let stream_every = Duration::from_secs_f64(args.every / 2.0);
     let mut tick = 0u64;
+    let mut clicked = 0u64;
     loop {
         info.publish(camera_info(&scene.calibration.intrinsics, header(camera_frame)))?;
         image.publish(image_message(&scene.image, header(camera_frame)))?;
@@ -185,6 +194,13 @@ async fn main() -> anyhow::Result<()> {
                     })
                     .collect(),
             })?;
+            clicked += 1;
+            if args.clicks == Some(clicked) {
+                // One more period, so the node's answers to the last click are printed.
+                tokio::time::sleep(Duration::from_secs_f64(args.every)).await;
+                eprintln!("sent {clicked} clicks; stopping");
+                return Ok(());
+            }
         }
         tick += 1;
         tokio::time::sleep(stream_every).await;
