@@ -16,12 +16,16 @@ impl StepTimings {
     pub fn time<T>(&mut self, name: &'static str, step: impl FnOnce() -> T) -> T {
         let start = Instant::now();
         let out = step();
-        let ms = start.elapsed().as_secs_f64() * 1e3;
+        self.add(name, start.elapsed().as_secs_f64() * 1e3);
+        out
+    }
+
+    /// Adds `ms` under `name` (to any earlier time under that name).
+    pub fn add(&mut self, name: &'static str, ms: f64) {
         match self.steps.iter_mut().find(|(n, _)| *n == name) {
             Some((_, total)) => *total += ms,
             None => self.steps.push((name, ms)),
         }
-        out
     }
 
     pub fn steps(&self) -> &[(&'static str, f64)] {

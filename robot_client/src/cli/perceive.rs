@@ -1,29 +1,37 @@
 //! `pps-robot perceive`: the tag, its backing plane and the approach waypoint from a recorded
-//! image, cloud and camera calibration (DESIGN §6).
+//! image, cloud or aligned depth image, and camera calibration (DESIGN §6, §10).
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::Context;
-use clap::Args;
+use clap::{ArgGroup, Args};
 use nalgebra::Point3;
 use pps_schema::ColorSegmentation;
 use serde::Serialize;
 
 use super::overlay::draw_overlay;
+use crate::hal::PointCloud;
 use crate::navigation::{ApproachParams, ApproachPlan, Clearance, plan_approach};
-use crate::perception::{HsvThresholds, TagDetection, TagSighting};
-use crate::recording::{read_camera_file, read_ply, read_png, write_png};
+use crate::perception::{
+    DepthImage, DepthRange, HsvThresholds, TagDetection, TagSighting, cloud_from_depth,
+};
+use crate::recording::{read_camera_file, read_depth, read_ply, read_png_of_size, write_png};
 use crate::timings::StepTimings;
 
 #[derive(Debug, Args)]
+#[command(group(ArgGroup::new("range_data").required(true).args(["cloud", "depth"])))]
 pub struct PerceiveArgs {
     /// Colour image (PNG) taken by the calibrated camera.
     #[arg(long)]
     pub image: PathBuf,
     /// Laser point cloud (PLY, vertices x y z in the base frame, metres).
     #[arg(long)]
-    pub cloud: PathBuf,
+    pub cloud: Option<PathBuf>,
+    /// Or the RGB-D camera's depth image aligned to --image: 16-bit greyscale PNG in
+    /// millimetres or greyscale PFM in metres (0 or NaN: no depth; kept 0.1–10 m).
+    #[arg(long)]
+    pub depth: Option<PathBuf>,
     /// Camera calibration JSON: width, height, fx, fy, cx, cy, base_from_camera.
     #[arg(long)]
     pub camera: PathBuf,
@@ -162,16 +170,34 @@ impl PerceiveReport {
 
 pub fn run(args: &PerceiveArgs) -> anyhow::Result<()> {
     let start = Instant::now();
-    let image = read_png(&args.image)?;
-    let cloud = read_ply(&args.cloud)?;
+    // The calibration first: every image is checked against it before its pixels are decoded.
     let calibration = read_camera_file(&args.camera)?;
+    let size = (calibration.intrinsics.width, calibration.intrinsics.height);
+    let image = read_png_of_size(&args.image, size)?;
+    let range_data = match (&args.cloud, &args.depth) {
+        (Some(cloud), _) => RangeData::Cloud(read_ply(cloud)?),
+        (None, Some(depth)) => RangeData::Depth(read_depth(depth, size)?),
+        (None, None) => anyhow::bail!("give the range data as --cloud PLY or --depth IMAGE"),
+    };
     let load_ms = start.elapsed().as_secs_f64() * 1e3;
     let mut params = ApproachParams::default();
     if let Some(hsv) = args.hsv {
         params.tag.thresholds = hsv;
     }
-    let plan = plan_approach(&image, &cloud, &calibration, &args.target, &params)
+    // Turning depth into a cloud is a compute step, and the first.
+    let mut timings = StepTimings::default();
+    let cloud = match range_data {
+        RangeData::Cloud(cloud) => cloud,
+        RangeData::Depth(depth) => timings.time("depth_to_cloud", || {
+            cloud_from_depth(&depth, &calibration, &DepthRange::default())
+        })?,
+    };
+    let mut plan = plan_approach(&image, &cloud, &calibration, &args.target, &params)
         .context("cannot run perception on these files")?;
+    for &(step, ms) in plan.timings.steps() {
+        timings.add(step, ms);
+    }
+    plan.timings = timings;
     let report = PerceiveReport::new(&plan, load_ms);
     if let Some(path) = &args.overlay {
         write_png(path, &draw_overlay(&image, &calibration, &plan, &params.footprint))?;
@@ -182,6 +208,12 @@ pub fn run(args: &PerceiveArgs) -> anyhow::Result<()> {
         print_summary(&report, &plan, cloud.len());
     }
     Ok(())
+}
+
+/// What the robot measured the scene's geometry with.
+enum RangeData {
+    Cloud(PointCloud),
+    Depth(DepthImage),
 }
 
 fn print_summary(report: &PerceiveReport, plan: &ApproachPlan, cloud_points: usize) {

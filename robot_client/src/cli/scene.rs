@@ -6,7 +6,7 @@ use clap::Args;
 
 use super::parse::{parse_device, parse_direction};
 
-use crate::sim::{CaptureSettings, DeviceKind, Room, StartDirection, capture_scene};
+use crate::sim::{AlignedDepth, CaptureSettings, DeviceKind, Room, StartDirection, capture_scene};
 
 #[derive(Debug, Args)]
 pub struct SceneArgs {
@@ -28,6 +28,10 @@ pub struct SceneArgs {
     /// Directory to write image.png, cloud.ply, camera.json and scene.json into.
     #[arg(long)]
     pub out: PathBuf,
+    /// Also write what an RGB-D camera aligned to the colour camera would give: depth.png
+    /// (16-bit, millimetres), depth.pfm (metres) and depth.ply (the points of the same rays).
+    #[arg(long)]
+    pub depth: bool,
 }
 
 pub fn run(args: &SceneArgs) -> anyhow::Result<()> {
@@ -42,6 +46,14 @@ pub fn run(args: &SceneArgs) -> anyhow::Result<()> {
         capture.image.height,
         capture.cloud.len()
     );
+    if args.depth {
+        let depth = AlignedDepth::of(&capture, &Room::paper());
+        depth.write(&args.out)?;
+        tracing::info!(
+            "wrote {dir}/depth.png, {dir}/depth.pfm and {dir}/depth.ply ({} points)",
+            depth.cloud.len()
+        );
+    }
     println!(
         "pps-robot perceive --image {dir}/image.png --cloud {dir}/cloud.ply --camera {dir}/camera.json --target {}",
         capture.target_arg()

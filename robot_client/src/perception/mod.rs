@@ -8,11 +8,14 @@
 //! ([`ProjectedCloud`]) and segments only the red regions laser points fall on
 //! ([`segment_seeded`]): the mask is only ever read where a point lands.
 //!
+//! [`cloud_from_depth`] turns an RGB-D camera's aligned depth image into the same cloud.
+//!
 //! Perception works on data, never on devices: it takes images and clouds, not traits, and it
 //! never touches the simulator, so recorded data from a real robot runs through the same code.
 
 mod blobs;
 mod brightness;
+mod depth_cloud;
 pub(crate) mod flood_fill;
 mod hsv;
 mod mask;
@@ -25,6 +28,7 @@ pub(crate) mod voxel_coords;
 
 pub use blobs::Blobs;
 pub use brightness::{BrightnessChange, LightChange, brightness_change};
+pub use depth_cloud::{DepthEncoding, DepthImage, DepthRange, DepthSizeMismatch, cloud_from_depth};
 pub use hsv::{HsvThresholds, ThresholdError, segment_color};
 pub use mask::Mask;
 pub use occupancy::{Component, OccupancyGrid};

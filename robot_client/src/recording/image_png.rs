@@ -1,15 +1,25 @@
 //! Colour images as PNG. Reads any 8- or 16-bit grey, grey-alpha, RGB, RGBA or palette PNG into
-//! 8-bit RGB; writes 8-bit RGB.
+//! 8-bit RGB, its size checked from the header before a pixel is decoded; writes 8-bit RGB.
 
 use std::fs::File;
 use std::io::{BufReader, BufWriter};
 use std::path::Path;
 
-use super::{RecordingError, io_error};
+use super::{RecordingError, check_declared_size, io_error};
 use crate::hal::ColorImage;
 
 /// Reads a PNG into 8-bit RGB.
 pub fn read_png(path: &Path) -> Result<ColorImage, RecordingError> {
+    read_colour(path, None)
+}
+
+/// Reads a PNG that a camera of `size` (width, height) took into 8-bit RGB; another size is
+/// refused from the header, before a pixel is decoded.
+pub fn read_png_of_size(path: &Path, size: (u32, u32)) -> Result<ColorImage, RecordingError> {
+    read_colour(path, Some(size))
+}
+
+fn read_colour(path: &Path, expected: Option<(u32, u32)>) -> Result<ColorImage, RecordingError> {
     let file = File::open(path).map_err(|e| io_error(path, e))?;
     let png_error =
         |reason: String| RecordingError::Png { path: path.display().to_string(), reason };
@@ -17,6 +27,7 @@ pub fn read_png(path: &Path) -> Result<ColorImage, RecordingError> {
     // Palette and low bit depths become 8-bit channels; 16-bit keeps its high byte.
     decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
     let mut reader = decoder.read_info().map_err(|e| png_error(e.to_string()))?;
+    check_declared_size(path, reader.info().size(), expected)?;
     let mut buffer = vec![0; reader.output_buffer_size()];
     let frame = reader.next_frame(&mut buffer).map_err(|e| png_error(e.to_string()))?;
     buffer.truncate(frame.buffer_size());
@@ -75,6 +86,16 @@ mod tests {
         let path = dir.path().join("image.png");
         write_png(&path, &image).unwrap();
         assert_eq!(read_png(&path).unwrap(), image);
+    }
+
+    #[test]
+    fn a_size_unlike_the_camera_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("image.png");
+        write_png(&path, &ColorImage::new(8, 6)).unwrap();
+        let message = read_png_of_size(&path, (6, 8)).unwrap_err().to_string();
+        assert!(message.contains("8×6 pixels but the camera calibration is for 6×8"), "{message}");
+        assert_eq!(read_png_of_size(&path, (8, 6)).unwrap(), ColorImage::new(8, 6));
     }
 
     #[test]

@@ -19,6 +19,7 @@ mod body;
 mod camera;
 mod capture;
 mod clock;
+mod depth_camera;
 mod laser;
 mod mechanics;
 mod motion;
@@ -37,6 +38,7 @@ pub use capture::{
     CaptureSettings, SceneCapture, StartDirection, capture_scene, start_pose, start_pose_at_angle,
 };
 pub use clock::{SimClock, VirtualClock};
+pub use depth_camera::AlignedDepth;
 pub use laser::{LaserModel, sweep_scan};
 #[cfg(test)]
 pub(crate) use noise::gaussian;
