@@ -16,7 +16,7 @@ use pps_robot::sim::{
 };
 use pps_ros2::camera::camera_info;
 use pps_ros2::cdr::{decode, encode};
-use pps_ros2::click::{SensorState, answer_click};
+use pps_ros2::click::{RangeInput, SensorState, answer_click};
 use pps_ros2::cloud::{cloud_message, point_cloud};
 use pps_ros2::dds::DdsSettings;
 use pps_ros2::image::image_message;
@@ -100,7 +100,7 @@ fn in_process(scene: &SceneCapture) -> f64 {
         camera_info: Some(
             camera_info(&scene.calibration.intrinsics, header("camera_optical")).into(),
         ),
-        cloud: Some(point_cloud(&cloud).unwrap().into()),
+        range: Some(RangeInput::Cloud(point_cloud(&cloud).unwrap().into())),
         ..SensorState::default()
     };
     state.transforms.insert(&camera_transform(scene));

@@ -1,6 +1,7 @@
 //! A click on `/clicked_point` answered with the paper's chain (§III-B, §IV-B.1) on the latest
-//! image, camera info, static transforms and cloud: the tag's pose, the goal 50 cm out facing it
-//! and the markers of Fig. 5. Pure: messages in, messages out, no DDS.
+//! image, camera info, static transforms and range data (a cloud or an aligned depth image,
+//! whichever came last): the tag's pose, the goal 50 cm out facing it and the markers of Fig. 5.
+//! Pure: messages in, messages out, no DDS.
 
 use std::sync::Arc;
 
@@ -9,6 +10,7 @@ use pps_robot::hal::PointCloud;
 use pps_robot::navigation::{ApproachParams, ApproachPlan, BackingPlane, plan_approach};
 
 use crate::camera::calibration;
+use crate::depth::{DepthFrame, depth_cloud};
 use crate::image::color_image;
 use crate::input_error::InputError;
 use crate::markers::fig5_markers;
@@ -24,9 +26,20 @@ use crate::transforms::TransformTree;
 pub struct SensorState {
     pub image: Option<Arc<Image>>,
     pub camera_info: Option<Arc<CameraInfo>>,
-    /// The latest cloud, already read (the frame it came in is checked when it arrives).
-    pub cloud: Option<Arc<PointCloud>>,
+    /// The latest cloud or depth image, whichever is fresher, already read.
+    pub range: Option<RangeInput>,
+    /// The depth camera's info (its intrinsics equal the colour camera's when aligned).
+    pub depth_info: Option<Arc<CameraInfo>>,
     pub transforms: TransformTree,
+}
+
+/// What the robot measured the scene's geometry with.
+#[derive(Debug, Clone)]
+pub enum RangeInput {
+    /// A cloud in the base frame (the frame it came in is checked when it arrives).
+    Cloud(Arc<PointCloud>),
+    /// A depth image; it becomes a cloud only when a click needs one, not at 30 Hz.
+    Depth(Arc<DepthFrame>),
 }
 
 /// What a click produced.
@@ -55,7 +68,7 @@ pub fn answer_click(
     if !target.coords.iter().all(|v| v.is_finite()) {
         return Err(InputError::ClickNotFinite);
     }
-    let cloud = state.cloud.as_ref().ok_or(InputError::Missing("point cloud"))?;
+    let range = state.range.as_ref().ok_or(InputError::Missing("point cloud or depth image"))?;
     let image = state.image.as_ref().ok_or(InputError::Missing("camera image"))?;
     let info = state.camera_info.as_ref().ok_or(InputError::Missing("camera info"))?;
     let camera_frame = image.header.frame_id.trim_start_matches('/');
@@ -64,7 +77,21 @@ pub fn answer_click(
     })?;
     let colour = color_image(image)?;
     let calibration = calibration(info, base_from_camera, (colour.width, colour.height))?;
-    let plan = plan_approach(&colour, cloud, &calibration, &target, params)
+    let cloud = match range {
+        RangeInput::Cloud(cloud) => cloud.clone(),
+        RangeInput::Depth(depth) => {
+            let info = state.depth_info.as_ref().ok_or(InputError::Missing("depth camera info"))?;
+            let base_from_depth =
+                state.transforms.lookup(base_frame, &depth.frame_id).ok_or_else(|| {
+                    InputError::NoTransform {
+                        from: base_frame.to_owned(),
+                        to: depth.frame_id.clone(),
+                    }
+                })?;
+            Arc::new(depth_cloud(depth, info, base_from_depth)?)
+        }
+    };
+    let plan = plan_approach(&colour, &cloud, &calibration, &target, params)
         .map_err(|e| InputError::Perception(e.to_string()))?;
     let header = Header { stamp: Time::now(), frame_id: base_frame.to_owned() };
     let tag = plan.tag.as_ref().map(|s| s.nearest());
@@ -130,7 +157,7 @@ mod tests {
         };
         let params = ApproachParams::default();
         let missing = answer_click(&state, &click, "base_link", &params).unwrap_err();
-        assert_eq!(missing, InputError::Missing("point cloud"));
+        assert_eq!(missing, InputError::Missing("point cloud or depth image"));
         let elsewhere = PointStamped {
             header: Header { frame_id: "map".into(), ..Header::default() },
             ..click

@@ -12,6 +12,13 @@ pub enum InputError {
     ImageShape(String),
     #[error("the point cloud has no float32 `{0}` field; x, y and z must be float32")]
     CloudField(&'static str),
+    #[error(
+        "the depth image is `{0}`; only 16UC1 (millimetres) and 32FC1 (metres) are read (publish \
+         the driver's aligned depth)"
+    )]
+    DepthEncoding(String),
+    #[error("the depth image is malformed: {0}")]
+    DepthShape(String),
     #[error("the point cloud is malformed: {0}")]
     CloudShape(String),
     #[error("the point cloud is big-endian; only little-endian clouds are read")]
@@ -43,6 +50,8 @@ impl InputError {
         match self {
             Self::ImageEncoding(_) => "image encoding",
             Self::ImageShape(_) => "image shape",
+            Self::DepthEncoding(_) => "depth encoding",
+            Self::DepthShape(_) => "depth shape",
             Self::CloudField(_) => "cloud field",
             Self::CloudShape(_) => "cloud shape",
             Self::CloudBigEndian => "cloud endianness",

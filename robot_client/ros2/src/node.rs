@@ -8,8 +8,10 @@ use pps_robot::navigation::ApproachParams;
 use pps_robot::registry::RegistryClient;
 use ros2_client::{Context, NodeName, NodeOptions, Publisher};
 
+use crate::click::RangeInput;
 use crate::click::{SensorState, answer_click};
 use crate::cloud::point_cloud;
+use crate::depth::depth_frame;
 use crate::input_error::InputError;
 use crate::msg::geometry::{PointStamped, PoseStamped};
 use crate::msg::pps::{TagEntry, TagReads, Trial};
@@ -90,6 +92,8 @@ pub async fn run(
     let camera_info =
         subscribe::<CameraInfo>(&mut node, &topics.camera_info, qos::sensor_stream())?;
     let points = subscribe::<PointCloud2>(&mut node, &topics.points, qos::sensor_stream())?;
+    let depth = subscribe::<Image>(&mut node, &topics.depth, qos::sensor_stream())?;
+    let depth_info = subscribe::<CameraInfo>(&mut node, &topics.depth_info, qos::sensor_stream())?;
     let tf_static = subscribe::<TfMessage>(&mut node, &topics.tf_static, qos::latched())?;
     let clicks = subscribe::<PointStamped>(&mut node, &topics.clicked_point, qos::command())?;
     let rounds = subscribe::<TagReads>(&mut node, &topics.rfid, qos::command())?;
@@ -117,8 +121,11 @@ pub async fn run(
     });
     tracing::info!(
         base_frame = %shared.settings.base_frame,
-        "pps-ros2 is up: waiting for {} and clicks on {}",
-        [&topics.image, &topics.camera_info, &topics.tf_static, &topics.points].map(|t| t.as_str()).join(", "),
+        "pps-ros2 is up: waiting for {}, {} or {} with {}, and clicks on {}",
+        [&topics.image, &topics.camera_info, &topics.tf_static].map(|t| t.as_str()).join(", "),
+        topics.points,
+        topics.depth,
+        topics.depth_info,
         topics.clicked_point
     );
     let mut tasks = tokio::task::JoinSet::new();
@@ -143,6 +150,8 @@ pub async fn run(
     each_message!(image, topics.image, on_image);
     each_message!(camera_info, topics.camera_info, on_camera_info);
     each_message!(points, topics.points, on_points);
+    each_message!(depth, topics.depth, on_depth);
+    each_message!(depth_info, topics.depth_info, on_depth_info);
     each_message!(tf_static, topics.tf_static, on_tf_static);
     each_message!(clicks, topics.clicked_point, on_click);
     each_message!(rounds, topics.rfid, on_round);
@@ -174,13 +183,33 @@ async fn on_points(shared: &Arc<Shared>, cloud: PointCloud2) {
     };
     match read {
         Ok(points) => {
-            shared.sensors.lock().unwrap_or_else(|e| e.into_inner()).cloud = Some(Arc::new(points));
+            let cloud = RangeInput::Cloud(Arc::new(points));
+            shared.sensors.lock().unwrap_or_else(|e| e.into_inner()).range = Some(cloud);
             shared.once.recovered(TOPIC);
         }
         Err(error) => {
             shared.once.warn(TOPIC, &error);
         }
     }
+}
+
+async fn on_depth(shared: &Arc<Shared>, image: Image) {
+    const TOPIC: &str = "depth";
+    match depth_frame(image) {
+        Ok(frame) => {
+            let depth = RangeInput::Depth(Arc::new(frame));
+            shared.sensors.lock().unwrap_or_else(|e| e.into_inner()).range = Some(depth);
+            shared.once.recovered(TOPIC);
+        }
+        Err(error) => {
+            shared.once.warn(TOPIC, &error);
+        }
+    }
+}
+
+async fn on_depth_info(shared: &Arc<Shared>, info: CameraInfo) {
+    let mut sensors = shared.sensors.lock().unwrap_or_else(|e| e.into_inner());
+    sensors.depth_info = Some(Arc::new(info));
 }
 
 async fn on_tf_static(shared: &Arc<Shared>, message: TfMessage) {

@@ -13,6 +13,8 @@ pub struct Topics {
     pub camera_info: String,
     pub tf_static: String,
     pub points: String,
+    pub depth: String,
+    pub depth_info: String,
     pub clicked_point: String,
     pub tag_pose: String,
     pub goal_pose: String,
@@ -29,6 +31,9 @@ impl Default for Topics {
             camera_info: "/camera/camera_info".into(),
             tf_static: "/tf_static".into(),
             points: "/points".into(),
+            // Where RealSense's ROS 2 driver publishes depth aligned to colour.
+            depth: "/camera/aligned_depth_to_color/image_raw".into(),
+            depth_info: "/camera/aligned_depth_to_color/camera_info".into(),
             clicked_point: "/clicked_point".into(),
             tag_pose: "/pps/tag_pose".into(),
             goal_pose: "/goal_pose".into(),
@@ -60,12 +65,14 @@ impl Topics {
         Ok(topics)
     }
 
-    fn slots(&mut self) -> [&mut String; 11] {
+    fn slots(&mut self) -> [&mut String; 13] {
         [
             &mut self.image,
             &mut self.camera_info,
             &mut self.tf_static,
             &mut self.points,
+            &mut self.depth,
+            &mut self.depth_info,
             &mut self.clicked_point,
             &mut self.tag_pose,
             &mut self.goal_pose,

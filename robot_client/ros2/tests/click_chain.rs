@@ -5,14 +5,16 @@ use std::sync::Arc;
 
 use pps_robot::navigation::{ApproachParams, plan_approach};
 use pps_robot::sim::{
-    CaptureSettings, DeviceKind, Room, SceneCapture, StartDirection, capture_scene,
+    AlignedDepth, CaptureSettings, DeviceKind, Room, SceneCapture, StartDirection, capture_scene,
 };
 use pps_ros2::InputError;
 use pps_ros2::camera::camera_info;
-use pps_ros2::click::{SensorState, answer_click};
+use pps_ros2::click::{RangeInput, SensorState, answer_click};
+use pps_ros2::depth::{depth_frame, depth_message};
 use pps_ros2::image::image_message;
 use pps_ros2::msg::builtin::Header;
 use pps_ros2::msg::geometry::{Point, PointStamped, Transform, TransformStamped};
+use pps_ros2::msg::sensor::Image;
 use pps_ros2::msg::tf::TfMessage;
 
 fn header(frame: &str) -> Header {
@@ -39,7 +41,7 @@ fn state(scene: &SceneCapture) -> SensorState {
             &scene.calibration.intrinsics,
             header("head_camera_optical"),
         ))),
-        cloud: Some(Arc::new(scene.cloud.clone())),
+        range: Some(RangeInput::Cloud(Arc::new(scene.cloud.clone()))),
         ..SensorState::default()
     };
     let base_from_head = nalgebra::Isometry3::translation(0.1, 0.0, 1.0);
@@ -81,6 +83,49 @@ fn the_answer_is_the_chain_of_pps_robot_on_the_same_data() {
     assert!((goal.pose.position.x - waypoint.position.x).abs() < 1e-9);
     assert!((goal.pose.position.y - waypoint.position.y).abs() < 1e-9);
     assert_eq!(answer.markers.markers[0].action, pps_ros2::msg::visualization::Marker::DELETEALL);
+}
+
+/// Where a click sends the robot: the tag's position and the goal's.
+fn destination(state: &SensorState, scene: &SceneCapture) -> [f64; 5] {
+    let answer =
+        answer_click(state, &click(scene), "base_link", &ApproachParams::default()).unwrap();
+    let tag = answer.tag_pose.expect("a tag pose").pose.position;
+    let goal = answer.goal_pose.expect("a goal").pose;
+    [tag.x, tag.y, tag.z, goal.position.x, goal.position.y]
+}
+
+#[test]
+fn aligned_depth_gives_the_answer_of_the_same_frame_as_a_cloud() {
+    let scene = scene();
+    let depth = AlignedDepth::of(&scene, &Room::paper());
+    let mut from_cloud = state(&scene);
+    from_cloud.range = Some(RangeInput::Cloud(Arc::new(depth.cloud.clone())));
+    let expected = destination(&from_cloud, &scene);
+    let (width, height) = (depth.width, depth.height);
+    let millimetres =
+        depth_message(width, height, &depth.millimetres(), header("head_camera_optical"));
+    let metres = Image {
+        encoding: "32FC1".into(),
+        step: width * 4,
+        data: depth.metres.iter().flat_map(|m| m.to_le_bytes()).collect(),
+        ..millimetres.clone()
+    };
+    for message in [millimetres, metres] {
+        let encoding = message.encoding.clone();
+        let mut from_depth = state(&scene);
+        from_depth.range = Some(RangeInput::Depth(Arc::new(depth_frame(message).unwrap())));
+        from_depth.depth_info = Some(Arc::new(camera_info(
+            &scene.calibration.intrinsics,
+            header("head_camera_optical"),
+        )));
+        let got = destination(&from_depth, &scene);
+        let worst = got.iter().zip(&expected).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        assert!(worst < 1e-3, "{encoding}: {got:?} against {expected:?}");
+        from_depth.depth_info = None;
+        let refused =
+            answer_click(&from_depth, &click(&scene), "base_link", &ApproachParams::default());
+        assert_eq!(refused.unwrap_err(), InputError::Missing("depth camera info"));
+    }
 }
 
 #[test]
