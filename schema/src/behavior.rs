@@ -173,7 +173,13 @@ mod tests {
     fn names_match_the_schema_enum() {
         let tag = crate::schema_document("tag").unwrap();
         let names: Vec<&str> = BehaviorKind::ALL.iter().map(|k| k.as_str()).collect();
-        assert_eq!(tag["$defs"]["behavior_name"]["enum"], json!(names));
+        let choices = tag["$defs"]["behavior_name"]["oneOf"].as_array().unwrap();
+        let consts: Vec<&Value> = choices.iter().map(|choice| &choice["const"]).collect();
+        assert_eq!(json!(consts), json!(names));
+        assert!(
+            choices.iter().all(|choice| choice["title"].is_string()),
+            "every behaviour has a title"
+        );
         for kind in BehaviorKind::ALL {
             assert!(crate::schema_document(kind.schema_name()).is_some());
         }

@@ -65,7 +65,7 @@ fn the_types_hold_exactly_the_schema_parameters() {
             if spec.get(name).is_none() {
                 let example = definition
                     .get("default")
-                    .or_else(|| definition["enum"].get(0))
+                    .or_else(|| definition["oneOf"][0].get("const"))
                     .unwrap_or_else(|| panic!("{kind}.{name}: no default and not required"));
                 spec[name] = example.clone();
             }

@@ -124,25 +124,16 @@ fn describe(error: &ValidationError<'_>, at: &str, field: String) -> Vec<FieldEr
             }
         )),
         ValidationErrorKind::AnyOf { context } => any_of(at, &field, context),
-        // A `oneOf` of titled constants is an enum whose values each have a human title.
-        ValidationErrorKind::OneOfNotValid { .. } if !titled_constants(schema).is_empty() => one(
-            format!("{field} is {instance}; it must be one of {}.", list(titled_constants(schema))),
-        ),
+        ValidationErrorKind::OneOfNotValid { context } => match allowed_values(context) {
+            Some(values) => {
+                one(format!("{field} is {instance}; it must be one of {}.", list(values)))
+            }
+            None => one(format!("{field}: {}", error.masked())),
+        },
         ValidationErrorKind::FalseSchema => one(format!("{field} is not allowed here.")),
         // The schemas use no other keyword a caretaker can trip over; should one appear,
         // jsonschema's own wording is better than nothing.
         _ => one(format!("{field}: {}", error.masked())),
-    }
-}
-
-/// The values of a `oneOf` whose every branch is a `const`, in order; empty for any other.
-fn titled_constants<'a>(schema: Option<(&SchemaDocument, &'a Value)>) -> Vec<&'a Value> {
-    let branches = schema.and_then(|(_, object)| object["oneOf"].as_array());
-    let constants: Vec<&Value> =
-        branches.into_iter().flatten().filter_map(|branch| branch.get("const")).collect();
-    match branches {
-        Some(branches) if constants.len() == branches.len() => constants,
-        _ => Vec::new(),
     }
 }
 
@@ -162,6 +153,21 @@ fn any_of(at: &str, field: &str, branches: &[Vec<ValidationError<'static>>]) -> 
         })
         .collect();
     vec![FieldError::new(at, format!("{field} must be {}.", expected.join(" or ")))]
+}
+
+/// The values a `oneOf` of `{"const", "title"}` choices allows (the schemas' way of giving
+/// each allowed value a title), or None when the branches are anything else.
+fn allowed_values<'a>(branches: &'a [Vec<ValidationError<'static>>]) -> Option<Vec<&'a Value>> {
+    branches
+        .iter()
+        .map(|errors| match errors.as_slice() {
+            [only] => match only.kind() {
+                ValidationErrorKind::Constant { expected_value } => Some(&**expected_value),
+                _ => None,
+            },
+            _ => None,
+        })
+        .collect()
 }
 
 /// A number with the unit the schema gives it, e.g. `500 N`.
