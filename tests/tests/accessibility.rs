@@ -61,6 +61,17 @@ async fn every_page_passes_axe_core_without_serious_violations() {
     page.wait_for("form.ask-form select").await;
     let found = page.accessibility_problems().await;
     problems.extend(found.into_iter().map(|p| format!("ask form: {p}")));
+    // The advanced section, opened, and the register form of one kind of device.
+    page.open(&format!("/#/tags/{ADA_SWITCH}")).await;
+    page.click("details.advanced > summary").await;
+    page.wait_for_text("details.advanced", "push_top").await;
+    let found = page.accessibility_problems().await;
+    problems.extend(found.into_iter().map(|p| format!("advanced section: {p}")));
+    page.open("/#/register").await;
+    page.click("button.template[data-template='lamp']").await;
+    page.wait_for("[data-focus-key='/properties/name']").await;
+    let found = page.accessibility_problems().await;
+    problems.extend(found.into_iter().map(|p| format!("register form: {p}")));
     assert!(problems.is_empty(), "axe-core found:\n{}", problems.join("\n"));
     page.close().await;
 }

@@ -1,9 +1,10 @@
 // A small bar chart of success rates per action and robot class, as inline SVG built with DOM
 // calls. Each row is a label line over a full-width bar, so it stays legible on a phone; the
-// numbers are in the text too, so it reads without the bars.
+// numbers are in the text too, so it reads without the bars. A bar's colour says how good the
+// rate is (green, amber, red), the same grades as the caretaker's summary.
 
 import { svg } from './dom.js';
-import { percent } from './format.js';
+import { grade, percent } from './format.js';
 
 const WIDTH = 320;
 const ROW = 46;
@@ -26,7 +27,7 @@ export function successChart(groups) {
       svg('text', { x: WIDTH, y: top + 16, class: 'chart-value', 'text-anchor': 'end' },
         `${percent(group.success_rate)} of ${group.attempts}${group.reliable ? ' · reliable' : ''}`),
       svg('rect', { x: 0, y: top + 24, width: WIDTH, height: BAR, rx: 4, class: 'chart-track' }),
-      svg('rect', { x: 0, y: top + 24, width: Math.round(rate * WIDTH), height: BAR, rx: 4, class: group.reliable ? 'chart-bar reliable' : 'chart-bar' }));
+      svg('rect', { x: 0, y: top + 24, width: Math.round(rate * WIDTH), height: BAR, rx: 4, class: `chart-bar ${grade(group.success_rate)}` }));
   });
   return chart;
 }

@@ -1,6 +1,8 @@
 // Registering or editing a tag: the entry form, validation by the registry as you type, and a
 // save that never overwrites silently: a new tag is created only if absent (If-None-Match: *),
 // a change only applies to the revision it was made on (If-Match), and a conflict is shown.
+// One status line says how things stand: what the registry thinks of the entry as typed, or
+// what became of the last save; it never says two things at once.
 
 import { ApiError, entryOf, etagOf, request, seg } from './api.js';
 import { conflictPanel } from './conflict.js';
@@ -8,6 +10,7 @@ import { reapply } from './diff.js';
 import { debounce, h, replace } from './dom.js';
 import { EntryForm } from './entry-form.js';
 import { loadSchemas } from './schema.js';
+import { leaveNotice } from './notice.js';
 
 const VALIDATE_AFTER_MS = 350;
 
@@ -18,21 +21,28 @@ const VALIDATE_AFTER_MS = 350;
 export async function mountEditor(container, { base, entry, onSaved, onCancel }) {
   const schemas = await loadSchemas();
   let baseTag = base;
-  // What the registry thinks of the entry as typed, and what became of the last save.
   const status = h('p', { class: 'status', role: 'status', 'aria-live': 'polite' });
-  const saveStatus = h('p', { class: 'status bad', role: 'alert' });
+  const say = (text, bad = false) => {
+    replace(status, text);
+    status.classList.toggle('bad', bad);
+  };
   const conflictArea = h('div');
   let checks = 0;
+  let nextStep = null;
 
   const validate = async () => {
     const mine = ++checks;
-    status.textContent = 'Checking…';
+    if (form.jsonProblem) {
+      say(`Not saved yet: ${form.jsonProblem}`, true);
+      return;
+    }
+    say('Checking…');
     let errors = [];
     try {
       await request('POST', '/api/v1/validate/tag', { body: form.entry });
     } catch (error) {
       if (!(error instanceof ApiError) || error.status !== 422) {
-        if (mine === checks) status.textContent = `Could not check: ${error.message}`;
+        if (mine === checks) say(`Could not check: ${error.message}`, true);
         return;
       }
       errors = error.errors;
@@ -40,10 +50,9 @@ export async function mountEditor(container, { base, entry, onSaved, onCancel })
     if (mine !== checks) return; // a newer check is under way
     form.showErrors(errors);
     const waiting = form.heldBack();
-    if (errors.length === 0) status.textContent = 'No problems found.';
-    else if (waiting.length === errors.length) status.textContent = `Still to fill in: ${[...new Set(waiting)].join('; ')}.`;
-    else status.textContent = `${errors.length} ${errors.length === 1 ? 'problem' : 'problems'}: see the marked fields.`;
-    status.classList.toggle('bad', errors.length > waiting.length);
+    if (errors.length === 0) say(nextStep ?? 'No problems found.');
+    else if (waiting.length === errors.length) say(`Still to fill in: ${[...new Set(waiting)].join('; ')}.`);
+    else say(`${errors.length} ${errors.length === 1 ? 'problem' : 'problems'}: see the marked fields.`, true);
   };
   const validateSoon = debounce(validate, VALIDATE_AFTER_MS);
 
@@ -51,30 +60,37 @@ export async function mountEditor(container, { base, entry, onSaved, onCancel })
   const form = new EntryForm({ schemas, entry, epcEditable: !baseTag, revealAll: Boolean(baseTag), onChange: validateSoon });
 
   const save = async () => {
+    if (form.jsonProblem) {
+      say(`Not saved: ${form.jsonProblem}`, true);
+      return;
+    }
     saveButton.disabled = true;
-    replace(saveStatus);
+    checks += 1; // a check still under way must not overwrite what the save says
     form.reveal();
     const epc = String(form.entry.epc ?? '').trim();
     try {
       if (!epc) {
         await validate();
+        form.focusFirstError();
         return;
       }
+      say('Saving…');
       const headers = baseTag ? { 'If-Match': etagOf(baseTag.revision) } : { 'If-None-Match': '*' };
       const { data } = await request('PUT', `/api/v1/tags/${seg(epc)}`, { body: form.entry, headers });
+      leaveNotice(`Saved “${data.properties?.name ?? data.epc}”.`);
       onSaved(data);
     } catch (error) {
-      saveStatus.classList.add('bad');
       if (error.status === 422) {
         form.showErrors(error.errors);
-        saveStatus.textContent = `Not saved: ${error.errors.length} ${error.errors.length === 1 ? 'problem' : 'problems'}, see the marked fields.`;
+        say(`Not saved: ${error.errors.length} ${error.errors.length === 1 ? 'problem' : 'problems'}, see the marked fields.`, true);
+        form.focusFirstError();
       } else if (error.status === 412 && baseTag) {
         await showConflict(epc);
       } else if (error.status === 412) {
-        replace(saveStatus, 'Not saved: a tag with this EPC is registered already. ',
-          h('a', { href: `#/tags/${seg(epc)}` }, 'Open it'), ' to edit it instead.');
+        say(['Not saved: a tag with this EPC is registered already. ',
+          h('a', { href: `#/tags/${seg(epc)}` }, 'Open it'), ' to edit it instead.'], true);
       } else {
-        saveStatus.textContent = `Not saved: ${error.message}`;
+        say(`Not saved: ${error.message}`, true);
       }
     } finally {
       saveButton.disabled = false;
@@ -88,13 +104,14 @@ export async function mountEditor(container, { base, entry, onSaved, onCancel })
     const take = (next, message) => {
       baseTag = theirsTag;
       replace(conflictArea);
+      // Until the save, the status keeps saying what the caretaker should do next.
+      nextStep = message;
       form.setEntry(next);
-      saveStatus.textContent = message;
-      saveStatus.classList.remove('bad');
+      say(message);
       saveButton.focus();
     };
-    saveStatus.classList.add('bad');
-    saveStatus.textContent = 'Not saved: someone else saved first; see above.';
+    say('Not saved: someone else saved first; see above.', true);
+    conflictArea.scrollIntoView({ block: 'start' });
     replace(conflictArea, conflictPanel({
       base: started,
       baseRevision: baseTag.revision,
@@ -109,7 +126,7 @@ export async function mountEditor(container, { base, entry, onSaved, onCancel })
 
   const saveButton = h('button', { type: 'button', class: 'primary', on: { click: save } }, baseTag ? 'Save changes' : 'Register tag');
   const cancel = h('button', { type: 'button', class: 'secondary', on: { click: onCancel } }, 'Cancel');
-  replace(container, conflictArea, form.element, h('div', { class: 'save-bar' }, saveButton, cancel, status, saveStatus));
+  replace(container, conflictArea, form.element, h('div', { class: 'save-bar' }, saveButton, cancel, status));
   validate();
   return form;
 }

@@ -1,12 +1,15 @@
-// The form for a tag entry: properties, actions and behaviour parameters laid out from the
-// registry's schemas, plus a raw JSON view for experts. The entry object is the one state;
-// every control reads and writes it by JSON pointer, and errors from the registry are placed
-// at the control their pointer names (or the nearest section that holds it).
+// The form for a tag entry. A caretaker sees what they know: the name, the room (and, for a
+// new tag, its EPC). Everything else (the other properties, actions, behaviour parameters,
+// the raw JSON) is laid out from the registry's schemas in the advanced section. The entry
+// object is the one state; every control reads and writes it by JSON pointer, and errors
+// from the registry are placed at the control their pointer names (or the nearest section
+// that holds it), opening the advanced section when that is where they are.
 
+import { advancedSection } from './advanced.js';
 import { field, h, replace, uid } from './dom.js';
 import { fieldPath } from './format.js';
 import { getAt, join, parent, setAt } from './pointer.js';
-import { deref, kindOf, labelOf, propertiesOf, requiredOf } from './schema.js';
+import { appliesTo, choicesOf, deref, kindOf, labelOf, propertiesOf, requiredOf } from './schema.js';
 import { schemaField } from './schema-field.js';
 
 /** A key not yet in `object`: "name", "name_2", … */
@@ -23,6 +26,9 @@ function displayOrder(props, required) {
   const rank = (key) => (required.includes(key) ? -1 : KIND_ORDER.indexOf(kindOf(props[key])));
   return Object.keys(props).sort((a, b) => rank(a) - rank(b));
 }
+
+/** The properties a caretaker fills in; the rest of `properties` is for engineers. */
+const ESSENTIAL_PROPERTIES = ['name', 'location'];
 
 /** `object` with one key renamed, keeping the order of keys. */
 function renameKey(object, from, to) {
@@ -43,6 +49,8 @@ export class EntryForm {
     this.schemas = schemas;
     this.entry = entry;
     this.epcEditable = epcEditable;
+    // A new tag's EPC is asked for beside the name, unless it came from the inbox already.
+    this.epcAsked = epcEditable && !entry.epc;
     this.onChange = onChange;
     this.view = 'form';
     this.errors = [];
@@ -55,10 +63,12 @@ export class EntryForm {
       form: h('button', { type: 'button', class: 'tab', on: { click: () => this.show('form') } }, 'Form'),
       json: h('button', { type: 'button', class: 'tab', on: { click: () => this.show('json') } }, 'JSON'),
     };
-    this.element = h('div', { class: 'entry-form' },
+    this.jsonProblem = null;
+    this.essentials = h('div', { class: 'essentials' });
+    this.advanced = advancedSection(
       h('div', { class: 'tabs', role: 'group', 'aria-label': 'How to edit' }, this.tabs.form, this.tabs.json),
-      this.general,
       this.body);
+    this.element = h('div', { class: 'entry-form' }, this.general, this.essentials, this.advanced);
     this.render();
   }
 
@@ -72,13 +82,17 @@ export class EntryForm {
   /** Fills in the EPC (from the inbox). */
   setEpc(epc) {
     this.entry.epc = epc;
+    this.epcAsked = false;
     this.render();
     this.onChange();
   }
 
   show(view) {
     this.view = view;
+    // Leaving the JSON view drops text that did not parse; the form shows the last that did.
+    this.jsonProblem = null;
     this.render();
+    this.onChange();
   }
 
   changed(pointer, value) {
@@ -100,9 +114,16 @@ export class EntryForm {
     return [...this.touched].some((t) => at === t || at.startsWith(`${t}/`) || t.startsWith(`${at}/`));
   }
 
-  /** The errors held back until a save attempt, as field names. */
+  /** The errors held back until a save attempt, as the labels of their fields. */
   heldBack() {
-    return this.errors.filter((error) => !this.shown(error)).map((error) => fieldPath(error.pointer));
+    return this.errors.filter((error) => !this.shown(error)).map((error) => this.labelAt(error.pointer ?? ''));
+  }
+
+  /** The label a field shows, for naming it in the status line; its path when it has none. */
+  labelAt(pointer) {
+    const wrapper = this.slots.get(pointer)?.wrapper;
+    const label = wrapper?.querySelector(':scope > label, :scope > .label, :scope > legend')?.textContent;
+    return label ? label.charAt(0).toLowerCase() + label.slice(1) : fieldPath(pointer);
   }
 
   /** Changes the structure (keys added, removed or renamed): redraw, keeping the focus. */
@@ -118,8 +139,13 @@ export class EntryForm {
   render() {
     this.slots = new Map();
     for (const [name, tab] of Object.entries(this.tabs)) tab.setAttribute('aria-pressed', String(this.view === name));
-    if (this.view === 'json') replace(this.body, this.jsonView());
-    else replace(this.body, this.epcSection(), this.propertiesSection(), this.actionsSection(), this.behaviorsSection(), this.linksSection());
+    if (this.view === 'json') {
+      replace(this.essentials, h('p', { class: 'help' }, 'The JSON below holds every field, the name and room included.'));
+      replace(this.body, this.jsonView());
+    } else {
+      replace(this.essentials, this.essentialsSection());
+      replace(this.body, this.epcAsked ? null : this.epcSection(), this.propertiesSection(), this.actionsSection(), this.behaviorsSection(), this.linksSection());
+    }
     this.showErrors(this.errors);
   }
 
@@ -137,6 +163,17 @@ export class EntryForm {
     return wrapper;
   }
 
+  /** What a caretaker knows: the name and the room; for a new tag also its EPC. */
+  essentialsSection() {
+    const tag = this.schemas.tag;
+    const props = propertiesOf(tag, deref(tag, tag.properties.properties));
+    const room = propertiesOf(tag, props.location).room;
+    return h('div', { class: 'grid essential-fields' },
+      this.epcAsked ? this.epcSection() : null,
+      this.propertyField(tag, '/properties/name', 'name', props.name, true),
+      this.propertyField(tag, '/properties/location/room', 'room', room, false));
+  }
+
   epcSection() {
     const epcSchema = deref(this.schemas.tag, this.schemas.tag.properties.epc);
     const control = h('input', {
@@ -144,7 +181,7 @@ export class EntryForm {
       readOnly: !this.epcEditable, dataset: { focusKey: '/epc' },
     });
     control.addEventListener('input', () => this.changed('/epc', control.value.trim()));
-    const epcField = field({ label: 'EPC', control, help: epcSchema.description });
+    const epcField = field({ label: epcSchema.title ?? 'EPC', control, help: this.epcAsked ? 'Filled in when you pick a tag a robot has read; otherwise type the number printed on the tag.' : epcSchema.description });
     this.slot('/epc', epcField);
     return h('div', { class: 'epc-field' }, epcField.wrapper);
   }
@@ -154,8 +191,10 @@ export class EntryForm {
     const node = deref(tag, tag.properties.properties);
     const props = propertiesOf(tag, node);
     const required = requiredOf(tag, node);
-    const keys = displayOrder(props, required);
     const values = this.entry.properties ?? {};
+    // Only what applies to this kind of device, unless it is set anyway.
+    const keys = displayOrder(props, required).filter((key) => !ESSENTIAL_PROPERTIES.includes(key)
+      && (appliesTo(props[key], values.type) || values[key] !== undefined));
     const extra = Object.keys(values).filter((key) => !(key in props));
     return this.section('/properties', node.title ?? 'Properties', node.description,
       h('div', { class: 'grid' }, keys.map((key) => this.propertyField(tag, join('properties', key), key, props[key], required.includes(key)))),
@@ -252,7 +291,8 @@ export class EntryForm {
         for (const [action, target] of Object.entries(this.entry.actions ?? {})) if (target === key) this.entry.actions[action] = to;
       });
     });
-    const kind = h('select', { dataset: { focusKey: `${pointer}/behavior` } }, kindNames.map((name) => h('option', { value: name }, name)));
+    const titles = new Map(choicesOf(this.schemas.tag.$defs?.behavior_name ?? {}));
+    const kind = h('select', { dataset: { focusKey: `${pointer}/behavior` } }, kindNames.map((name) => h('option', { value: name }, titles.get(name) ?? name)));
     kind.value = spec?.behavior ?? '';
     kind.addEventListener('change', () => this.restructure(pointer, () => {
       // Keep only the parameters the new behaviour's schema has.
@@ -286,19 +326,25 @@ export class EntryForm {
   jsonView() {
     const id = uid('json');
     const text = h('textarea', { id, class: 'json', rows: 24, spellcheck: false, value: JSON.stringify(this.entry, null, 2), dataset: { focusKey: 'json' } });
-    const problem = h('p', { class: 'field-error', hidden: true, 'aria-live': 'polite' });
+    // The parse error sits above the box, where it stays in view while typing.
+    const problem = h('p', { class: 'field-error', id: `${id}-problem`, hidden: true });
+    text.setAttribute('aria-describedby', problem.id);
     text.addEventListener('input', () => {
       try {
         const parsed = JSON.parse(text.value);
         problem.hidden = true;
+        text.removeAttribute('aria-invalid');
+        this.jsonProblem = null;
         this.entry = parsed;
-        this.onChange();
       } catch (error) {
         problem.hidden = false;
-        problem.textContent = `Not JSON yet: ${error.message}`;
+        this.jsonProblem = `the JSON does not parse: ${error.message}`;
+        problem.textContent = `Not valid JSON yet: ${error.message}`;
+        text.setAttribute('aria-invalid', 'true');
       }
+      this.onChange();
     });
-    return h('div', { class: 'field' }, h('label', { for: id }, 'The entry as JSON'), text, problem);
+    return h('div', { class: 'field' }, h('label', { for: id }, 'The entry as JSON'), problem, text);
   }
 
   /** Places the registry's errors: at their field, else the nearest section, else on top. */
@@ -329,5 +375,21 @@ export class EntryForm {
     }
     this.general.hidden = unplaced.length === 0;
     replace(this.general, unplaced.map((error) => h('li', {}, `${fieldPath(error.pointer)}: ${error.message}`)));
+    const inside = [...byHandle.keys()].filter((handle) => this.advanced.contains(handle.wrapper)).length;
+    this.advanced.note(inside ? `${inside} ${inside === 1 ? 'field needs' : 'fields need'} attention` : '');
+  }
+
+  /** Brings the first error into view and puts the focus on it, opening what hides it. */
+  focusFirstError() {
+    const target = !this.general.hidden ? this.general
+      : this.element.querySelector('.field-error:not([hidden]), .has-error');
+    if (!target) return false;
+    if (this.advanced.contains(target)) this.advanced.reveal();
+    const holder = target.closest('.field, fieldset') ?? target;
+    const control = holder.querySelector('input:not([readonly]), select, textarea') ?? holder;
+    if (!control.hasAttribute('tabindex') && control === holder) control.setAttribute('tabindex', '-1');
+    control.focus({ preventScroll: true });
+    holder.scrollIntoView({ block: 'center' });
+    return true;
   }
 }

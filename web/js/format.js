@@ -44,3 +44,12 @@ export function fieldPath(pointer) {
   if (!pointer) return 'the entry';
   return pointer.split('/').slice(1).map((part) => part.replaceAll('~1', '/').replaceAll('~0', '~')).join(' › ');
 }
+
+/** How good a success rate is, as the badge class it is shown with: green from 90 % (the
+ * reliability rule's bar), amber from 60 %, red below. */
+export function grade(rate) {
+  if (typeof rate !== 'number') return '';
+  if (rate >= 0.9) return 'good';
+  if (rate >= 0.6) return 'warn';
+  return 'bad';
+}

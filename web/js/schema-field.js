@@ -2,7 +2,7 @@
 // the schema. The value goes into the entry as typed; the registry judges it.
 
 import { field, h } from './dom.js';
-import { helpOf, kindOf, labelOf, unitOf } from './schema.js';
+import { choicesOf, helpOf, kindOf, labelOf, unitOf } from './schema.js';
 
 const NOT_SET = '';
 const NUMBER = /^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$/;
@@ -35,13 +35,13 @@ export function schemaField({ key, prop, value, required, focusKey, onValue }) {
   let control;
   switch (kind) {
     case 'enum': {
-      const values = prop.enum.map((v) => [JSON.stringify(v), String(v)]);
+      const values = choicesOf(prop).map(([v, title]) => [JSON.stringify(v), title]);
       control = optionList(values, value === undefined ? NOT_SET : JSON.stringify(value), required);
       control.addEventListener('change', () => onValue(control.value === NOT_SET ? undefined : JSON.parse(control.value)));
       break;
     }
     case 'boolean': {
-      control = optionList([['true', 'yes'], ['false', 'no']], value === undefined ? NOT_SET : String(value), false);
+      control = optionList([['true', 'Yes'], ['false', 'No']], value === undefined ? NOT_SET : String(value), false);
       control.addEventListener('change', () => onValue(control.value === NOT_SET ? undefined : control.value === 'true'));
       break;
     }

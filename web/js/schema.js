@@ -7,16 +7,16 @@ import { get } from './api.js';
 let loaded = null;
 
 /**
- * The tag schema and one schema per robot behaviour: `{ tag, behaviors: {name: schema},
- * behaviorNames }`. The behaviour names come from the tag schema itself.
+ * The tag and trial schemas and one schema per robot behaviour: `{ tag, trial, behaviors:
+ * {name: schema}, behaviorNames }`. The behaviour names come from the tag schema itself.
  */
 export function loadSchemas() {
   loaded ??= (async () => {
-    const tag = await get('/api/v1/schema/tag');
-    const behaviorNames = tag.$defs?.behavior_name?.enum ?? [];
+    const [tag, trial] = await Promise.all([get('/api/v1/schema/tag'), get('/api/v1/schema/trial')]);
+    const behaviorNames = choicesOf(tag.$defs?.behavior_name ?? {}).map(([name]) => name);
     const docs = await Promise.all(behaviorNames.map((name) => get(`/api/v1/schema/${encodeURIComponent(name)}`)));
     const behaviors = Object.fromEntries(behaviorNames.map((name, i) => [name, docs[i]]));
-    return { tag, behaviors, behaviorNames };
+    return { tag, trial, behaviors, behaviorNames };
   })();
   loaded.catch(() => { loaded = null; });
   return loaded;
@@ -50,10 +50,33 @@ export function requiredOf(doc, node) {
   return [...(node?.required ?? []), ...(deref(doc, { $ref: node?.$ref }).required ?? [])];
 }
 
+/**
+ * The values a property allows, each with its title: `[[value, title]]`. The schemas give
+ * them as `oneOf` of `{const, title}`; a plain `enum` (no titles) reads as its values.
+ */
+export function choicesOf(prop) {
+  if (Array.isArray(prop.oneOf) && prop.oneOf.length && prop.oneOf.every((choice) => 'const' in choice)) {
+    return prop.oneOf.map((choice) => [choice.const, choice.title ?? String(choice.const)]);
+  }
+  return Array.isArray(prop.enum) ? prop.enum.map((value) => [value, String(value)]) : [];
+}
+
+/**
+ * The title the schema gives `value` of `prop`: from its choices, or from `x-titles` where
+ * values are open (device kinds, action names); else the value in words ("push_top" → "Push
+ * top").
+ */
+export function titleOf(prop, value) {
+  const known = choicesOf(prop ?? {}).find(([v]) => v === value)?.[1] ?? prop?.['x-titles']?.[value];
+  return known ?? sentence(String(value ?? '').replaceAll('_', ' '));
+}
+
+const sentence = (text) => text.charAt(0).toUpperCase() + text.slice(1);
+
 /** What kind of control a property needs. */
 export function kindOf(prop) {
   if ('const' in prop) return 'const';
-  if (Array.isArray(prop.enum)) return 'enum';
+  if (choicesOf(prop).length) return 'enum';
   if (prop.type === 'number' || prop.type === 'integer') return 'number';
   if (prop.type === 'boolean') return 'boolean';
   if (prop.type === 'string') return 'string';
@@ -83,12 +106,19 @@ export function helpOf(prop) {
   const parts = [prop.description];
   const bounds = boundsOf(prop);
   if (bounds) parts.push(`Allowed: ${bounds}.`);
-  if (prop.default !== undefined) parts.push(`Default: ${JSON.stringify(prop.default)}${prop['x-unit'] ? ` ${prop['x-unit']}` : ''}.`);
+  if (prop.default !== undefined) {
+    const value = choicesOf(prop).length ? titleOf(prop, prop.default) : JSON.stringify(prop.default);
+    parts.push(`Default: ${value}${prop['x-unit'] ? ` ${prop['x-unit']}` : ''}.`);
+  }
   return parts.filter(Boolean).join(' ');
 }
 
-/** A field's label from its key: "force_threshold" → "Force threshold". */
+/** A field's label: its title, else its key in words ("force_threshold" → "Force threshold"). */
 export function labelOf(key, prop = {}) {
-  const text = prop.title ?? key.replaceAll('_', ' ');
-  return text.charAt(0).toUpperCase() + text.slice(1);
+  return sentence(prop.title ?? key.replaceAll('_', ' '));
+}
+
+/** Whether a property applies to a kind of device (`x-kinds` lists those it is for). */
+export function appliesTo(prop, type) {
+  return !Array.isArray(prop['x-kinds']) || prop['x-kinds'].includes(type);
 }

@@ -29,9 +29,10 @@ macro_rules! web_files {
 
 const INDEX_HTML: &[u8] = include_bytes!("../../../web/index.html");
 
-const FILES: [(&str, &[u8]); 32] = web_files![
+const FILES: [(&str, &[u8]); 36] = web_files![
     "app.css",
     "icon.svg",
+    "js/advanced.js",
     "js/api.js",
     "js/app.js",
     "js/chart.js",
@@ -44,13 +45,16 @@ const FILES: [(&str, &[u8]); 32] = web_files![
     "js/events.js",
     "js/format.js",
     "js/learned.js",
+    "js/notice.js",
     "js/pages/account.js",
     "js/pages/admin.js",
     "js/pages/ask.js",
     "js/pages/login.js",
     "js/pages/register.js",
     "js/pages/robots.js",
+    "js/pages/tag-engineering.js",
     "js/pages/tag-history.js",
+    "js/pages/tag-rates.js",
     "js/pages/tag-robots.js",
     "js/pages/tag-trials.js",
     "js/pages/tag.js",

@@ -1,7 +1,11 @@
-// One tag, followed: what it is, how each action went (a chart), what was learned, what each
-// robot gets, every trial and every change. Trials appear as robots record them (live feed).
-// From here a caretaker edits, archives or restores the tag, or moves it to a new EPC.
+// One tag, followed. By default, what a caretaker knows: what it is, its name and room, what
+// can be asked of it, how well that goes and what happened lately. Behind the advanced
+// section, what robot engineers need: EPCs, behaviours and their parameters, per-robot
+// values, success per kind of robot, learned values, the history of changes, retagging.
+// Trials appear as robots record them (live feed). From here a caretaker edits, archives or
+// restores the tag.
 
+import { advancedSection } from '../advanced.js';
 import { entryOf, etagOf, get, getAll, query, request, seg } from '../api.js';
 import { successChart } from '../chart.js';
 import { confirmDialog } from '../dialog.js';
@@ -11,10 +15,25 @@ import { subscribe } from '../events.js';
 import { when } from '../format.js';
 import { learnedInWords } from '../learned.js';
 import { countedControl, countedInWords, noCountedTrials } from '../purpose.js';
+import { noticeLine } from '../notice.js';
+import { loadSchemas, titleOf } from '../schema.js';
 import { askControl } from './ask.js';
+import { engineeringView } from './tag-engineering.js';
 import { renderHistory } from './tag-history.js';
+import { successRates } from './tag-rates.js';
 import { renderRobotView } from './tag-robots.js';
 import { renderTrials } from './tag-trials.js';
+
+/** The titles the schemas give a tag's values: its kind, its actions, a trial's outcome. */
+function wordsFor(schemas, robots) {
+  const names = new Map(robots.map((robot) => [robot.id, robot.name || robot.id]));
+  return {
+    kind: (type) => titleOf(schemas.tag.$defs.properties.properties.type, type),
+    action: (action) => titleOf(schemas.tag.properties.actions, action),
+    outcome: (outcome) => titleOf(schemas.trial.properties.outcome, outcome),
+    robot: (id) => names.get(id) ?? id,
+  };
+}
 
 /** Runs a section's loader, showing its failure in the section rather than failing the page. */
 async function section(container, load) {
@@ -25,7 +44,7 @@ async function section(container, load) {
   }
 }
 
-function header(tag, { onArchive, onRestore, robots, stops }) {
+function header(tag, { onArchive, onRestore, robots, stops, words }) {
   const p = tag.properties ?? {};
   return h('div', { class: 'tag-head' },
     h('div', { class: 'page-head' },
@@ -37,19 +56,16 @@ function header(tag, { onArchive, onRestore, robots, stops }) {
         tag.archived ? null : h('button', { type: 'button', class: 'danger', on: { click: onArchive } }, 'Archive'))),
     tag.archived ? h('p', { class: 'banner' }, 'This tag is archived: robots no longer get it. Its trials are kept; restore it to use it again.') : null,
     h('dl', { class: 'facts' },
-      h('dt', {}, 'Type'), h('dd', {}, p.type ?? '—'),
-      h('dt', {}, 'Room'), h('dd', {}, p.location?.room ?? '—'),
-      h('dt', {}, 'EPC'), h('dd', {}, h('code', { class: 'epc' }, tag.epc), tag.epc_uri ? h('div', { class: 'uri' }, tag.epc_uri) : null),
-      h('dt', {}, 'Revision'), h('dd', {}, `${tag.revision}, saved by `, h('span', {}, tag.updated_by ?? '—'), ` · ${when(tag.updated_at)}`)),
-    h('h2', {}, 'What robots can do'),
-    h('ul', { class: 'action-list' }, Object.entries(tag.actions ?? {}).map(([action, key]) => {
-      const spec = tag.behaviors?.[key] ?? {};
-      return h('li', { dataset: { action } },
-        h('div', {}, h('strong', {}, action), ` → ${key} `, h('span', { class: 'muted' }, `(${spec.behavior ?? 'unknown behaviour'})`)),
-        tag.archived ? null : askControl(tag, action, robots, stops));
-    })));
+      h('dt', {}, 'What it is'), h('dd', { class: 'tag-kind' }, p.type ? words.kind(p.type) : '—'),
+      h('dt', {}, 'Room'), h('dd', { class: 'tag-room' }, p.location?.room ?? '—'),
+      h('dt', {}, 'Last changed'), h('dd', {}, 'by ', h('span', {}, tag.updated_by ?? '—'), `, ${when(tag.updated_at)}`)),
+    h('h2', {}, 'What you can ask for'),
+    h('ul', { class: 'action-list' }, Object.keys(tag.actions ?? {}).map((action) => h('li', { dataset: { action } },
+      h('strong', { class: 'action-title' }, words.action(action)),
+      tag.archived ? null : askControl(tag, action, robots, stops)))));
 }
 
+/** Success per action and kind of robot, and what was learned: for engineers. */
 function statsView(stats) {
   const groups = stats.groups ?? [];
   const counted = h('p', { class: 'counted' }, countedInWords(stats));
@@ -103,14 +119,19 @@ function retagForm(tag, inbox) {
 export async function render(main, [epc]) {
   let tag = (await request('GET', `/api/v1/tags/${seg(epc)}`)).data;
   document.title = `${tag.properties?.name || tag.epc} · PPS-tag registry`;
+  const schemas = await loadSchemas();
+  const saved = noticeLine();
   const notice = h('div', { 'aria-live': 'polite' });
   const head = h('div');
+  const ratesBox = h('div', { class: 'card' }, h('p', { class: 'muted' }, 'Loading…'));
+  const engineeringBox = h('div', { class: 'card' });
   const statsBox = h('div', { class: 'card' }, h('p', { class: 'muted' }, 'Loading…'));
   const trialsBox = h('div', { class: 'card', id: 'trials' }, h('p', { class: 'muted' }, 'Loading…'));
   const robotsBox = h('div', { class: 'card' }, h('p', { class: 'muted' }, 'Loading…'));
   const historyBox = h('div', { class: 'card' }, h('p', { class: 'muted' }, 'Loading…'));
   const retagBox = h('div');
   const robots = await getAll('/api/v1/robots?limit=500', { maxPages: 1 }).catch(() => []);
+  const words = wordsFor(schemas, robots);
   const stops = [];
   const countedScope = countedControl(() => refreshTrials());
 
@@ -140,26 +161,38 @@ export async function render(main, [epc]) {
       replace(notice, h('p', { class: 'status bad', role: 'alert' }, `Not restored: ${error.message}`));
     }
   };
-  const showHead = () => replace(head, header(tag, { onArchive: archive, onRestore: restore, robots, stops }));
+  const showHead = () => {
+    replace(head, header(tag, { onArchive: archive, onRestore: restore, robots, stops, words }));
+    replace(engineeringBox, engineeringView(tag, schemas));
+  };
   const refreshTag = async () => {
     tag = await get(`/api/v1/tags/${seg(tag.epc)}`);
     showHead();
     section(historyBox, () => renderHistory(historyBox, tag.epc));
   };
   const refreshTrials = () => {
-    section(trialsBox, () => renderTrials(trialsBox, tag.epc));
+    section(trialsBox, () => renderTrials(trialsBox, tag.epc, words));
     const include = query({ include: countedScope.include() });
-    section(statsBox, async () => replace(statsBox, statsView(await get(`/api/v1/tags/${seg(tag.epc)}/stats${include}`))));
+    section(statsBox, async () => {
+      const stats = await get(`/api/v1/tags/${seg(tag.epc)}/stats${include}`);
+      const groups = stats.groups ?? [];
+      replace(ratesBox, h('p', { class: 'counted' }, countedInWords(stats)),
+        groups.length > 0 ? successRates(groups, words.action) : h('p', { class: 'muted' }, noCountedTrials(stats)));
+      replace(statsBox, statsView(stats));
+    });
   };
 
   showHead();
-  replace(main, notice, head,
-    h('section', { 'aria-labelledby': 'success-h' }, h('h2', { id: 'success-h' }, 'Success per action'), countedScope.element, statsBox),
-    h('section', { 'aria-labelledby': 'trials-h' }, h('h2', { id: 'trials-h' }, 'Trials'), trialsBox),
-    h('section', { 'aria-labelledby': 'robots-h' }, h('h2', { id: 'robots-h' }, 'Per robot'),
-      h('p', { class: 'help' }, 'What a robot gets when it reads this tag: values learned from its class\'s trials and per-robot overrides, and where each comes from.'), robotsBox),
-    h('section', { 'aria-labelledby': 'history-h' }, h('h2', { id: 'history-h' }, 'History'), historyBox),
-    retagBox);
+  replace(main, saved, notice, head,
+    h('section', { 'aria-labelledby': 'rates-h' }, h('h2', { id: 'rates-h' }, 'How well it goes'), ratesBox, countedScope.element),
+    h('section', { 'aria-labelledby': 'trials-h' }, h('h2', { id: 'trials-h' }, 'What happened lately'), trialsBox),
+    advancedSection(
+      h('section', { 'aria-labelledby': 'engineering-h' }, h('h3', { id: 'engineering-h', class: 'visually-hidden' }, 'The entry'), engineeringBox),
+      h('section', { 'aria-labelledby': 'success-h' }, h('h3', { id: 'success-h' }, 'Success per action and kind of robot'), statsBox),
+      h('section', { 'aria-labelledby': 'robots-h' }, h('h3', { id: 'robots-h' }, 'Per robot'),
+        h('p', { class: 'help' }, 'What a robot gets when it reads this tag: values learned from its class\'s trials and per-robot overrides, and where each comes from.'), robotsBox),
+      h('section', { 'aria-labelledby': 'history-h' }, h('h3', { id: 'history-h' }, 'History of changes'), historyBox),
+      retagBox));
   refreshTrials();
   section(robotsBox, () => renderRobotView(robotsBox, tag.epc));
   section(historyBox, () => renderHistory(historyBox, tag.epc));
@@ -192,9 +225,9 @@ export async function renderEdit(main, [epc]) {
   document.title = `Edit ${tag.properties?.name || tag.epc} · PPS-tag registry`;
   const body = h('div');
   replace(main,
-    h('p', { class: 'crumbs' }, h('a', { href: `#/tags/${seg(tag.epc)}` }, `← ${tag.properties?.name || tag.epc}`)),
-    h('h1', {}, `Edit “${tag.properties?.name || tag.epc}”`),
-    h('p', { class: 'muted' }, `Editing revision ${tag.revision}. If someone else saves first, you will see what they changed before anything is overwritten.`),
+    h('p', { class: 'crumbs' }, h('a', { href: `#/tags/${seg(tag.epc)}` }, `← ${tag.properties?.name || 'the tag'}`)),
+    h('h1', {}, `Edit “${tag.properties?.name || 'this tag'}”`),
+    h('p', { class: 'muted' }, 'If someone else saves first, you will see what they changed before anything is overwritten.'),
     body);
   await mountEditor(body, {
     base: tag,

@@ -1,0 +1,51 @@
+// The "Advanced (for robot engineers)" section: what only robot engineers need (behaviour
+// parameters, overrides, colour settings, EPCs, the JSON) stays out of a caretaker's way. It
+// is closed until someone opens it, and each user's choice is remembered in this browser.
+
+import { h } from './dom.js';
+import * as session from './session.js';
+
+const TITLE = 'Advanced (for robot engineers)';
+
+const storageKey = () => `pps.advanced-open.${session.user()?.name ?? ''}`;
+
+function remembered() {
+  try {
+    return localStorage.getItem(storageKey()) === 'open';
+  } catch {
+    return false; // storage may be switched off; closed is the safe default
+  }
+}
+
+function remember(open) {
+  try {
+    localStorage.setItem(storageKey(), open ? 'open' : 'closed');
+  } catch {
+    // Not remembered, but the section still works.
+  }
+}
+
+/**
+ * A closed-by-default section holding `children`. Returns the `<details>` element with
+ * `reveal()`: opens it for the moment (to show an error inside) without changing what is
+ * remembered, and `note(text)`: a short remark shown beside the title (e.g. "2 problems").
+ */
+export function advancedSection(...children) {
+  const remark = h('span', { class: 'advanced-note' });
+  const details = h('details', { class: 'advanced', open: remembered() },
+    h('summary', {}, TITLE, remark), children);
+  let revealing = false;
+  details.addEventListener('toggle', () => {
+    if (revealing) revealing = false;
+    else remember(details.open);
+  });
+  details.reveal = () => {
+    if (details.open) return;
+    revealing = true;
+    details.open = true;
+  };
+  details.note = (text) => {
+    remark.textContent = text ? ` · ${text}` : '';
+  };
+  return details;
+}
