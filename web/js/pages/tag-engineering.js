@@ -20,8 +20,8 @@ function valueText(prop, value) {
 function parameterList(params, values) {
   const shown = Object.entries(values ?? {}).filter(([name]) => !['behavior', 'robots'].includes(name));
   if (shown.length === 0) return h('p', { class: 'muted' }, 'All parameters at their defaults.');
-  return h('dl', { class: 'facts' }, shown.map(([name, value]) => [
-    h('dt', {}, labelOf(name, params[name] ?? {}), ' ', h('code', { class: 'muted' }, name)),
+  return h('dl', { class: 'params' }, shown.map(([name, value]) => [
+    h('dt', {}, labelOf(name, params[name] ?? {}), h('code', { class: 'param-key' }, name)),
     h('dd', {}, valueText(params[name], value))]));
 }
 
