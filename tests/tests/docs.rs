@@ -98,6 +98,7 @@ fn lines_match(expected: &[String], actual: &[&str]) -> bool {
 
 /// Stops everything the documented commands left running (the server they started in the
 /// background), also when the test fails half-way.
+#[derive(Debug)]
 struct ProcessGroup(u32);
 
 impl Drop for ProcessGroup {
