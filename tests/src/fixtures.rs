@@ -50,3 +50,19 @@ pub async fn put_trial(registry: &Registry, token: &str, trial: &Value) -> (Stat
     let path = format!("/api/v1/trials/{}", trial["id"].as_str().expect("a trial id"));
     registry.call(Method::PUT, &path, token, Some(trial), &[]).await
 }
+
+/// Registers a new tag at `epc` named `name`, a copy of the tag at `from` (so it is a device
+/// no simulated room has).
+pub async fn copy_tag(registry: &Registry, from: &str, epc: &str, name: &str) {
+    let mut entry: Value = registry.get(&format!("/api/v1/tags/{from}")).await;
+    for key in ["epc_uri", "revision", "updated_at", "updated_by", "archived"] {
+        entry.as_object_mut().unwrap().remove(key);
+    }
+    entry["epc"] = epc.into();
+    entry["properties"]["name"] = name.into();
+    let path = format!("/api/v1/tags/{epc}");
+    let (status, body) = registry
+        .call(Method::PUT, &path, &registry.admin_token, Some(&entry), &[("if-none-match", "*")])
+        .await;
+    assert_eq!(status, StatusCode::CREATED, "PUT {path}: {body}");
+}

@@ -1,12 +1,16 @@
 //! Caretakers ask, robots do, in a real browser: a caretaker asks by keyboard alone for "off"
 //! on the rocker switch, a real `pps-robot work` process does it, and the tag's page shows the
-//! trial without a reload; the tasks and robots pages say what happened.
+//! trial without a reload; the tasks and robots pages say what happened. A task on a tag no
+//! robot's room has shows the robot's decline and why it waits on the Tasks page.
 
 use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
 
 use pps_tests::browser::PHONE;
 use pps_tests::fixtures::{self, ADA_SWITCH};
 use pps_tests::{Browser, Registry, workspace_bin};
+use reqwest::{Method, StatusCode};
+use serde_json::json;
 
 const PASSWORD: &str = "correct horse battery";
 const TAB: &str = "\u{E004}";
@@ -16,6 +20,24 @@ const ENTER: &str = "\u{E007}";
 struct Robot {
     child: Child,
     _state: tempfile::TempDir,
+}
+
+impl Robot {
+    /// Starts `pps-robot work` as `robot`.
+    fn work(registry: &Registry, robot: &str, token: &str) -> Self {
+        let state = tempfile::tempdir().unwrap();
+        let child = Command::new(workspace_bin("pps-robot"))
+            .args(["work", "--server", &registry.url, "--robot", robot, "--idle-exit", "120"])
+            .arg("--state")
+            .arg(state.path())
+            .env("PPS_TOKEN", token)
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("pps-robot work starts");
+        Self { child, _state: state }
+    }
 }
 
 impl Drop for Robot {
@@ -30,18 +52,7 @@ async fn a_caretaker_asks_by_keyboard_and_sees_the_robots_trial_arrive() {
     let registry = Registry::start();
     registry.add_user("anna", "caretaker", PASSWORD);
     let token = fixtures::robot(&registry, "el-e-1", "el-e").await;
-    let state = tempfile::tempdir().unwrap();
-    let child = Command::new(workspace_bin("pps-robot"))
-        .args(["work", "--server", &registry.url, "--robot", "el-e-1", "--idle-exit", "120"])
-        .arg("--state")
-        .arg(state.path())
-        .env("PPS_TOKEN", &token)
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("pps-robot work starts");
-    let _robot = Robot { child, _state: state };
+    let _robot = Robot::work(&registry, "el-e-1", &token);
 
     let browser = Browser::start().await;
     let page = browser.session(&registry.url, PHONE).await;
@@ -88,6 +99,43 @@ async fn a_caretaker_asks_by_keyboard_and_sees_the_robots_trial_arrive() {
         .await;
     assert!(page.fits_width().await, "the tasks page fits a phone");
     page.click("a[data-nav=robots]").await;
-    page.wait_for_text("table.robots", "nothing asked").await;
+    page.wait_for_text("#waiting", "Nothing is waiting for a robot").await;
+    let row = page.wait_for("table.robots tr[data-robot='el-e-1'][data-online=yes]").await;
+    assert!(row.text().await.unwrap().contains("free: nothing it can do is waiting"));
+    page.close().await;
+}
+
+#[tokio::test]
+async fn a_caretaker_sees_a_robots_decline_and_why_the_task_waits() {
+    let registry = Registry::start();
+    registry.add_user("anna", "caretaker", PASSWORD);
+    let bedside = "E2003412000000000000BED1";
+    fixtures::copy_tag(&registry, "355AB1C60000003000000001", bedside, "Bedside lamp").await;
+    let token = fixtures::robot(&registry, "stretch-1", "stretch").await;
+    let _robot = Robot::work(&registry, "stretch-1", &token);
+
+    let browser = Browser::start().await;
+    let page = browser.session(&registry.url, PHONE).await;
+    page.log_in("anna", PASSWORD).await;
+    page.open("/#/tasks").await;
+    page.wait_for_text("main", "Nobody asked for anything yet").await;
+    let body = json!({ "epc": bedside, "action": "off" });
+    let (status, task) =
+        registry.call(Method::POST, "/api/v1/tasks", &registry.admin_token, Some(&body), &[]).await;
+    assert_eq!(status, StatusCode::CREATED, "{task}");
+    let asked_at = Instant::now();
+
+    let row = format!("table.tasks tr[data-task='{}']", task["id"].as_str().unwrap());
+    let decline =
+        page.wait_for_text(&format!("{row} .declines li"), "no device in its simulated room").await;
+    assert_eq!(
+        decline.text().await.unwrap().split(" (").next().unwrap(),
+        "stretch-1 declined: no device in its simulated room has this tag"
+    );
+    let stuck = page.wait_for(&format!("{row} .stuck")).await.text().await.unwrap();
+    assert!(stuck.contains("no other robot can do it"), "{stuck}");
+    assert!(asked_at.elapsed() < Duration::from_secs(10), "seen in {:?}", asked_at.elapsed());
+    assert!(page.fits_width().await, "the tasks page fits a phone");
+    assert_eq!(page.accessibility_problems().await, Vec::<String>::new());
     page.close().await;
 }

@@ -1,6 +1,7 @@
 //! Two real `pps-robot work` processes of different classes working one queue of tasks on the
 //! real `pps-server`: one robot is killed holding a task, its lease runs out and the other
-//! robot does it; both share the rest; `--max-tasks`, `--idle-exit` and SIGTERM end them.
+//! robot does it; both share the rest; `--max-tasks`, `--idle-exit` and SIGTERM end them. A
+//! task on a tag no device of the simulated room has is declined at once, with the reason.
 
 use std::io::{BufRead, BufReader};
 use std::process::{Child, Command, Stdio};
@@ -180,4 +181,46 @@ async fn an_idle_robot_ends_by_itself() {
     assert!(idle.exited("--idle-exit to end the robot").await.success());
     assert!(started.elapsed() >= Duration::from_millis(500));
     assert!(idle.said().is_empty());
+}
+
+#[tokio::test]
+async fn a_robot_declines_a_tag_not_in_its_room_at_once_and_the_task_says_why() {
+    let registry = Registry::start();
+    let token = fixtures::robot(&registry, "stretch-1", "stretch").await;
+    let bedside = "E2003412000000000000BED1";
+    fixtures::copy_tag(&registry, LAMP, bedside, "Bedside lamp").await;
+    let mut worker = Worker::start(&registry, "stretch-1", &token, &["--idle-exit", "60"]);
+    robots_waiting(&registry, 1).await;
+
+    let asked_at = Instant::now();
+    let elsewhere = ask(&registry, bedside, "off").await;
+    let registry = &registry;
+    let declined = wait::until("the robot to decline", || async {
+        let task = task(registry, &elsewhere).await;
+        (!task["declined"].as_array().unwrap().is_empty()).then_some(task)
+    })
+    .await;
+    let took = asked_at.elapsed();
+    let reason = "no device in its simulated room has this tag";
+    assert_eq!(declined["declined"][0]["robot"], "stretch-1");
+    assert_eq!(declined["declined"][0]["reason"], reason);
+    assert_eq!(declined["state"], "queued", "a robot that can may still take it");
+    assert_eq!(
+        declined["stuck"],
+        format!("stretch-1 declined: {reason}; no other robot can do it").as_str()
+    );
+    assert!(took < Duration::from_secs(5), "declined in {took:?}, not after a lease");
+    let said = worker.said();
+    assert!(
+        said.iter().any(|line| line.contains(&elsewhere) && line.ends_with(reason)),
+        "{said:?}"
+    );
+
+    // It goes on working: a task in its room is done.
+    let here = ask(registry, LAMP, "off").await;
+    let done = task_in(registry, &here, "done").await;
+    assert_eq!(done["claimed_by"], "stretch-1");
+    assert_eq!(task(registry, &elsewhere).await["state"], "queued", "never offered to it again");
+    worker.signal("TERM");
+    assert!(worker.exited("the robot to stop").await.success());
 }
