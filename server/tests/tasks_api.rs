@@ -755,3 +755,26 @@ async fn a_task_no_online_robot_can_take_says_so_until_one_comes_online() {
     assert_eq!(cancelled["stuck"], Value::Null, "only a queued task waits");
     assert_eq!(nobody["waiting_for"], json!(["el-e-1"]), "{nobody}");
 }
+
+#[tokio::test]
+async fn a_robot_that_declined_and_waits_in_line_does_not_hold_the_task_up() {
+    let server = TestServer::start().await;
+    let stretch = robot(&server, "stretch-1", "stretch").await;
+    let el_e = robot(&server, "el-e-1", "el-e").await;
+    let task = asked(&server, json!({ "epc": LAMP, "action": "on" })).await;
+    claimed(&server, &stretch, "stretch-1").await;
+    assert_eq!(declined(&server, &stretch, &task, NOT_IN_ITS_ROOM).await.status(), StatusCode::OK);
+
+    // stretch-1 asked first, so it ranks first in line; having declined, it must not count.
+    let waiting = {
+        let (url, token) = (server.url.clone(), stretch.clone());
+        tokio::spawn(async move {
+            let path = format!("{url}/api/v1/robots/stretch-1/tasks/claim?wait=30");
+            reqwest::Client::new().post(path).bearer_auth(token).send().await.unwrap().status()
+        })
+    };
+    robots_waiting(&server, 1).await;
+    let got = claimed(&server, &el_e, "el-e-1").await;
+    assert_eq!(got["id"], task["id"]);
+    waiting.abort();
+}
