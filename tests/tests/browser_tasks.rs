@@ -139,3 +139,32 @@ async fn a_caretaker_sees_a_robots_decline_and_why_the_task_waits() {
     assert_eq!(page.accessibility_problems().await, Vec::<String>::new());
     page.close().await;
 }
+
+#[tokio::test]
+async fn an_admin_adds_a_robot_and_sees_its_token_once() {
+    let registry = Registry::start();
+    registry.add_user("root", "admin", PASSWORD);
+    let browser = Browser::start().await;
+    let page = browser.session(&registry.url, PHONE).await;
+    page.log_in("root", PASSWORD).await;
+    page.open("/#/admin").await;
+    page.fill("input[name=robot-id]", "stretch-2").await;
+    page.fill("input[name=robot-class]", "stretch").await;
+    page.click("input[name=capability][value=drop]").await;
+    page.click_text("form.add-robot button", "Add robot").await;
+    page.wait_for_text("main .status", "Added stretch-2").await;
+    let token = page.eval("return document.querySelector('#robot-token input').value").await;
+    let token = token.as_str().unwrap();
+
+    let robot = registry.get("/api/v1/robots/stretch-2").await;
+    assert_eq!(robot["class"], "stretch");
+    assert_eq!(robot["capabilities"], json!(["light_switch", "push", "pull_back", "pull_lamp"]));
+    let claim = registry
+        .request(Method::POST, "/api/v1/robots/stretch-2/tasks/claim", token)
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(claim.status(), StatusCode::NO_CONTENT, "the token shown works as stretch-2");
+    assert!(page.fits_width().await, "the admin page fits a phone");
+    page.close().await;
+}
