@@ -7,7 +7,7 @@ pub const READ_ONLY_TAG_FIELDS: &[&str] =
     &["epc_uri", "revision", "updated_at", "updated_by", "archived"];
 
 /// Top-level fields the registry adds to a trial.
-pub const READ_ONLY_TRIAL_FIELDS: &[&str] = &["received_at", "seq"];
+pub const READ_ONLY_TRIAL_FIELDS: &[&str] = &["received_at", "seq", "picture"];
 
 /// Top-level fields the registry adds to a robot.
 pub const READ_ONLY_ROBOT_FIELDS: &[&str] = &["last_seen"];

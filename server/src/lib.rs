@@ -20,6 +20,7 @@ pub mod feed;
 pub mod http;
 pub mod learning;
 pub mod metrics;
+pub mod picture;
 pub mod presence;
 pub mod private_file;
 pub mod retention;
@@ -66,6 +67,7 @@ pub async fn serve_with(
     shutdown: impl Future<Output = ()> + Send + 'static,
 ) -> std::io::Result<()> {
     background::start(&state).await.map_err(std::io::Error::other)?;
+    retention::start_daily_pictures(state.db.clone(), state.pictures_per_tag);
     if let Some(age) = options.thin_forces_after {
         retention::start_daily(state.db.clone(), age);
     }

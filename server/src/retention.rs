@@ -1,4 +1,7 @@
-//! Keeping every trial for good while its raw force samples age out.
+//! Keeping every trial for good while its raw force samples and its pictures age out.
+//!
+//! Pictures: each tag keeps the newest N (by the trials' arrival order); an older picture's
+//! bytes are removed, its trial and its digest stay (see [`keep_newest_pictures`]).
 //!
 //! A trial may carry thousands of finger force-torque samples; after some days only their
 //! summary is worth the space. Thinning replaces the stored `forces` array with `[]` and puts
@@ -16,7 +19,7 @@ use sha2::{Digest, Sha256};
 
 use crate::clock;
 use crate::db::Db;
-use crate::store::trials;
+use crate::store::{pictures, trials};
 
 /// The key in `measurements` that marks a thinned trial and holds its summary.
 pub const THINNED_KEY: &str = "forces_thinned";
@@ -170,6 +173,33 @@ pub async fn thin_forces(db: &Db, age: Age) -> anyhow::Result<ThinReport> {
         tx.commit().await?;
     }
     Ok(report)
+}
+
+/// Removes the bytes of every tag's pictures beyond its newest `keep`; returns how many. New
+/// pictures apply the rule as they arrive, so this pass matters when `keep` was lowered.
+pub async fn keep_newest_pictures(db: &Db, keep: u32) -> anyhow::Result<u64> {
+    let mut removed = 0;
+    for epc in pictures::tags_over(db.reader(), keep).await? {
+        let mut tx = db.begin_write().await?;
+        removed += pictures::keep_newest(&mut tx, &epc, keep, &clock::now()).await?;
+        tx.commit().await?;
+    }
+    Ok(removed)
+}
+
+/// Applies the picture rule once now and then once a day, for as long as the runtime runs.
+pub fn start_daily_pictures(db: Db, keep: u32) {
+    tokio::spawn(async move {
+        let mut daily = tokio::time::interval(EVERY);
+        loop {
+            daily.tick().await;
+            match keep_newest_pictures(&db, keep).await {
+                Ok(0) => {}
+                Ok(removed) => tracing::info!(removed, keep, "removed tags' older pictures"),
+                Err(error) => tracing::warn!(%error, "could not remove tags' older pictures"),
+            }
+        }
+    });
 }
 
 /// Thins once now and then once a day, for as long as the runtime runs.

@@ -35,6 +35,8 @@ pub struct Shared {
     /// Robots waiting for a task, and the lease a claim gives.
     pub tasks: Arc<TaskBoard>,
     pub metrics: Arc<Metrics>,
+    /// Pictures kept per tag: a new one removes the bytes of the oldest beyond this.
+    pub pictures_per_tag: u32,
 }
 
 impl std::ops::Deref for AppState {
@@ -62,6 +64,7 @@ impl AppState {
             trials,
             tasks: Arc::default(),
             metrics: Arc::default(),
+            pictures_per_tag: crate::picture::DEFAULT_PICTURES_PER_TAG,
         }))
     }
 
@@ -70,6 +73,15 @@ impl AppState {
     pub fn with_task_lease(mut self, lease: std::time::Duration) -> Self {
         let shared = Arc::get_mut(&mut self.0).expect("the task lease is set before serving");
         shared.tasks = Arc::new(TaskBoard::new(lease));
+        self
+    }
+
+    /// The state keeping the newest `pictures` pictures of each tag. Set before the state is
+    /// shared.
+    pub fn with_pictures_per_tag(mut self, pictures: u32) -> Self {
+        let shared =
+            Arc::get_mut(&mut self.0).expect("the picture retention is set before serving");
+        shared.pictures_per_tag = pictures;
         self
     }
 }

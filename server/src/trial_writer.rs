@@ -260,6 +260,7 @@ async fn sort_out<'a>(
             purpose: trial.purpose.as_str().to_owned(),
             received_at: received_at.to_owned(),
             body,
+            has_picture: false,
         })));
     }
     Ok(sorted)

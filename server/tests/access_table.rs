@@ -106,6 +106,9 @@ fn rule(route: &RouteSpec) -> Rule {
         ("GET", "/api/v1/robots/{robot}/tags/{epc}") => ThatRobotAndEditors,
         ("GET" | "PATCH", "/api/v1/trials/{id}") | ("GET", "/api/v1/trials") => ThatRobotAndEditors,
         ("PUT", "/api/v1/trials/{id}") => ThatRobot,
+        // DESIGN §10: readable by whoever may read the trial; sent by the robot that made it.
+        ("GET", "/api/v1/trials/{id}/picture") => ThatRobotAndEditors,
+        ("PUT", "/api/v1/trials/{id}/picture") => ThatRobot,
         ("POST", "/api/v1/tasks" | "/api/v1/tasks/{id}/cancel") => Editors,
         // "caretaker, admin; a robot: those it may claim or holds".
         ("GET", "/api/v1/tasks" | "/api/v1/tasks/{id}") => ThatRobotAndEditors,
@@ -148,6 +151,8 @@ const LAMP: &str = "355AB1C60000003000000001";
 struct Probe {
     path: String,
     body: Option<Value>,
+    /// A picture's bytes, sent as PNG, instead of a JSON body.
+    picture: Option<Vec<u8>>,
     if_match: bool,
 }
 
@@ -217,7 +222,9 @@ fn probe(route: &RouteSpec, fixture: &Fixture) -> Probe {
     };
     assert!(!path.contains('{'), "{} {}: give the probe real ids", route.method, route.path);
     let tag_write = route.path == "/api/v1/tags/{epc}" && route.method != Method::GET;
-    Probe { path, body, if_match: tag_write }
+    let picture = (route.method == Method::PUT && route.path.ends_with("/picture"))
+        .then(|| b"\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR\0\0\0\x10\0\0\0\x10\x08\x02\0\0\0".to_vec());
+    Probe { path, body, picture, if_match: tag_write }
 }
 
 /// A browser session: the cookie and the anti-forgery token its login returned.
@@ -357,6 +364,9 @@ async fn every_route_answers_every_caller_as_design_says() {
                 .request(route.method.clone(), format!("{}{}", server.url, probe.path));
             if let Some(body) = &probe.body {
                 request = request.json(body);
+            }
+            if let Some(picture) = &probe.picture {
+                request = request.header("content-type", "image/png").body(picture.clone());
             }
             if probe.if_match {
                 request = request.header("if-match", "*");

@@ -118,6 +118,12 @@ struct ServeArgs {
           default_value_t = crate::task_board::DEFAULT_LEASE.as_secs_f64(),
           value_parser = serve::parse_lease)]
     task_lease: f64,
+    /// Trial pictures kept per tag; a new picture removes the oldest beyond this (the trials
+    /// stay).
+    #[arg(long, env = "PPS_PICTURES_PER_TAG", value_name = "N",
+          default_value_t = crate::picture::DEFAULT_PICTURES_PER_TAG,
+          value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    pictures_per_tag: u32,
 }
 
 #[derive(Debug, Args)]

@@ -62,7 +62,8 @@ pub(super) async fn serve(location: &Location, args: ServeArgs) -> anyhow::Resul
         thin_forces_after: args.thin_forces_after.map(|days| Age { days }),
     };
     let state = AppState::new(db.clone())
-        .with_task_lease(std::time::Duration::from_secs_f64(args.task_lease));
+        .with_task_lease(std::time::Duration::from_secs_f64(args.task_lease))
+        .with_pictures_per_tag(args.pictures_per_tag);
     let served = crate::serve_with(listener, state, options, shutdown_signal()).await;
     db.close().await;
     served?;

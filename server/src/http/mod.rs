@@ -12,6 +12,7 @@ mod inbox;
 mod meta;
 pub mod openapi;
 pub mod page;
+pub mod pictures;
 pub mod precondition;
 mod retag;
 mod robots;
@@ -113,6 +114,8 @@ pub fn router_with_routes(state: AppState) -> (Router, Vec<RouteSpec>) {
         .add(get(), "/api/v1/trials/{id}", RobotOrEditors, trials::get, trials::GET)
         .add(Method::PATCH, "/api/v1/trials/{id}", RobotOrEditors, trials::patch, trials::PATCH)
         .add(get(), "/api/v1/trials", RobotOrEditors, trials::list, trials::LIST)
+        .add(Method::PUT, "/api/v1/trials/{id}/picture", Robot, pictures::put, pictures::PUT)
+        .add(get(), "/api/v1/trials/{id}/picture", RobotOrEditors, pictures::get, pictures::GET)
         .add(get(), "/api/v1/events", Anyone, events::stream, events::STREAM)
         .add(Method::POST, "/api/v1/tasks", Editors, tasks::create, tasks::CREATE)
         .add(get(), "/api/v1/tasks", RobotOrEditors, tasks::list, tasks::LIST)

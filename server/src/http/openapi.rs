@@ -205,6 +205,14 @@ fn param_schema(value: ParamType) -> Value {
 }
 
 fn request_body(body: &Body) -> Value {
+    if !body.binary.is_empty() {
+        let content: Map<String, Value> = body
+            .binary
+            .iter()
+            .map(|media_type| ((*media_type).to_owned(), json!({ "schema": binary_schema() })))
+            .collect();
+        return json!({ "required": true, "description": body.description, "content": content });
+    }
     let mut media = json!({ "schema": { "$ref": format!("{SCHEMAS}{}", body.schema) } });
     if let Some(example) = body.example.and_then(|text| serde_json::from_str::<Value>(text).ok()) {
         media["example"] = example;
@@ -214,6 +222,11 @@ fn request_body(body: &Body) -> Value {
         .map(|media_type| (media_type.to_owned(), media.clone()))
         .collect();
     json!({ "required": true, "description": body.description, "content": content })
+}
+
+/// Bytes of any kind, as OpenAPI 3.1 describes a file.
+fn binary_schema() -> Value {
+    json!({ "type": "string", "format": "binary" })
 }
 
 /// The route's own replies, then the ones every route of its kind gives.
@@ -264,6 +277,14 @@ fn response(reply: &Reply, schemas: &mut Map<String, Value>) -> Value {
                     `event` (the kind of change) and `data` (JSON naming the thing changed)"
             }),
         )),
+        Content::Bytes(media_types) => {
+            let content: Map<String, Value> = media_types
+                .iter()
+                .map(|media_type| ((*media_type).to_owned(), json!({ "schema": binary_schema() })))
+                .collect();
+            response["content"] = Value::Object(content);
+            None
+        }
         Content::Empty => None,
     };
     if let Some((media_type, schema)) = content {

@@ -137,7 +137,7 @@ pub async fn get(
 }
 
 /// A trial the caller may see: a robot sees only its own.
-async fn find_visible(
+pub(super) async fn find_visible(
     state: &AppState,
     caller: &Principal,
     id: &Uuid,

@@ -4,6 +4,7 @@ pub mod columns;
 pub mod events;
 pub mod inbox;
 pub mod learning;
+pub mod pictures;
 pub mod placeholders;
 pub mod retired;
 pub mod robots;

@@ -8,7 +8,7 @@ use uuid::Uuid;
 use crate::clock;
 use crate::counted_purposes::CountedPurposes;
 use crate::db::Dialect;
-use crate::store::columns::{Id, MaybeFlag};
+use crate::store::columns::{Flag, Id, MaybeFlag};
 use crate::store::placeholders;
 use crate::trial_filter::TrialFilter;
 
@@ -180,6 +180,9 @@ pub struct TrialRow {
     pub purpose: String,
     pub received_at: String,
     pub body: String,
+    /// Whether the trial's picture is held (sent, and not removed by retention).
+    #[sqlx(try_from = "Flag")]
+    pub has_picture: bool,
 }
 
 impl TrialRow {
@@ -193,6 +196,8 @@ impl TrialRow {
             object.insert("purpose".into(), self.purpose.clone().into());
             object.insert("received_at".into(), self.received_at.clone().into());
             object.insert("seq".into(), self.seq.into());
+            let picture = self.has_picture.then(|| picture_path(&self.id));
+            object.insert("picture".into(), picture.map_or(Value::Null, Value::from));
         }
         trial
     }
@@ -201,6 +206,11 @@ impl TrialRow {
     pub fn submitted(&self) -> Value {
         serde_json::from_str(&self.body).unwrap_or(Value::Null)
     }
+}
+
+/// Where a trial's picture is read.
+pub fn picture_path(id: &Uuid) -> String {
+    format!("/api/v1/trials/{id}/picture")
 }
 
 /// A checked trial as the batch that records it inserts it.
@@ -261,7 +271,10 @@ pub async fn insert_new(
 pub async fn find(conn: &mut AnyConnection, id: &Uuid) -> sqlx::Result<Option<TrialRow>> {
     sqlx::query_as(
         "select seq, id, epc, robot, robot_class, action, outcome, confirmed, purpose,
-                received_at, body
+                received_at, body,
+                case when exists (select 1 from trial_pictures p
+                                  where p.trial = trials.id and p.bytes is not null)
+                     then cast(1 as bigint) else cast(0 as bigint) end as has_picture
          from trials where id = $1",
     )
     .bind(id.hyphenated().to_string())
@@ -299,7 +312,10 @@ pub async fn list(
     use futures_util::TryStreamExt;
     let mut rows = sqlx::query_as::<_, TrialRow>(Dialect::of_pool(pool).pick(
         "select seq, id, epc, robot, robot_class, action, outcome, confirmed, purpose, received_at,
-                case when $8 then body else json_remove(body, '$.forces') end as body
+                case when $8 then body else json_remove(body, '$.forces') end as body,
+                case when exists (select 1 from trial_pictures p
+                                  where p.trial = trials.id and p.bytes is not null)
+                     then cast(1 as bigint) else cast(0 as bigint) end as has_picture
          from trials
          where seq > $1
            and ($2 is null or epc = $2)
@@ -311,7 +327,10 @@ pub async fn list(
          order by seq
          limit $7",
         "select seq, id, epc, robot, robot_class, action, outcome, confirmed, purpose, received_at,
-                case when $8 then body else (body::jsonb - 'forces')::text end as body
+                case when $8 then body else (body::jsonb - 'forces')::text end as body,
+                case when exists (select 1 from trial_pictures p
+                                  where p.trial = trials.id and p.bytes is not null)
+                     then cast(1 as bigint) else cast(0 as bigint) end as has_picture
          from trials
          where seq > $1
            and ($2::text is null or epc = $2)

@@ -31,6 +31,8 @@ pub struct TestServer {
     pub admin: String,
     /// How long a claim on a task lasts.
     pub lease: std::time::Duration,
+    /// Pictures the registry keeps per tag.
+    pub pictures_per_tag: u32,
     pub client: reqwest::Client,
     _dir: TempDir,
 }
@@ -48,25 +50,41 @@ impl TestServer {
             Store::Sqlite => Location::File(dir.path().join("pps.db")),
             Store::Postgres => postgres::fresh_database().await,
         };
-        Self::start_on(dir, location, lease).await
+        Self::start_on(dir, location, lease, pps_server::picture::DEFAULT_PICTURES_PER_TAG).await
+    }
+
+    /// [`Self::start`] keeping only the newest `pictures` pictures of each tag.
+    pub async fn start_keeping_pictures(pictures: u32) -> Self {
+        let dir = tempfile::tempdir().unwrap();
+        let location = match store_under_test() {
+            Store::Sqlite => Location::File(dir.path().join("pps.db")),
+            Store::Postgres => postgres::fresh_database().await,
+        };
+        Self::start_on(dir, location, pps_server::task_board::DEFAULT_LEASE, pictures).await
     }
 
     /// A seeded registry on a SQLite file, whichever store the suite runs on.
     pub async fn start_sqlite() -> Self {
         let dir = tempfile::tempdir().unwrap();
         let location = Location::File(dir.path().join("pps.db"));
-        Self::start_on(dir, location, pps_server::task_board::DEFAULT_LEASE).await
+        let pictures = pps_server::picture::DEFAULT_PICTURES_PER_TAG;
+        Self::start_on(dir, location, pps_server::task_board::DEFAULT_LEASE, pictures).await
     }
 
-    async fn start_on(dir: TempDir, location: Location, lease: std::time::Duration) -> Self {
+    async fn start_on(
+        dir: TempDir,
+        location: Location,
+        lease: std::time::Duration,
+        pictures_per_tag: u32,
+    ) -> Self {
         let db_path = dir.path().join("pps.db");
         let db = Db::open(&location).await.unwrap();
         pps_server::seed::seed_if_empty(&db).await.unwrap();
         let admin = tokens::create(&db, Role::Admin, "test admin", None).await.unwrap().token;
-        let (url, shutdown) = Self::serve(db.clone(), lease).await;
+        let (url, shutdown) = Self::serve(db.clone(), lease, pictures_per_tag).await;
         std::mem::forget(shutdown);
         let client = reqwest::Client::new();
-        Self { url, db, location, db_path, admin, lease, client, _dir: dir }
+        Self { url, db, location, db_path, admin, lease, pictures_per_tag, client, _dir: dir }
     }
 
     /// The database as the command line's `--db` takes it.
@@ -78,6 +96,7 @@ impl TestServer {
     async fn serve(
         db: Db,
         lease: std::time::Duration,
+        pictures_per_tag: u32,
     ) -> (String, tokio::sync::oneshot::Sender<()>) {
         if std::env::var_os("TEST_LOG").is_some() {
             pps_server::telemetry::init();
@@ -85,7 +104,8 @@ impl TestServer {
         let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
         let url = format!("http://{}", listener.local_addr().unwrap());
         let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
-        let state = AppState::new(db).with_task_lease(lease);
+        let state =
+            AppState::new(db).with_task_lease(lease).with_pictures_per_tag(pictures_per_tag);
         tokio::spawn(pps_server::serve(listener, state, async move {
             let _ = stopped.await;
         }));
@@ -95,7 +115,7 @@ impl TestServer {
     /// A second server on the same database file, as after a restart; stops when dropped.
     pub async fn restarted(&self) -> (String, tokio::sync::oneshot::Sender<()>) {
         let db = Db::open(&self.location).await.unwrap();
-        Self::serve(db, self.lease).await
+        Self::serve(db, self.lease, self.pictures_per_tag).await
     }
 
     /// Mints a token as the CLI would, straight into the database.

@@ -169,11 +169,18 @@ pub struct Body {
     pub also: &'static [&'static str],
     /// A JSON text that the route accepts.
     pub example: Option<&'static str>,
+    /// Bytes of these media types instead of JSON (`schema` and `also` are then unused).
+    pub binary: &'static [&'static str],
 }
 
 impl Body {
     pub const fn json(schema: &'static str, description: &'static str) -> Self {
-        Self { schema, description, also: &[], example: None }
+        Self { schema, description, also: &[], example: None, binary: &[] }
+    }
+
+    /// A body of raw bytes in one of `media_types`, such as an image.
+    pub const fn bytes(media_types: &'static [&'static str], description: &'static str) -> Self {
+        Self { schema: "", description, also: &[], example: None, binary: media_types }
     }
 
     pub const fn also(mut self, media_types: &'static [&'static str]) -> Self {
@@ -200,6 +207,8 @@ pub enum Content {
     Text,
     /// `text/event-stream`.
     EventStream,
+    /// Raw bytes in one of these media types, such as an image.
+    Bytes(&'static [&'static str]),
     Empty,
 }
 
@@ -211,6 +220,8 @@ pub enum Header {
     SetCookie,
     RetryAfter,
     CacheControl,
+    /// How long a private cache may keep an answer that never changes once stored.
+    CacheControlPrivate,
 }
 
 impl Header {
@@ -220,7 +231,7 @@ impl Header {
             Self::Location => "Location",
             Self::SetCookie => "Set-Cookie",
             Self::RetryAfter => "Retry-After",
-            Self::CacheControl => "Cache-Control",
+            Self::CacheControl | Self::CacheControlPrivate => "Cache-Control",
         }
     }
 
@@ -233,6 +244,9 @@ impl Header {
             Self::SetCookie => "The session cookie (HttpOnly, SameSite=Strict)",
             Self::RetryAfter => "Seconds to wait before trying again",
             Self::CacheControl => "`no-store`: answers about credentials are never cached",
+            Self::CacheControlPrivate => {
+                "`private, max-age=...`: the browser may keep it; shared caches may not"
+            }
         }
     }
 }
@@ -265,6 +279,14 @@ impl Reply {
 
     pub const fn text(status: u16, description: &'static str) -> Self {
         Self { status, description, content: Content::Text, headers: &[] }
+    }
+
+    pub const fn bytes(
+        status: u16,
+        description: &'static str,
+        media_types: &'static [&'static str],
+    ) -> Self {
+        Self { status, description, content: Content::Bytes(media_types), headers: &[] }
     }
 
     pub const fn event_stream(description: &'static str) -> Self {
