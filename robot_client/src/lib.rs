@@ -27,6 +27,7 @@ pub mod experiment;
 pub mod hal;
 pub mod navigation;
 pub mod perception;
+pub mod picture;
 pub mod recording;
 pub mod registry;
 pub mod rfid;

@@ -49,6 +49,8 @@ pub struct Worker {
     pub max_tasks: Option<u64>,
     /// Stop once no task came for this long.
     pub idle_exit: Option<Duration>,
+    /// Send each trial with a picture of what the camera saw.
+    pub picture: bool,
 }
 
 impl Worker {
@@ -87,7 +89,9 @@ impl Worker {
                 Err(error) => return Err(anyhow::anyhow!("cannot claim a task: {error}")),
             };
             let seed = self.seed.wrapping_add(done);
-            say(Said::Task(work_on(&self.registry, &task, self.body, self.room, seed).await?));
+            say(Said::Task(
+                work_on(&self.registry, &task, self.body, self.room, seed, self.picture).await?,
+            ));
             done += 1;
             idle_since = Instant::now();
         }
@@ -102,6 +106,7 @@ async fn work_on(
     body: SimBody,
     room: RoomOptions,
     seed: u64,
+    picture: bool,
 ) -> anyhow::Result<String> {
     let said = format!("task {}: {} on {}", task.id, task.action, task.epc);
     let Some(device) = DeviceKind::ALL.into_iter().find(|d| d.epc() == task.epc) else {
@@ -116,7 +121,7 @@ async fn work_on(
     let heartbeat = tokio::spawn(keep_lease(registry.clone(), task.clone()));
     let trial =
         SimulatedTrial { room, seed, body, ..SimulatedTrial::new(device, &task.action, None) };
-    let config = TaskConfig { task: Some(task.id), ..TaskConfig::default() };
+    let config = TaskConfig { task: Some(task.id), picture, ..TaskConfig::default() };
     let result = run_simulated(&trial, registry, &config).await;
     heartbeat.abort();
     let result = result?;

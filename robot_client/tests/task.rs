@@ -40,6 +40,25 @@ async fn the_four_phases_end_in_a_trial_with_its_evidence_in_the_registry() {
     assert!(!t["forces"].as_array().unwrap().is_empty(), "finger forces recorded");
     assert!(t["start_pose"]["x"].is_number());
     assert!(t["started_at"].as_str().unwrap() < t["finished_at"].as_str().unwrap());
+
+    // What the robot saw travels with the trial: a small PNG around the tag with a legend.
+    let picture = registry.picture(t["picture"].as_str().expect("the trial has a picture")).await;
+    assert!(picture.len() <= pps_robot::picture::MAX_PICTURE_BYTES, "{} bytes", picture.len());
+    let decoder = png::Decoder::new(std::io::Cursor::new(&picture));
+    let info = decoder.read_info().unwrap().info().clone();
+    assert!(info.width <= 320 && info.height > info.width / 2, "{}x{}", info.width, info.height);
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn no_picture_is_sent_when_the_robot_is_told_not_to() {
+    let dir = tempfile::tempdir().unwrap();
+    let registry = support::Registry::start(dir.path()).await;
+    let client = registry.client(dir.path());
+    let trial = SimulatedTrial::new(DeviceKind::AdaLightSwitch, "on", None);
+    let config = TaskConfig { picture: false, ..TaskConfig::default() };
+    let result = run_simulated(&trial, &client, &config).await.unwrap();
+    assert!(result.report.trial.is_some(), "{}", result.report);
+    assert_eq!(registry.trials().await[0]["picture"], serde_json::Value::Null);
 }
 
 #[tokio::test(flavor = "multi_thread")]
@@ -86,12 +105,20 @@ async fn trials_made_while_the_registry_is_away_are_stored_when_it_returns() {
     assert_eq!(result.report.outcome, Some(Outcome::Failure), "{}", result.report);
     assert_eq!(result.report.waiting_upload, 1, "{}", result.report);
     assert_eq!(client.outbox().len().unwrap(), 1);
+    let waiting = client.outbox().pending().unwrap();
+    let kept = waiting[0].picture_bytes().unwrap().expect("the picture waits with its trial");
 
     registry.restart().await;
     pps_robot::experiment::flush_until_stored(&client).await.unwrap();
     let stored = registry.trials().await;
     assert_eq!(stored.len(), 2);
-    assert!(stored.iter().any(|t| t["id"] == serde_json::json!(result.report.trial.unwrap())));
+    let id = serde_json::json!(result.report.trial.unwrap());
+    let offline = stored.iter().find(|t| t["id"] == id).expect("the offline trial is stored");
+    assert_eq!(registry.picture(offline["picture"].as_str().unwrap()).await, kept);
+    let outbox_files = std::fs::read_dir(dir.path().join("robot-state/outbox")).unwrap().count();
+    assert_eq!(outbox_files, 1, "only rejected/ is left: trial and picture went together");
+    let again = client.flush().await.unwrap();
+    assert_eq!((again.uploaded, again.pictures), (0, 0), "nothing is sent twice");
 }
 
 #[tokio::test(flavor = "multi_thread")]

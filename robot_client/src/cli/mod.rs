@@ -4,7 +4,6 @@
 mod bench;
 mod bench_llrp;
 mod logging;
-mod overlay;
 mod parse;
 mod perceive;
 mod registry_args;
@@ -16,10 +15,10 @@ mod work;
 
 use clap::{Parser, Subcommand};
 
+pub use crate::picture::draw_overlay;
 pub use bench::BenchArgs;
 pub use bench_llrp::BenchLlrpArgs;
 pub use logging::init_logging;
-pub use overlay::draw_overlay;
 pub use perceive::{PerceiveArgs, PerceiveReport};
 pub use registry_args::RegistryArgs;
 pub use rfid::{ReadSettings, ReaderChoice, RfidArgs, open_reader};

@@ -10,12 +10,12 @@ use nalgebra::Point3;
 use pps_schema::ColorSegmentation;
 use serde::Serialize;
 
-use super::overlay::draw_overlay;
 use crate::hal::PointCloud;
 use crate::navigation::{ApproachParams, ApproachPlan, Clearance, plan_approach};
 use crate::perception::{
     DepthImage, DepthRange, HsvThresholds, TagDetection, TagSighting, cloud_from_depth,
 };
+use crate::picture::draw_overlay;
 use crate::recording::{read_camera_file, read_depth, read_ply, read_png_of_size, write_png};
 use crate::timings::StepTimings;
 
@@ -201,6 +201,7 @@ pub fn run(args: &PerceiveArgs) -> anyhow::Result<()> {
     let report = PerceiveReport::new(&plan, load_ms);
     if let Some(path) = &args.overlay {
         write_png(path, &draw_overlay(&image, &calibration, &plan, &params.footprint))?;
+        eprintln!("wrote overlay to {}", path.display());
     }
     if args.json {
         println!("{}", serde_json::to_string(&report)?);

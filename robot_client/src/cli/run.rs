@@ -43,6 +43,9 @@ pub struct RunArgs {
     pub rfid_m5e: Option<String>,
     #[command(flatten)]
     pub rfid_read: ReadSettings,
+    /// Send the trial without a picture of what the camera saw around the tag.
+    #[arg(long)]
+    pub no_picture: bool,
 }
 
 fn parse_fault(name: &str) -> Result<Fault, String> {
@@ -72,7 +75,8 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
             body: start_up(&registry).await?,
             ..SimulatedTrial::new(args.device, &args.action, args.fault)
         };
-        run_simulated_reading(&trial, &registry, &TaskConfig::default(), reader.as_deref()).await
+        let config = TaskConfig { picture: !args.no_picture, ..TaskConfig::default() };
+        run_simulated_reading(&trial, &registry, &config, reader.as_deref()).await
     })?;
     tracing::info!("state directory: {}", args.registry.state_dir().display());
     print!("{}", result.report);

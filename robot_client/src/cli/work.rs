@@ -30,6 +30,9 @@ pub struct WorkArgs {
     /// The simulated room: paper or home (as for `run`).
     #[arg(long, default_value = "paper", value_parser = RoomOptions::named)]
     pub room: RoomOptions,
+    /// Send trials without a picture of what the camera saw around the tag.
+    #[arg(long)]
+    pub no_picture: bool,
 }
 
 pub fn run(args: &WorkArgs) -> anyhow::Result<()> {
@@ -49,6 +52,7 @@ pub fn run(args: &WorkArgs) -> anyhow::Result<()> {
             seed: args.seed,
             max_tasks: args.max_tasks,
             idle_exit: args.idle_exit.map(Duration::from_secs_f64),
+            picture: !args.no_picture,
         };
         let done = worker
             .work(&stopping, |said| match said {

@@ -1,18 +1,26 @@
-//! `perceive --overlay`: the paper's Fig. 5 drawn into the camera image, so a developer can look
-//! at what perception made of a scan instead of reading numbers. The paper's key: cyan points
+//! The paper's Fig. 5 drawn into the camera image, so a person can look at what perception made
+//! of a scan instead of reading numbers (`perceive --overlay`, and every trial's picture). The paper's key: cyan points
 //! lie in the volume of interest, red ones are the tag's, dark green ones the backing plane's,
 //! and yellow-green boxes are the robot's body and extended arm checked for collisions at the
 //! waypoint (here with the waypoint itself as a yellow-green disc and a heading tick).
 
-use nalgebra::{Isometry3, Point3, Vector3};
+use nalgebra::{Isometry3, Point2, Point3, Vector3};
 
 use crate::hal::{CameraCalibration, ColorImage};
 use crate::navigation::{ApproachPlan, RobotFootprint};
 
-const CYAN: [u8; 3] = [0, 230, 230];
-const RED: [u8; 3] = [255, 30, 30];
-const DARK_GREEN: [u8; 3] = [0, 110, 30];
-const YELLOW_GREEN: [u8; 3] = [170, 230, 40];
+pub(super) const CYAN: [u8; 3] = [0, 230, 230];
+pub(super) const RED: [u8; 3] = [255, 30, 30];
+pub(super) const DARK_GREEN: [u8; 3] = [0, 110, 30];
+pub(super) const YELLOW_GREEN: [u8; 3] = [170, 230, 40];
+
+/// The key of the markings, in the paper's words, as the legend prints it.
+pub(super) const KEY: [([u8; 3], &str); 4] = [
+    (CYAN, "volume of interest"),
+    (RED, "tag"),
+    (DARK_GREEN, "backing plane"),
+    (YELLOW_GREEN, "robot at waypoint"),
+];
 
 /// The camera image, dimmed so the markings stand out, with the plan drawn in.
 pub fn draw_overlay(
@@ -61,6 +69,32 @@ pub fn draw_overlay(
         canvas.line(&at, &(at + heading * 0.15), YELLOW_GREEN);
     }
     canvas.image
+}
+
+/// The part of the segment `a`–`b` inside the frame `[0, width] × [0, height]` (pixels), by
+/// Liang–Barsky: a line that leaves the frame is drawn to its edge and no further.
+fn clip_to_frame(
+    a: Point2<f64>,
+    b: Point2<f64>,
+    (width, height): (f64, f64),
+) -> Option<(Point2<f64>, Point2<f64>)> {
+    let d = b - a;
+    let (mut enter, mut leave) = (0.0f64, 1.0f64);
+    for (p, q) in [(-d.x, a.x), (d.x, width - a.x), (-d.y, a.y), (d.y, height - a.y)] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return None;
+            }
+            continue;
+        }
+        let t = q / p;
+        if p < 0.0 {
+            enter = enter.max(t);
+        } else {
+            leave = leave.min(t);
+        }
+    }
+    (enter <= leave).then(|| (a + d * enter, a + d * leave))
 }
 
 struct Canvas {
@@ -113,7 +147,9 @@ impl Canvas {
         }
         let k = &self.calibration.intrinsics;
         let (Some(pa), Some(pb)) = (k.project(&ca), k.project(&cb)) else { return };
-        let steps = (pb - pa).abs().max().ceil().min(20_000.0) as usize;
+        let size = (f64::from(self.image.width), f64::from(self.image.height));
+        let Some((pa, pb)) = clip_to_frame(pa, pb, size) else { return };
+        let steps = (pb - pa).abs().max().ceil() as usize;
         for i in 0..=steps {
             let q = pa + (pb - pa) * (i as f64 / steps.max(1) as f64);
             self.paint(q.x.floor() as i64, q.y.floor() as i64, colour);
@@ -136,5 +172,23 @@ impl Canvas {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lines_are_cut_at_the_frame() {
+        let frame = (100.0, 50.0);
+        let (a, b) = clip_to_frame(Point2::new(-100.0, 25.0), Point2::new(300.0, 25.0), frame)
+            .expect("it crosses the frame");
+        assert_eq!((a.x, b.x), (0.0, 100.0));
+        let inside = (Point2::new(10.0, 10.0), Point2::new(20.0, 30.0));
+        assert_eq!(clip_to_frame(inside.0, inside.1, frame), Some(inside));
+        assert_eq!(clip_to_frame(Point2::new(-5.0, -5.0), Point2::new(-1.0, 60.0), frame), None);
+        let (a, b) = clip_to_frame(Point2::new(50.0, 25.0), Point2::new(50.0, 1e9), frame).unwrap();
+        assert_eq!((a.y, b.y), (25.0, 50.0), "a nearly endless line ends at the edge");
     }
 }

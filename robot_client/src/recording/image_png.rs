@@ -2,7 +2,7 @@
 //! 8-bit RGB, its size checked from the header before a pixel is decoded; writes 8-bit RGB.
 
 use std::fs::File;
-use std::io::{BufReader, BufWriter};
+use std::io::BufReader;
 use std::path::Path;
 
 use super::{RecordingError, check_declared_size, io_error};
@@ -62,14 +62,22 @@ fn read_colour(path: &Path, expected: Option<(u32, u32)>) -> Result<ColorImage, 
 
 /// Writes 8-bit RGB PNG.
 pub fn write_png(path: &Path, image: &ColorImage) -> Result<(), RecordingError> {
-    let file = File::create(path).map_err(|e| io_error(path, e))?;
-    let to_io = |e: png::EncodingError| io_error(path, std::io::Error::other(e));
-    let mut encoder = png::Encoder::new(BufWriter::new(file), image.width, image.height);
+    let bytes = encode_png(image).map_err(|e| io_error(path, std::io::Error::other(e)))?;
+    std::fs::write(path, bytes).map_err(|e| io_error(path, e))
+}
+
+/// The image as 8-bit RGB PNG bytes, compressed as hard as the encoder goes.
+pub fn encode_png(image: &ColorImage) -> Result<Vec<u8>, png::EncodingError> {
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, image.width, image.height);
     encoder.set_color(png::ColorType::Rgb);
     encoder.set_depth(png::BitDepth::Eight);
-    let mut writer = encoder.write_header().map_err(to_io)?;
-    writer.write_image_data(&image.rgb).map_err(to_io)?;
-    writer.finish().map_err(to_io)
+    encoder.set_compression(png::Compression::Best);
+    encoder.set_filter(png::FilterType::Paeth);
+    let mut writer = encoder.write_header()?;
+    writer.write_image_data(&image.rgb)?;
+    writer.finish()?;
+    Ok(bytes)
 }
 
 #[cfg(test)]

@@ -14,7 +14,7 @@ mod ply;
 
 pub use camera_file::{CameraFile, read_camera_file, write_camera_file};
 pub use depth_file::{read_depth, write_depth_pfm, write_depth_png};
-pub use image_png::{read_png, read_png_of_size, write_png};
+pub use image_png::{encode_png, read_png, read_png_of_size, write_png};
 pub use ply::{PlyFormat, read_ply, read_ply_from, write_ply, write_ply_to};
 
 /// Why a recorded file could not be read or written.

@@ -54,6 +54,17 @@ pub struct FlushReport {
     pub rejected: usize,
     /// Still waiting: the registry could not be reached, or failed on them (500).
     pub remaining: usize,
+    /// Pictures the registry has now (sent with their trials, or found stored already).
+    pub pictures: usize,
+}
+
+/// What became of a trial's picture.
+enum PictureSent {
+    Stored,
+    /// Refused for good, with the registry's reason.
+    Refused(String),
+    /// Not now: the registry is away or failing; the trial waits with it.
+    Later,
 }
 
 /// A robot's connection to the registry.
@@ -217,7 +228,17 @@ impl RegistryClient {
 
     /// Records a trial: durably into the outbox first, then uploads what is waiting.
     pub async fn record_trial(&self, trial: &Trial) -> Result<FlushReport, RegistryError> {
-        self.outbox.push(trial)?;
+        self.record_trial_with_picture(trial, None).await
+    }
+
+    /// Records a trial and what the robot saw (PNG bytes): both durably into the outbox first,
+    /// then uploads what is waiting, each picture right after its trial.
+    pub async fn record_trial_with_picture(
+        &self,
+        trial: &Trial,
+        picture: Option<&[u8]>,
+    ) -> Result<FlushReport, RegistryError> {
+        self.outbox.push_with_picture(trial, picture)?;
         self.flush().await
     }
 
@@ -272,9 +293,49 @@ impl RegistryClient {
                     continue;
                 }
             }
+            if let Some(picture) = waiting.picture_bytes()? {
+                match self.send_picture(&waiting.trial.id, picture).await {
+                    PictureSent::Stored => report.pictures += 1,
+                    PictureSent::Refused(reason) => {
+                        self.outbox.reject_picture(waiting, &reason)?;
+                        continue;
+                    }
+                    PictureSent::Later => {
+                        report.remaining += pending.len() - index;
+                        return Ok(report);
+                    }
+                }
+            }
             self.outbox.uploaded(waiting)?;
         }
         Ok(report)
+    }
+
+    /// Sends a recorded trial's picture; the same bytes twice are stored once.
+    async fn send_picture(&self, trial: &uuid::Uuid, picture: Vec<u8>) -> PictureSent {
+        let url = format!("{}/api/v1/trials/{trial}/picture", self.base);
+        let sent = self
+            .http
+            .put(url)
+            .bearer_auth(&self.token)
+            .header(reqwest::header::CONTENT_TYPE, "image/png")
+            .body(picture)
+            .send()
+            .await;
+        match sent {
+            Err(_) => PictureSent::Later,
+            Ok(response) => match response.status() {
+                StatusCode::CREATED | StatusCode::OK => PictureSent::Stored,
+                status
+                    if status.is_server_error()
+                        || status == StatusCode::UNAUTHORIZED
+                        || status == StatusCode::TOO_MANY_REQUESTS =>
+                {
+                    PictureSent::Later
+                }
+                _ => PictureSent::Refused(RegistryError::from_response(response).await.to_string()),
+            },
+        }
     }
 
     /// Sets the person's verdict on a recorded trial.

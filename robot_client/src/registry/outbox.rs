@@ -5,6 +5,11 @@
 //! written to a temporary name, synced, then renamed, so a crash leaves either the whole trial
 //! or nothing. Trials the registry refuses for good are moved to `rejected/` with the reason,
 //! never deleted.
+//!
+//! A trial's picture waits beside it (the same name, `.png`), written before the trial so a
+//! waiting trial always has its whole picture. It goes up after its trial and is forgotten
+//! before it, so a robot that stops in between sends both again, and the registry answers the
+//! repeats as retries: the picture arrives once.
 
 use std::collections::HashMap;
 use std::fs;
@@ -28,6 +33,15 @@ pub struct TrialOutbox {
 pub struct PendingTrial {
     pub path: PathBuf,
     pub trial: Trial,
+    /// Its picture (PNG), when one waits with it.
+    pub picture: Option<PathBuf>,
+}
+
+impl PendingTrial {
+    /// The picture's bytes, when one waits with the trial.
+    pub fn picture_bytes(&self) -> std::io::Result<Option<Vec<u8>>> {
+        self.picture.as_ref().map(fs::read).transpose()
+    }
 }
 
 impl TrialOutbox {
@@ -37,7 +51,10 @@ impl TrialOutbox {
         fs::create_dir_all(dir.join("rejected"))?;
         for entry in fs::read_dir(&dir)? {
             let path = entry?.path();
-            if path.extension().is_some_and(|e| e == "tmp") {
+            // A picture without its trial: the robot stopped before the trial was written.
+            let orphan = path.extension().is_some_and(|e| e == "png")
+                && !path.with_extension("json").exists();
+            if path.extension().is_some_and(|e| e == "tmp") || orphan {
                 fs::remove_file(path)?;
             }
         }
@@ -46,12 +63,20 @@ impl TrialOutbox {
 
     /// Stores a trial durably. Pushing a trial whose id is already waiting changes nothing.
     pub fn push(&self, trial: &Trial) -> std::io::Result<()> {
+        self.push_with_picture(trial, None)
+    }
+
+    /// Stores a trial and its picture (PNG bytes) durably, the picture first.
+    pub fn push_with_picture(&self, trial: &Trial, picture: Option<&[u8]>) -> std::io::Result<()> {
         let suffix = format!("-{}.json", trial.id);
         if self.files()?.iter().any(|path| path.to_string_lossy().ends_with(&suffix)) {
             return Ok(());
         }
         let nanos = SystemTime::now().duration_since(UNIX_EPOCH).map_or(0, |d| d.as_nanos());
         let path = self.dir.join(format!("{nanos:020}{suffix}"));
+        if let Some(picture) = picture {
+            state_file::replace_durably(&path.with_extension("png"), picture)?;
+        }
         state_file::replace_durably(&path, &serde_json::to_vec_pretty(trial)?)
     }
 
@@ -60,7 +85,10 @@ impl TrialOutbox {
         let mut pending = Vec::new();
         for path in self.files()? {
             match fs::read(&path).ok().and_then(|bytes| serde_json::from_slice(&bytes).ok()) {
-                Some(trial) => pending.push(PendingTrial { path, trial }),
+                Some(trial) => {
+                    let picture = Some(path.with_extension("png")).filter(|p| p.exists());
+                    pending.push(PendingTrial { path, trial, picture });
+                }
                 None => self.set_aside(&path, "the file is not a readable trial")?,
             }
         }
@@ -75,8 +103,22 @@ impl TrialOutbox {
         Ok(self.len()? == 0)
     }
 
-    /// The registry has the trial: forget it.
+    /// The registry has the trial (and its picture, if one waited): forget them, the picture
+    /// first, so a trial never waits without the picture it was recorded with.
     pub fn uploaded(&self, trial: &PendingTrial) -> std::io::Result<()> {
+        self.failures.lock().unwrap_or_else(|e| e.into_inner()).remove(&trial.path);
+        if let Some(picture) = &trial.picture {
+            fs::remove_file(picture)?;
+        }
+        fs::remove_file(&trial.path)
+    }
+
+    /// The registry has the trial but refused its picture for good: keep the picture aside
+    /// with the reason, and the trial no longer waits for it.
+    pub fn reject_picture(&self, trial: &PendingTrial, reason: &str) -> std::io::Result<()> {
+        if let Some(picture) = &trial.picture {
+            self.set_aside(picture, reason)?;
+        }
         self.failures.lock().unwrap_or_else(|e| e.into_inner()).remove(&trial.path);
         fs::remove_file(&trial.path)
     }
@@ -112,7 +154,18 @@ impl TrialOutbox {
     fn set_aside(&self, path: &Path, reason: &str) -> std::io::Result<()> {
         let name = path.file_name().unwrap_or_default();
         let target = self.dir.join("rejected").join(name);
-        fs::write(target.with_extension("reason"), reason)?;
+        let is_trial = path.extension().is_some_and(|e| e == "json");
+        let reason_file = if is_trial {
+            target.with_extension("reason")
+        } else {
+            target.with_extension("png.reason")
+        };
+        fs::write(reason_file, reason)?;
+        // A trial set aside keeps its picture beside it, for the person who looks.
+        let picture = path.with_extension("png");
+        if is_trial && picture.exists() {
+            fs::rename(&picture, target.with_extension("png"))?;
+        }
         fs::rename(path, &target)?;
         fs::File::open(&self.dir)?.sync_all()
     }
@@ -163,6 +216,28 @@ mod tests {
         let rejected = reopened.rejected().unwrap();
         assert_eq!(rejected.len(), 1);
         assert!(rejected[0].1.contains("409"));
+    }
+
+    #[test]
+    fn a_picture_waits_with_its_trial_and_goes_with_it() {
+        let dir = tempfile::tempdir().unwrap();
+        let outbox = TrialOutbox::open(dir.path()).unwrap();
+        outbox.push_with_picture(&trial(1), Some(b"picture one")).unwrap();
+        outbox.push(&trial(2)).unwrap();
+        // A picture whose trial was never written (the robot stopped in between) is dropped.
+        std::fs::write(dir.path().join("00000000000000000009-x.png"), b"orphan").unwrap();
+        let reopened = TrialOutbox::open(dir.path()).unwrap();
+        let pending = reopened.pending().unwrap();
+        assert_eq!(pending[0].picture_bytes().unwrap().as_deref(), Some(&b"picture one"[..]));
+        assert_eq!(pending[1].picture_bytes().unwrap(), None);
+        assert!(!dir.path().join("00000000000000000009-x.png").exists());
+        reopened.uploaded(&pending[0]).unwrap();
+        reopened.reject_picture(&pending[1], "no picture to reject").unwrap();
+        let left: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().into_string().unwrap())
+            .collect();
+        assert_eq!(left, ["rejected"], "trials and pictures gone together");
     }
 
     #[test]

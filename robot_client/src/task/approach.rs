@@ -6,8 +6,16 @@ use nalgebra::{Point3, Vector2};
 
 use super::drive::{in_base, in_odom};
 use super::report::PhaseReport;
-use crate::hal::{ColorCamera, HalError, MobileBase, Operator, TiltSweep, TiltingLaser};
+use crate::hal::{
+    ColorCamera, ColorImage, HalError, MobileBase, Operator, TiltSweep, TiltingLaser,
+};
 use crate::navigation::{ApproachParams, ApproachPlan, Clearance, RejectedPlane, plan_approach};
+
+/// One look from where the robot stands: the flash image and what perception made of it.
+pub(crate) struct Look {
+    pub image: ColorImage,
+    pub plan: ApproachPlan,
+}
 
 /// Perceives around `target` (odometry frame) from where the robot stands.
 pub(crate) fn perceive(
@@ -16,11 +24,22 @@ pub(crate) fn perceive(
     sweep: &TiltSweep,
     params: &ApproachParams,
 ) -> Result<ApproachPlan, HalError> {
+    look(robot, target, sweep, params).map(|look| look.plan)
+}
+
+/// [`perceive`], keeping the image looked at.
+fn look(
+    robot: &(impl ColorCamera + TiltingLaser + MobileBase),
+    target: &Point3<f64>,
+    sweep: &TiltSweep,
+    params: &ApproachParams,
+) -> Result<Look, HalError> {
     let target = in_base(robot, target)?;
     let image = robot.capture(true)?;
     let cloud = robot.scan(sweep)?;
-    plan_approach(&image, &cloud, &robot.calibration(), &target, params)
-        .map_err(|e| HalError::Failed { device: "camera", reason: e.to_string() })
+    let plan = plan_approach(&image, &cloud, &robot.calibration(), &target, params)
+        .map_err(|e| HalError::Failed { device: "camera", reason: e.to_string() })?;
+    Ok(Look { image, plan })
 }
 
 /// Perceives around `target` until a look finds the tag and the surface behind it; returns the
@@ -36,25 +55,25 @@ pub(crate) fn look_for_tag_and_surface(
     sweep: &TiltSweep,
     params: &ApproachParams,
     report: &mut PhaseReport,
-) -> Result<ApproachPlan, HalError> {
+) -> Result<Look, HalError> {
     let mut target = *target;
-    let mut plan = perceive(robot, &target, sweep, params)?;
-    if plan.tag.is_none() {
+    let mut seen = look(robot, &target, sweep, params)?;
+    if seen.plan.tag.is_none() {
         // Too close to see it whole, or at the image's edge: step back once and look again.
         robot.drive(-0.25)?;
         report.note("no tag near the pointed location; backed off 0.25 m to look again");
-        plan = perceive(robot, &target, sweep, params)?;
+        seen = look(robot, &target, sweep, params)?;
     }
-    if plan.tag.is_some() && plan.backing_plane.is_none() {
+    if seen.plan.tag.is_some() && seen.plan.backing_plane.is_none() {
         report.note(format!(
             "no surface behind the tag among {} planes ({})",
-            plan.planes.len(),
-            nearest_rejection(&plan)
+            seen.plan.planes.len(),
+            nearest_rejection(&seen.plan)
         ));
-        let moved = step_to_a_better_view(robot, &plan, report)?;
+        let moved = step_to_a_better_view(robot, &seen.plan, report)?;
         let again = ApproachParams { seed: params.seed.wrapping_add(1), ..params.clone() };
-        plan = perceive(robot, &target, sweep, &again)?;
-        if plan.backing_plane.is_none() {
+        seen = look(robot, &target, sweep, &again)?;
+        if seen.plan.backing_plane.is_none() {
             report.note(format!(
                 "still no surface behind the tag {}; asking the person to point again",
                 if moved { "from there" } else { "on a second look" }
@@ -62,13 +81,13 @@ pub(crate) fn look_for_tag_and_surface(
             match operator.pointed_target()? {
                 Some(pointed) => {
                     target = in_odom(robot, &pointed)?;
-                    plan = perceive(robot, &target, sweep, &again)?;
+                    seen = look(robot, &target, sweep, &again)?;
                 }
                 None => report.note("nobody pointed again"),
             }
         }
     }
-    Ok(plan)
+    Ok(seen)
 }
 
 /// Drives to the plan's waypoint, facing the tag; returns the tag's centre in the odometry

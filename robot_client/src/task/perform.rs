@@ -23,6 +23,8 @@ pub(super) struct Acting<'a, R> {
     pub registry: &'a RegistryClient,
     pub clock: &'a dyn Clock,
     pub config: &'a TaskConfig,
+    /// What the camera saw around the tag (PNG), sent with the trial.
+    pub picture: Option<&'a [u8]>,
 }
 
 /// The tag phase 4 acts on: its EPC, and where it was seen (base frame, metres).
@@ -99,7 +101,7 @@ pub(super) async fn act(
     let performed = perform(acting, &chosen, &fetched.entry.entry.properties, tag.at, phase);
     let confirmed = ask_the_person(acting.operator, performed.outcome, phase)?;
     let trial = trial_record(acting, tag, chosen, performed, confirmed);
-    let flushed = acting.registry.record_trial(&trial).await?;
+    let flushed = acting.registry.record_trial_with_picture(&trial, acting.picture).await?;
     report.outcome = Some(trial.outcome);
     report.confirmed = confirmed;
     report.trial = Some(trial.id);

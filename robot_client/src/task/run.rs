@@ -3,7 +3,7 @@
 use pps_schema::{Purpose, StartPose};
 use uuid::Uuid;
 
-use super::approach::{drive_to_waypoint, look_for_tag_and_surface};
+use super::approach::{Look, drive_to_waypoint, look_for_tag_and_surface};
 use super::drive::{drive_toward, in_base, in_odom};
 use super::identify::servo_and_read;
 use super::perform::{Acting, FoundTag, act, settle_epc};
@@ -50,6 +50,8 @@ pub struct TaskConfig {
     /// Why the task is done: an experiment's trials are kept out of the registry's success
     /// rates, reliability and learning.
     pub purpose: Purpose,
+    /// Send the trial with a picture of what the camera saw around the tag (DESIGN §10).
+    pub picture: bool,
 }
 
 impl Default for TaskConfig {
@@ -70,6 +72,7 @@ impl Default for TaskConfig {
             start_pose: None,
             task: None,
             purpose: Purpose::Use,
+            picture: true,
         }
     }
 }
@@ -97,11 +100,12 @@ pub async fn run_task(
     // Phase 2: find the tag and the surface behind it; drive to the waypoint.
     let phase = report.phase(2, "approach the tag perpendicular to its surface");
     let config = &with_known_tag_colours(config, registry, phase);
-    let plan =
+    let seen =
         look_for_tag_and_surface(robot, operator, &target, &config.sweep, &config.approach, phase)?;
-    let Some(mut tag) = drive_to_waypoint(robot, &plan, phase)? else {
+    let Some(mut tag) = drive_to_waypoint(robot, &seen.plan, phase)? else {
         return Ok(report);
     };
+    let picture = config.picture.then(|| picture_of(robot, &seen, config, phase)).flatten();
 
     // Phase 3: fingers to 10 cm, read the RFID.
     let phase = report.phase(3, "servo to the tag and read its RFID");
@@ -114,9 +118,26 @@ pub async fn run_task(
     let at = in_base(robot, &tag)?;
     let epc = settle_epc(identity, &at, registry, phase).await;
     report.epc = Some(epc.clone());
-    let acting = Acting { robot, operator, registry, clock, config };
+    let acting = Acting { robot, operator, registry, clock, config, picture: picture.as_deref() };
     act(&acting, &FoundTag { epc, at }, &mut report).await?;
     Ok(report)
+}
+
+/// The picture the trial is sent with: the look that led to the waypoint, drawn as Fig. 5.
+fn picture_of(
+    robot: &impl TaskRobot,
+    seen: &Look,
+    config: &TaskConfig,
+    phase: &mut PhaseReport,
+) -> Option<Vec<u8>> {
+    let footprint = &config.approach.footprint;
+    match crate::picture::trial_picture(&seen.image, &robot.calibration(), &seen.plan, footprint) {
+        Ok(picture) => Some(picture),
+        Err(error) => {
+            phase.note(format!("no picture for the trial: it could not be encoded ({error})"));
+            None
+        }
+    }
 }
 
 /// The task's settings with the tag search looking for the colours this robot's camera sees the

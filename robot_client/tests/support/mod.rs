@@ -118,6 +118,19 @@ impl Registry {
         response.json().await.unwrap()
     }
 
+    /// The picture at `path` (a trial's `picture`), read as a caretaker's browser would.
+    pub async fn picture(&self, path: &str) -> Vec<u8> {
+        let response = reqwest::Client::new()
+            .get(format!("{}{path}", self.url()))
+            .bearer_auth(&self.admin)
+            .send()
+            .await
+            .unwrap();
+        assert_eq!(response.status(), reqwest::StatusCode::OK, "GET {path}");
+        assert_eq!(response.headers()["content-type"], "image/png");
+        response.bytes().await.unwrap().to_vec()
+    }
+
     /// Changes a tag's entry as a caretaker would: read it, edit it, save it over that revision.
     pub async fn edit_tag(&self, epc: &str, edit: impl FnOnce(&mut serde_json::Value)) {
         let http = reqwest::Client::new();

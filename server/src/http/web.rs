@@ -29,7 +29,7 @@ macro_rules! web_files {
 
 const INDEX_HTML: &[u8] = include_bytes!("../../../web/index.html");
 
-const FILES: [(&str, &[u8]); 36] = web_files![
+const FILES: [(&str, &[u8]); 37] = web_files![
     "app.css",
     "icon.svg",
     "js/advanced.js",
@@ -60,6 +60,7 @@ const FILES: [(&str, &[u8]); 36] = web_files![
     "js/pages/tag.js",
     "js/pages/tags.js",
     "js/pages/tasks.js",
+    "js/picture.js",
     "js/pointer.js",
     "js/purpose.js",
     "js/schema-field.js",

@@ -7,6 +7,7 @@ import { getAll, query, request, seg } from '../api.js';
 import { cell, h, replace } from '../dom.js';
 import { verdict, when } from '../format.js';
 import { purposeBadge } from '../purpose.js';
+import { trialPicture } from '../picture.js';
 
 /** Fills `container` with the trials of `epc`; returns how many there are. */
 export async function renderTrials(container, epc, words) {
@@ -45,7 +46,7 @@ function trialRow(trial, words, refresh) {
   const forces = Array.isArray(trial.forces) ? trial.forces.length : 0;
   const evidence = { detector: trial.detector, measurements: trial.measurements, start_pose: trial.start_pose };
   return h('tr', { dataset: { trial: trial.id } },
-    cell('When', when(trial.started_at ?? trial.finished_at)),
+    cell('When', when(trial.started_at ?? trial.finished_at), trialPicture(trial, { thumbnail: true })),
     cell('Robot', words.robot(trial.robot)),
     cell('Action', words.action(trial.action), purposeBadge(trial)),
     cell('Outcome', h('span', { class: ['badge', trial.outcome === 'success' ? 'good' : 'bad'], dataset: { outcome: trial.outcome } }, words.outcome(trial.outcome))),

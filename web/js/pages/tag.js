@@ -23,6 +23,7 @@ import { renderHistory } from './tag-history.js';
 import { successRates } from './tag-rates.js';
 import { renderRobotView } from './tag-robots.js';
 import { renderTrials } from './tag-trials.js';
+import { renderLatestPicture } from '../picture.js';
 
 /** The titles the schemas give a tag's values: its kind, its actions, a trial's outcome. */
 function wordsFor(schemas, robots) {
@@ -125,6 +126,7 @@ export async function render(main, [epc]) {
   const head = h('div');
   const ratesBox = h('div', { class: 'card' }, h('p', { class: 'muted' }, 'Loading…'));
   const engineeringBox = h('div', { class: 'card' });
+  const pictureBox = h('div', { class: 'card' }, h('p', { class: 'muted' }, 'Loading…'));
   const statsBox = h('div', { class: 'card' }, h('p', { class: 'muted' }, 'Loading…'));
   const trialsBox = h('div', { class: 'card', id: 'trials' }, h('p', { class: 'muted' }, 'Loading…'));
   const robotsBox = h('div', { class: 'card' }, h('p', { class: 'muted' }, 'Loading…'));
@@ -171,6 +173,7 @@ export async function render(main, [epc]) {
     section(historyBox, () => renderHistory(historyBox, tag.epc));
   };
   const refreshTrials = () => {
+    section(pictureBox, () => renderLatestPicture(pictureBox, tag.epc));
     section(trialsBox, () => renderTrials(trialsBox, tag.epc, words));
     const include = query({ include: countedScope.include() });
     section(statsBox, async () => {
@@ -184,6 +187,7 @@ export async function render(main, [epc]) {
 
   showHead();
   replace(main, saved, notice, head,
+    h('section', { 'aria-labelledby': 'seen-h' }, h('h2', { id: 'seen-h' }, 'What the robot saw'), pictureBox),
     h('section', { 'aria-labelledby': 'rates-h' }, h('h2', { id: 'rates-h' }, 'How well it goes'), ratesBox, countedScope.element),
     h('section', { 'aria-labelledby': 'trials-h' }, h('h2', { id: 'trials-h' }, 'What happened lately'), trialsBox),
     advancedSection(

@@ -6,6 +6,7 @@ import { ApiError, etagOf, entryOf, get, query, request, seg } from '../api.js';
 import { cell, debounce, h, replace, uid } from '../dom.js';
 import { subscribe } from '../events.js';
 import { ago, percent } from '../format.js';
+import { tagThumbnail } from '../picture.js';
 
 const PAGE_SIZE = 100;
 /** How many stats requests run at once, so a long list does not flood the registry. */
@@ -83,7 +84,7 @@ export async function render(main) {
     restoreButton?.addEventListener('click', () => restore(tag, restoreButton));
     const tr = h('tr', { dataset: { epc: tag.epc } },
       h('th', { scope: 'row', dataset: { label: 'Name' } }, h('a', { href: `#/tags/${seg(tag.epc)}`, class: 'tag-name' }, name),
-        tag.archived ? h('span', { class: 'badge' }, 'archived') : null),
+        tag.archived ? h('span', { class: 'badge' }, 'archived') : null, tagThumbnail(tag.epc)),
       cell('Type', tag.properties?.type ?? '—'),
       cell('EPC', h('code', { class: 'epc' }, tag.epc), tag.epc_uri ? h('div', { class: 'uri' }, tag.epc_uri) : null),
       cell('Room', tag.properties?.location?.room ?? '—'),

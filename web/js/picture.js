@@ -1,0 +1,48 @@
+// What the robot saw: the picture a robot sends with a trial, its camera's view around the tag
+// with what perception made of it drawn in (the paper's Fig. 5) and a legend. Pictures come
+// from the registry itself (same origin, with the session cookie); each has an alt text that
+// says in words what it shows, since the picture alone tells a screen reader nothing.
+
+import { getAll, query } from './api.js';
+import { h } from './dom.js';
+import { when } from './format.js';
+
+/** The alt text of a trial's picture. */
+export function describe(trial) {
+  return `What ${trial.robot} saw when it tried to ${trial.action} ${when(trial.started_at ?? trial.finished_at)}`;
+}
+
+/** A trial's picture, linked to the full size; a small thumbnail when asked; null without one. */
+export function trialPicture(trial, { thumbnail = false } = {}) {
+  if (!trial?.picture) return null;
+  const image = h('img', { src: trial.picture, alt: describe(trial), loading: 'lazy', class: ['picture', thumbnail && 'thumbnail'] });
+  return h('a', { href: trial.picture, target: '_blank', rel: 'noopener', class: 'picture-link' }, image);
+}
+
+/** The newest trial of `epc` that has a picture, or null. */
+export async function latestWithPicture(epc) {
+  const trials = await getAll(`/api/v1/trials${query({ epc, limit: 500 })}`);
+  // Listed in the order the registry received them; a picture follows its trial.
+  return trials.filter((trial) => trial.picture).at(-1) ?? null;
+}
+
+/** Fills `container` with the newest picture of `epc` and what it shows. */
+export async function renderLatestPicture(container, epc) {
+  const trial = await latestWithPicture(epc);
+  if (!trial) {
+    container.replaceChildren(h('p', { class: 'muted' }, 'No robot has sent a picture of this tag yet.'));
+    return;
+  }
+  container.replaceChildren(h('figure', { class: 'robot-view' }, trialPicture(trial),
+    h('figcaption', {}, `${describe(trial)}. Cyan: where it looked; red: the tag; dark green: the surface behind it; yellow-green: the robot where it stood to act.`)));
+}
+
+/** A small picture of `epc` for a list row, filled in when it arrives. */
+export function tagThumbnail(epc) {
+  const box = h('span', { class: 'thumbnail-box' });
+  latestWithPicture(epc).then((trial) => {
+    const picture = trialPicture(trial, { thumbnail: true });
+    if (picture) box.replaceChildren(picture);
+  }, () => {});
+  return box;
+}
