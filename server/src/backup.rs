@@ -23,6 +23,8 @@ pub struct BackupReport {
     /// Tags, archived ones included.
     pub tags: i64,
     pub trials: i64,
+    /// Trial pictures whose bytes the copy holds.
+    pub pictures: i64,
 }
 
 /// What `backup` says on a PostgreSQL registry, whose own tools take consistent copies.
@@ -109,7 +111,11 @@ async fn inspect(path: &Path) -> anyhow::Result<BackupReport> {
     }
     let tags = sqlx::query_scalar("select count(*) from tags").fetch_one(&mut conn).await?;
     let trials = sqlx::query_scalar("select count(*) from trials").fetch_one(&mut conn).await?;
+    let pictures =
+        sqlx::query_scalar("select count(*) from trial_pictures where bytes is not null")
+            .fetch_one(&mut conn)
+            .await?;
     conn.close().await?;
     let bytes = std::fs::metadata(path)?.len();
-    Ok(BackupReport { path: path.to_owned(), bytes, tags, trials })
+    Ok(BackupReport { path: path.to_owned(), bytes, tags, trials, pictures })
 }

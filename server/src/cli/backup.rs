@@ -8,9 +8,10 @@ use crate::db::Db;
 pub(super) async fn backup(db: &Db, to: &Path, force: bool) -> anyhow::Result<()> {
     let report = backup::backup(db, to, force).await?;
     eprintln!(
-        "backed up {} tags and {} trials to {} ({} bytes, integrity ok)",
+        "backed up {} tags, {} trials and {} trial pictures to {} ({} bytes, integrity ok)",
         report.tags,
         report.trials,
+        report.pictures,
         report.path.display(),
         report.bytes
     );

@@ -107,10 +107,3 @@ pub async fn tags_over(pool: &AnyPool, keep: u32) -> sqlx::Result<Vec<String>> {
     .fetch_all(pool)
     .await
 }
-
-/// Pictures whose bytes are held.
-pub async fn count_held(conn: &mut AnyConnection) -> sqlx::Result<i64> {
-    sqlx::query_scalar("select count(*) from trial_pictures where bytes is not null")
-        .fetch_one(conn)
-        .await
-}
