@@ -5,12 +5,15 @@
 //! panics and the test fails, saying what to install.
 
 pub mod browser;
+pub mod caretaker_view;
 pub mod fixtures;
 pub mod registry;
 pub mod wait;
+pub mod working_robot;
 
 pub use browser::{Browser, Session};
 pub use registry::Registry;
+pub use working_robot::WorkingRobot;
 
 use std::path::PathBuf;
 

@@ -42,15 +42,18 @@ async fn an_experiments_failures_stay_out_of_the_success_rate_until_asked_for() 
     page.open(&format!("/#/tags/{DRAWER}")).await;
 
     page.wait_for_text(".counted", "Real use only; 3 experiment trials not counted.").await;
-    page.wait_for_text(".chart-value", "100 % of 2").await;
+    let open = ".rates li[data-action=open]";
+    page.wait_for_text(&format!("{open} .rate"), "100 %").await;
+    page.wait_for_text(open, "of 2 tries").await;
     let experiment = page.wait_for_text("#trials tr[data-trial$='9e03']", "Experiment").await;
-    assert!(experiment.text().await.unwrap().contains("failure"));
+    assert!(experiment.text().await.unwrap().contains("Did not work"));
     let real_use = page.wait_for("#trials tr[data-trial$='9e01']").await;
     assert!(!real_use.text().await.unwrap().contains("Experiment"));
 
     page.click_text("label", "Include experiments and tests").await;
     page.wait_for_text(".counted", "Counting real use, experiments and tests.").await;
-    page.wait_for_text(".chart-value", "40 % of 5").await;
+    page.wait_for_text(&format!("{open} .rate"), "40 %").await;
+    page.wait_for_text(open, "of 5 tries").await;
     page.click_text("label", "Include experiments and tests").await;
     page.wait_for_text(".counted", "Real use only; 3 experiment trials not counted.").await;
     page.close().await;

@@ -3,12 +3,11 @@
 //! trial without a reload; the tasks and robots pages say what happened. A task on a tag no
 //! robot's room has shows the robot's decline and why it waits on the Tasks page.
 
-use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use pps_tests::browser::PHONE;
 use pps_tests::fixtures::{self, ADA_SWITCH};
-use pps_tests::{Browser, Registry, workspace_bin};
+use pps_tests::{Browser, Registry, WorkingRobot};
 use reqwest::{Method, StatusCode};
 use serde_json::json;
 
@@ -16,43 +15,12 @@ const PASSWORD: &str = "correct horse battery";
 const TAB: &str = "\u{E004}";
 const ENTER: &str = "\u{E007}";
 
-/// A `pps-robot work` process, ended when dropped, and its state directory.
-struct Robot {
-    child: Child,
-    _state: tempfile::TempDir,
-}
-
-impl Robot {
-    /// Starts `pps-robot work` as `robot`.
-    fn work(registry: &Registry, robot: &str, token: &str) -> Self {
-        let state = tempfile::tempdir().unwrap();
-        let child = Command::new(workspace_bin("pps-robot"))
-            .args(["work", "--server", &registry.url, "--robot", robot, "--idle-exit", "120"])
-            .arg("--state")
-            .arg(state.path())
-            .env("PPS_TOKEN", token)
-            .stdin(Stdio::null())
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("pps-robot work starts");
-        Self { child, _state: state }
-    }
-}
-
-impl Drop for Robot {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
 #[tokio::test]
 async fn a_caretaker_asks_by_keyboard_and_sees_the_robots_trial_arrive() {
     let registry = Registry::start();
     registry.add_user("anna", "caretaker", PASSWORD);
     let token = fixtures::robot(&registry, "el-e-1", "el-e").await;
-    let _robot = Robot::work(&registry, "el-e-1", &token);
+    let _robot = WorkingRobot::start(&registry, "el-e-1", &token);
 
     let browser = Browser::start().await;
     let page = browser.session(&registry.url, PHONE).await;
@@ -112,7 +80,7 @@ async fn a_caretaker_sees_a_robots_decline_and_why_the_task_waits() {
     let bedside = "E2003412000000000000BED1";
     fixtures::copy_tag(&registry, "355AB1C60000003000000001", bedside, "Bedside lamp").await;
     let token = fixtures::robot(&registry, "stretch-1", "stretch").await;
-    let _robot = Robot::work(&registry, "stretch-1", &token);
+    let _robot = WorkingRobot::start(&registry, "stretch-1", &token);
 
     let browser = Browser::start().await;
     let page = browser.session(&registry.url, PHONE).await;

@@ -9,7 +9,8 @@ import { when } from './format.js';
 
 /** The alt text of a trial's picture. */
 export function describe(trial) {
-  return `What ${trial.robot} saw when it tried to ${trial.action} ${when(trial.started_at ?? trial.finished_at)}`;
+  // The action's key is an internal name; the time and the robot say which trial it was.
+  return `What ${trial.robot} saw, ${when(trial.started_at ?? trial.finished_at)}`;
 }
 
 /** A trial's picture, linked to the full size; a small thumbnail when asked; null without one. */

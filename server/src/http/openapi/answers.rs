@@ -202,7 +202,10 @@ pub(super) fn shapes() -> Vec<(&'static str, Value)> {
                 }),
             ),
         ),
-        ("stored_trial", always_with("trial", &["confirmed", "purpose", "received_at", "seq", "picture"])),
+        (
+            "stored_trial",
+            always_with("trial", &["confirmed", "purpose", "received_at", "seq", "picture"]),
+        ),
         (
             "task",
             object(
