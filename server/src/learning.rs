@@ -13,8 +13,8 @@ use sqlx::AnyConnection;
 
 use crate::counted_purposes::CountedPurposes;
 use crate::store::events::{self, EventKind};
-use crate::store::trials::GroupKey;
-use crate::store::{learning, tags, trials};
+use crate::store::trial_counts::{self, GroupKey};
+use crate::store::{learning, tags};
 
 /// A parameter a behaviour's trials measure: its learned value is the median of the
 /// measurement over the class's successful trials.
@@ -110,7 +110,7 @@ async fn update_learned(conn: &mut AnyConnection, group: &TrialGroup) -> sqlx::R
     let mut changed = false;
     for rule in RULES.iter().filter(|rule| Some(rule.behavior) == kind) {
         let path = format!("$.measurements.{}", rule.measurement);
-        let values = trials::latest_measurements(
+        let values = trial_counts::latest_measurements(
             conn,
             &path,
             &group.epc,
@@ -177,9 +177,13 @@ async fn update_reliability(
         .into_iter()
         .map(|(epc, action, robot_class)| GroupKey { epc, action, robot_class })
         .collect();
-    let outcomes =
-        trials::latest_outcomes(conn, &keys, RELIABILITY_WINDOW, &CountedPurposes::real_use())
-            .await?;
+    let outcomes = trial_counts::latest_outcomes(
+        conn,
+        &keys,
+        RELIABILITY_WINDOW,
+        &CountedPurposes::real_use(),
+    )
+    .await?;
     let before = learning::reliabilities(conn, &keys).await?;
     for ((key, (attempts, successes)), before) in keys.iter().zip(outcomes).zip(before) {
         let reliable = is_reliable(attempts, successes);

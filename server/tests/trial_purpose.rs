@@ -140,7 +140,7 @@ async fn a_trial_keeps_its_purpose_and_a_retry_must_repeat_it() {
     let listed = server.get_json(&format!("/api/v1/trials?epc={DRAWER}&purpose=use")).await;
     assert_eq!(listed["items"][0]["id"], id.as_str());
     assert_eq!(listed["items"].as_array().unwrap().len(), 1);
-    let refused = server.get(&format!("/api/v1/trials?purpose=demo"), &server.admin).await;
+    let refused = server.get("/api/v1/trials?purpose=demo", &server.admin).await;
     let problem = problem(refused, StatusCode::BAD_REQUEST).await;
     assert!(problem["detail"].as_str().unwrap().contains("\"demo\""), "{problem}");
 }

@@ -16,8 +16,8 @@ use crate::http::ids::InPath;
 use crate::http::openapi::{Doc, Param, ParamType, Reply};
 use crate::learning::{RELIABILITY_WINDOW, is_reliable};
 use crate::state::AppState;
-use crate::store::trials::GroupKey;
-use crate::store::{learning, tags, trials};
+use crate::store::trial_counts::{self, GroupKey};
+use crate::store::{learning, tags};
 
 /// One action as done by one robot class.
 #[derive(Debug, Serialize)]
@@ -82,15 +82,19 @@ pub async fn get(
     let Some(tag) = tags::get(pool, &epc).await? else {
         return Err(ApiError::NotFound(format!("no tag has the EPC {epc}")));
     };
-    let rows = trials::group_counts(pool, &epc, &counted).await?;
+    let rows = trial_counts::group_counts(pool, &epc, &counted).await?;
     let learned = learning::learned_all(pool, &epc).await?;
     let keys: Vec<GroupKey<'_>> = rows
         .iter()
         .map(|(action, class, ..)| GroupKey { epc: &epc, action, robot_class: class.as_deref() })
         .collect();
-    let latest =
-        trials::latest_outcomes(&mut *pool.acquire().await?, &keys, RELIABILITY_WINDOW, &counted)
-            .await?;
+    let latest = trial_counts::latest_outcomes(
+        &mut *pool.acquire().await?,
+        &keys,
+        RELIABILITY_WINDOW,
+        &counted,
+    )
+    .await?;
     let mut groups = Vec::with_capacity(rows.len());
     for (
         (action, class, attempts, detected, confirmed, confirmed_ok, agreeing, successes, last),
@@ -122,7 +126,7 @@ pub async fn get(
             learned: learned_here,
         });
     }
-    let not_counted: Map<String, Value> = trials::purpose_counts(pool, &epc)
+    let not_counted: Map<String, Value> = trial_counts::purpose_counts(pool, &epc)
         .await?
         .into_iter()
         .filter(|(purpose, _)| Purpose::parse(purpose).is_some_and(|p| !counted.counts(p)))

@@ -6,7 +6,7 @@ use sqlx::{AnyConnection, AnyPool};
 
 use crate::db::Dialect;
 use crate::store::columns::MaybeFlag;
-use crate::store::trials::{GroupKey, groups_parameter};
+use crate::store::trial_counts::{GroupKey, groups_parameter};
 
 use crate::clock;
 use crate::effective::Learned;

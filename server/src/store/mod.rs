@@ -12,6 +12,7 @@ pub mod sessions;
 pub mod tags;
 pub mod tasks;
 pub mod tokens;
+pub mod trial_counts;
 pub mod trials;
 pub mod users;
 mod write_condition;
