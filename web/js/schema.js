@@ -71,6 +71,15 @@ export function titleOf(prop, value) {
   return known ?? sentence(String(value ?? '').replaceAll('_', ' '));
 }
 
+/** The titles a caretaker reads for a tag's kind, one of its actions and a robot behaviour. */
+export function titlesFrom(schemas) {
+  return {
+    kind: (type) => titleOf(schemas.tag.$defs.properties.properties.type, type),
+    action: (action) => titleOf(schemas.tag.properties.actions, action),
+    behavior: (name) => titleOf(schemas.tag.$defs.behavior_name, name),
+  };
+}
+
 const sentence = (text) => text.charAt(0).toUpperCase() + text.slice(1);
 
 /** What kind of control a property needs. */

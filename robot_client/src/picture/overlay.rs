@@ -1,8 +1,9 @@
 //! The paper's Fig. 5 drawn into the camera image, so a person can look at what perception made
-//! of a scan instead of reading numbers (`perceive --overlay`, and every trial's picture). The paper's key: cyan points
-//! lie in the volume of interest, red ones are the tag's, dark green ones the backing plane's,
-//! and yellow-green boxes are the robot's body and extended arm checked for collisions at the
-//! waypoint (here with the waypoint itself as a yellow-green disc and a heading tick).
+//! of a scan instead of reading numbers (`perceive --overlay`, and every trial's picture). The
+//! paper's key: cyan points lie in the volume of interest, red ones are the tag's, dark green
+//! ones the backing plane's, and yellow-green boxes are the robot's body and extended arm
+//! checked for collisions at the waypoint (here with the waypoint itself as a yellow-green disc
+//! and a heading tick).
 
 use nalgebra::{Isometry3, Point2, Point3, Vector3};
 
@@ -14,12 +15,14 @@ pub(super) const RED: [u8; 3] = [255, 30, 30];
 pub(super) const DARK_GREEN: [u8; 3] = [0, 110, 30];
 pub(super) const YELLOW_GREEN: [u8; 3] = [170, 230, 40];
 
-/// The key of the markings, in the paper's words, as the legend prints it.
+/// The key of the markings as the legend prints it: in a caretaker's words, since the picture
+/// is what the tag's page shows first (the paper's: volume of interest, tag, backing plane,
+/// robot at the waypoint).
 pub(super) const KEY: [([u8; 3], &str); 4] = [
-    (CYAN, "volume of interest"),
-    (RED, "tag"),
-    (DARK_GREEN, "backing plane"),
-    (YELLOW_GREEN, "robot at waypoint"),
+    (CYAN, "where it looked"),
+    (RED, "the tag"),
+    (DARK_GREEN, "surface behind it"),
+    (YELLOW_GREEN, "where it stood"),
 ];
 
 /// The camera image, dimmed so the markings stand out, with the plan drawn in.

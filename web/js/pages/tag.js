@@ -16,7 +16,7 @@ import { when } from '../format.js';
 import { learnedInWords } from '../learned.js';
 import { countedControl, countedInWords, noCountedTrials } from '../purpose.js';
 import { noticeLine } from '../notice.js';
-import { loadSchemas, titleOf } from '../schema.js';
+import { loadSchemas, titleOf, titlesFrom } from '../schema.js';
 import { askControl } from './ask.js';
 import { engineeringView } from './tag-engineering.js';
 import { renderHistory } from './tag-history.js';
@@ -29,8 +29,7 @@ import { renderLatestPicture } from '../picture.js';
 function wordsFor(schemas, robots) {
   const names = new Map(robots.map((robot) => [robot.id, robot.name || robot.id]));
   return {
-    kind: (type) => titleOf(schemas.tag.$defs.properties.properties.type, type),
-    action: (action) => titleOf(schemas.tag.properties.actions, action),
+    ...titlesFrom(schemas),
     outcome: (outcome) => titleOf(schemas.trial.properties.outcome, outcome),
     robot: (id) => names.get(id) ?? id,
   };

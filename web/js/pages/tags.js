@@ -1,12 +1,14 @@
-// The landing page: every tag with what a caretaker wants at a glance (name, type, EPC, room,
-// the last trial, the success rate, whether it is reliable), search, a type filter, and the
-// archived tags on request with a way to restore them.
+// The landing page: every tag with what a caretaker wants at a glance (name, a picture of what
+// the robot saw, what it is, room, the last trial, the success rate, whether it is reliable),
+// search, a filter by kind, and the archived tags on request with a way to restore them. The
+// EPC is an engineer's word: it is on the tag's page, in its advanced section.
 
 import { ApiError, etagOf, entryOf, get, query, request, seg } from '../api.js';
 import { cell, debounce, h, replace, uid } from '../dom.js';
 import { subscribe } from '../events.js';
 import { ago, percent } from '../format.js';
 import { tagThumbnail } from '../picture.js';
+import { loadSchemas, titlesFrom } from '../schema.js';
 
 const PAGE_SIZE = 100;
 /** How many stats requests run at once, so a long list does not flood the registry. */
@@ -29,6 +31,7 @@ export function summarise(groups) {
 export async function render(main) {
   document.title = 'Tags · PPS-tag registry';
   const templates = await get('/assets/templates.json').catch(() => []);
+  const { kind } = titlesFrom(await loadSchemas());
   const knownTypes = new Set(templates.map((t) => t.properties?.type).filter(Boolean));
 
   const searchId = uid('search');
@@ -47,7 +50,7 @@ export async function render(main) {
   const fillTypes = () => {
     const chosen = typeSelect.value;
     replace(typeSelect, h('option', { value: '' }, 'All types'),
-      [...knownTypes].sort().map((type) => h('option', { value: type }, type)));
+      [...knownTypes].sort().map((type) => h('option', { value: type }, kind(type))));
     typeSelect.value = chosen;
   };
   fillTypes();
@@ -85,8 +88,7 @@ export async function render(main) {
     const tr = h('tr', { dataset: { epc: tag.epc } },
       h('th', { scope: 'row', dataset: { label: 'Name' } }, h('a', { href: `#/tags/${seg(tag.epc)}`, class: 'tag-name' }, name),
         tag.archived ? h('span', { class: 'badge' }, 'archived') : null, tagThumbnail(tag.epc)),
-      cell('Type', tag.properties?.type ?? '—'),
-      cell('EPC', h('code', { class: 'epc' }, tag.epc), tag.epc_uri ? h('div', { class: 'uri' }, tag.epc_uri) : null),
+      cell('What it is', tag.properties?.type ? kind(tag.properties.type) : '—'),
       cell('Room', tag.properties?.location?.room ?? '—'),
       cell('Last trial', cells.last), cell('Success', cells.rate), cell('Reliability', cells.reliability),
       h('td', { class: 'row-actions' }, restoreButton));
@@ -143,12 +145,12 @@ export async function render(main) {
       h('a', { class: 'button primary', href: '#/register' }, 'Register a tag')),
     h('form', { class: 'filters', role: 'search', on: { submit: (e) => { e.preventDefault(); load(); } } },
       h('div', { class: 'field' }, h('label', { for: searchId }, 'Search'), search),
-      h('div', { class: 'field' }, h('label', { for: typeId }, 'Type'), typeSelect),
+      h('div', { class: 'field' }, h('label', { for: typeId }, 'What it is'), typeSelect),
       h('div', { class: 'field checkbox' }, archived, h('label', { for: archivedId }, 'Show archived tags'))),
     status,
     h('table', { class: 'tags responsive' },
       h('caption', { class: 'visually-hidden' }, 'Registered tags'),
-      h('thead', {}, h('tr', {}, ['Name', 'Type', 'EPC', 'Room', 'Last trial', 'Success', 'Reliability', ''].map((label) => h('th', { scope: 'col' }, label)))),
+      h('thead', {}, h('tr', {}, ['Name', 'What it is', 'Room', 'Last trial', 'Success', 'Reliability', ''].map((label) => h('th', { scope: 'col' }, label)))),
       tbody),
     more);
   await load();

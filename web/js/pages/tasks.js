@@ -6,6 +6,7 @@ import { getAll, query, seg } from '../api.js';
 import { cell, debounce, h, replace, uid } from '../dom.js';
 import { subscribe } from '../events.js';
 import { ago, when } from '../format.js';
+import { loadSchemas, titlesFrom } from '../schema.js';
 import { cancel, forWhom, stateOf, stuckReason } from '../tasks.js';
 
 /** How often waiting tasks are looked at again: a robot counts as on for a minute after it was seen. */
@@ -13,14 +14,15 @@ const ONLINE_CHECK_MS = 15000;
 
 const STATES = [['', 'All'], ['queued', 'Waiting'], ['claimed', 'Being done'], ['done', 'Done'], ['failed', 'Failed'], ['cancelled', 'Cancelled']];
 
-function taskRow(task, names, refresh) {
-  const name = names.get(task.epc) ?? task.epc;
+function taskRow(task, labels, refresh) {
+  const name = labels.tag(task.epc);
+  const action = labels.action(task.action);
   const { text, badge } = stateOf(task);
   const status = h('p', { class: 'status', role: 'status' });
   const open = ['queued', 'claimed'].includes(task.state);
   const stop = open
     ? h('button', {
-      type: 'button', class: 'small danger', 'aria-label': `Cancel “${task.action}” on ${name}`,
+      type: 'button', class: 'small danger', 'aria-label': `Cancel “${action}” on ${name}`,
       on: {
         click: async (event) => {
           event.target.disabled = true;
@@ -44,7 +46,7 @@ function taskRow(task, names, refresh) {
   return h('tr', { dataset: { task: task.id, state: task.state, stuck: stuck ? 'yes' : 'no' } },
     cell('Asked', when(task.created_at), h('div', { class: 'muted' }, `by ${task.created_by}`)),
     cell('Tag', h('a', { href: `#/tags/${seg(task.epc)}` }, name)),
-    cell('Action', h('strong', {}, task.action), task.note ? h('div', { class: 'muted' }, task.note) : null),
+    cell('Action', h('strong', {}, action), task.note ? h('div', { class: 'muted' }, task.note) : null),
     cell('For', forWhom(task)),
     cell('State', h('span', { class: ['badge', badge] }, text),
       stuck ? h('p', { class: 'stuck' }, h('strong', {}, 'Why it waits: '), stuck, '. It stays waiting until a robot can take it; cancel it if it is no longer wanted.') : null,
@@ -61,7 +63,8 @@ export async function render(main) {
   const filter = h('select', { id: filterId }, STATES.map(([value, label]) => h('option', { value }, label)));
   const box = h('div', { class: 'card' }, h('p', { class: 'muted' }, 'Loading…'));
   const tags = await getAll('/api/v1/tags?limit=500', { maxPages: 4 }).catch(() => []);
-  const names = new Map(tags.map((t) => [t.epc, t.properties?.name || t.epc]));
+  const tagNames = new Map(tags.map((t) => [t.epc, t.properties?.name || t.epc]));
+  const labels = { tag: (epc) => tagNames.get(epc) ?? epc, ...titlesFrom(await loadSchemas()) };
   const show = async () => {
     const tasks = await getAll(`/api/v1/tasks${query({ state: filter.value, limit: 200 })}`, { maxPages: 1 });
     replace(box, tasks.length === 0
@@ -69,7 +72,7 @@ export async function render(main) {
       : h('table', { class: 'tasks responsive' },
         h('caption', { class: 'visually-hidden' }, 'Tasks, newest first'),
         h('thead', {}, h('tr', {}, ['Asked', 'Tag', 'Action', 'For', 'State', 'Trial', 'Cancel'].map((label) => h('th', { scope: 'col' }, label)))),
-        h('tbody', {}, tasks.map((task) => taskRow(task, names, () => show().catch(() => {}))))));
+        h('tbody', {}, tasks.map((task) => taskRow(task, labels, () => show().catch(() => {}))))));
   };
   filter.addEventListener('change', () => show().catch(() => {}));
   replace(main, h('h1', {}, 'Tasks'),
