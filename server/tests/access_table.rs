@@ -102,6 +102,9 @@ fn rule(route: &RouteSpec) -> Rule {
         ("DELETE", "/api/v1/session") => All,
         ("PUT" | "DELETE", "/api/v1/tags/{epc}") => Editors,
         ("GET", "/api/v1/tags/{epc}/revisions" | "/api/v1/inbox") => Editors,
+        // A tag's newest picture, for the tag list: people's, not robots' (a robot reads the
+        // pictures of its own trials).
+        ("GET", "/api/v1/tags/{epc}/picture") => Editors,
         ("POST", "/api/v1/tags/{epc}/retag" | "/api/v1/validate/tag") => Editors,
         ("GET", "/api/v1/robots/{robot}/tags/{epc}") => ThatRobotAndEditors,
         ("GET" | "PATCH", "/api/v1/trials/{id}") | ("GET", "/api/v1/trials") => ThatRobotAndEditors,

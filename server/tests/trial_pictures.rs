@@ -173,3 +173,35 @@ async fn a_tag_keeps_its_newest_pictures_and_every_trial() {
     let listed = server.get_json(&format!("/api/v1/trials?epc={ADA_SWITCH}")).await;
     assert_eq!(listed["items"].as_array().unwrap().len(), 3, "every trial stays");
 }
+
+#[tokio::test]
+async fn a_tag_shows_people_the_newest_picture_of_its_trials() {
+    let server = TestServer::start().await;
+    register_robot(&server, "el-e-1", "el-e", ALL, 15.0).await;
+    let robot = server.token(Role::Robot, "el-e-1").await;
+    let caretaker = server.token(Role::Caretaker, "nurse").await;
+    let path = format!("/api/v1/tags/{ADA_SWITCH}/picture");
+    problem(server.get(&path, &caretaker).await, StatusCode::NOT_FOUND).await;
+    for seed in 1..=2 {
+        let id = record_trial(&server, &robot, ADA_SWITCH).await;
+        let sent = send_picture(&server, &id, &robot, "image/png", png(64, 48, seed, 100)).await;
+        assert_eq!(sent.status(), StatusCode::CREATED);
+    }
+
+    let newest = server.get(&path, &caretaker).await;
+    assert_eq!(newest.status(), StatusCode::OK);
+    assert_eq!(newest.headers()["content-type"], "image/png");
+    assert_eq!(newest.headers()["cache-control"], "private, no-cache");
+    let etag = newest.headers()["etag"].to_str().unwrap().to_owned();
+    assert_eq!(newest.bytes().await.unwrap().as_ref(), png(64, 48, 2, 100).as_slice());
+    let cached = server
+        .request(Method::GET, &path, Some(&caretaker))
+        .header("if-none-match", &etag)
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(cached.status(), StatusCode::NOT_MODIFIED);
+    problem(server.get(&path, &robot).await, StatusCode::FORBIDDEN).await;
+    let never_seen = format!("/api/v1/tags/{DRAWER}/picture");
+    problem(server.get(&never_seen, &caretaker).await, StatusCode::NOT_FOUND).await;
+}

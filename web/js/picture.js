@@ -3,7 +3,7 @@
 // from the registry itself (same origin, with the session cookie); each has an alt text that
 // says in words what it shows, since the picture alone tells a screen reader nothing.
 
-import { getAll, query } from './api.js';
+import { getAll, query, seg } from './api.js';
 import { h } from './dom.js';
 import { when } from './format.js';
 
@@ -38,12 +38,16 @@ export async function renderLatestPicture(container, epc) {
     h('figcaption', {}, `${describe(trial)}. Cyan: where it looked; red: the tag; dark green: the surface behind it; yellow-green: the robot where it stood to act.`)));
 }
 
-/** A small picture of `epc` for a list row, filled in when it arrives. */
-export function tagThumbnail(epc) {
+/** A small picture of the tag `epc` (named `name`) for a list row: the newest a robot sent,
+ * read from the tag's own picture route so a list never reads every tag's trials. */
+export function tagThumbnail(epc, name) {
   const box = h('span', { class: 'thumbnail-box' });
-  latestWithPicture(epc).then((trial) => {
-    const picture = trialPicture(trial, { thumbnail: true });
-    if (picture) box.replaceChildren(picture);
-  }, () => {});
+  const image = h('img', {
+    src: `/api/v1/tags/${seg(epc)}/picture`, alt: `What a robot last saw at ${name}`, loading: 'lazy',
+    class: ['picture', 'thumbnail'],
+    // No picture yet (404): nothing to show, rather than a broken image.
+    on: { error: () => box.replaceChildren() },
+  });
+  box.replaceChildren(image);
   return box;
 }

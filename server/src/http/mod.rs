@@ -97,6 +97,13 @@ pub fn router_with_routes(state: AppState) -> (Router, Vec<RouteSpec>) {
         .add(get(), "/api/v1/tags/{epc}/revisions", Editors, tags::revisions, tags::REVISIONS)
         .add(get(), "/metrics", Open, meta::metrics, meta::METRICS)
         .add(get(), "/api/v1/tags/{epc}/stats", Anyone, stats::get, stats::GET)
+        .add(
+            get(),
+            "/api/v1/tags/{epc}/picture",
+            Editors,
+            pictures::newest_of_tag,
+            pictures::TAG_GET,
+        )
         .add(Method::POST, "/api/v1/tags/{epc}/retag", Editors, retag::retag, retag::RETAG)
         .add(Method::POST, "/api/v1/validate/tag", Editors, tags::validate, tags::VALIDATE)
         .add(get(), "/api/v1/robots", Anyone, robots::list, robots::LIST)

@@ -7,6 +7,7 @@ use axum::http::StatusCode;
 use axum::http::header::{CACHE_CONTROL, CONTENT_TYPE, ETAG, X_CONTENT_TYPE_OPTIONS};
 use axum::response::{IntoResponse, Response};
 use bytes::Bytes;
+use pps_schema::Epc;
 use serde_json::json;
 
 use crate::clock;
@@ -18,6 +19,7 @@ use crate::http::precondition::IfNoneMatch;
 use crate::picture::{Picture, PictureProblem, PictureType};
 use crate::state::AppState;
 use crate::store::events::{self, EventKind};
+use crate::store::pictures::StoredPicture;
 use crate::store::{pictures, trials};
 
 const MEDIA_TYPES: &[&str] = &["image/png", "image/jpeg"];
@@ -166,14 +168,54 @@ pub async fn get(
             state.pictures_per_tag
         )));
     };
-    let etag = format!("\"{}\"", stored.sha256);
+    Ok(send(stored.media_type, stored.sha256, bytes, CACHE, &if_none_match))
+}
+
+pub const TAG_GET: Doc = Doc::new("getTagPicture", "The newest picture of a tag")
+    .describe(
+        "What a robot saw the last time it sent a picture of this tag: the newest picture still          held of the tag's trials, with a strong ETag (If-None-Match answers 304). A tag list          shows it as the tag's thumbnail without reading the tag's trials. For caretakers and          admins; a robot reads the pictures of its own trials.",
+    )
+    .params(&[Param::EPC, Param::IF_NONE_MATCH_READ])
+    .replies(&[
+        Reply::bytes(200, "The picture", MEDIA_TYPES)
+            .headers(&[Header::ETag, Header::CacheControlPrivate]),
+        Reply::NOT_MODIFIED,
+        Reply::problem(404, "No tag has this EPC, or no robot sent a picture of it that is kept"),
+    ]);
+
+pub async fn newest_of_tag(
+    State(state): State<AppState>,
+    InPath(epc): InPath<Epc>,
+    if_none_match: IfNoneMatch,
+) -> Result<Response, ApiError> {
+    let stored = pictures::newest_of_tag(state.db.reader(), epc.as_hex()).await?;
+    let Some(StoredPicture { media_type, sha256, bytes: Some(bytes) }) = stored else {
+        return Err(ApiError::NotFound(format!(
+            "no robot has sent a picture of the tag {epc} that is still kept"
+        )));
+    };
+    // The newest picture changes as robots work: a browser asks again each time, and the ETag
+    // makes that a 304 while nothing new arrived.
+    Ok(send(media_type, sha256, bytes, "private, no-cache", &if_none_match))
+}
+
+/// A stored picture as an answer: its bytes under a strong ETag, or 304 when the caller has
+/// them.
+fn send(
+    media_type: String,
+    sha256: String,
+    bytes: Vec<u8>,
+    cache: &str,
+    if_none_match: &IfNoneMatch,
+) -> Response {
+    let etag = format!("\"{sha256}\"");
     let headers = [
         (ETAG, etag.clone()),
-        (CACHE_CONTROL, CACHE.to_owned()),
+        (CACHE_CONTROL, cache.to_owned()),
         (X_CONTENT_TYPE_OPTIONS, "nosniff".to_owned()),
     ];
     if if_none_match.names(&etag) {
-        return Ok((StatusCode::NOT_MODIFIED, headers).into_response());
+        return (StatusCode::NOT_MODIFIED, headers).into_response();
     }
-    Ok((headers, [(CONTENT_TYPE, stored.media_type)], bytes).into_response())
+    (headers, [(CONTENT_TYPE, media_type)], bytes).into_response()
 }

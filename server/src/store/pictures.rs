@@ -68,6 +68,22 @@ pub async fn get(pool: &AnyPool, trial: &Uuid) -> sqlx::Result<Option<StoredPict
         .await
 }
 
+/// The newest picture still held of the tag `epc`'s trials (newest by the trial's place in
+/// arrival order), with its bytes.
+#[tracing::instrument(skip_all)]
+pub async fn newest_of_tag(pool: &AnyPool, epc: &str) -> sqlx::Result<Option<StoredPicture>> {
+    sqlx::query_as(
+        "select p.media_type, p.sha256, p.bytes
+           from trial_pictures p join trials t on t.id = p.trial
+          where t.epc = $1 and p.bytes is not null
+          order by t.seq desc
+          limit 1",
+    )
+    .bind(epc)
+    .fetch_optional(pool)
+    .await
+}
+
 /// Removes the bytes of every picture of the tag `epc` but the newest `keep` (newest by the
 /// trial's place in arrival order); returns how many it removed.
 pub async fn keep_newest(

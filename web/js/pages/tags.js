@@ -87,7 +87,7 @@ export async function render(main) {
     restoreButton?.addEventListener('click', () => restore(tag, restoreButton));
     const tr = h('tr', { dataset: { epc: tag.epc } },
       h('th', { scope: 'row', dataset: { label: 'Name' } }, h('a', { href: `#/tags/${seg(tag.epc)}`, class: 'tag-name' }, name),
-        tag.archived ? h('span', { class: 'badge' }, 'archived') : null, tagThumbnail(tag.epc)),
+        tag.archived ? h('span', { class: 'badge' }, 'archived') : null, tagThumbnail(tag.epc, name)),
       cell('What it is', tag.properties?.type ? kind(tag.properties.type) : '—'),
       cell('Room', tag.properties?.location?.room ?? '—'),
       cell('Last trial', cells.last), cell('Success', cells.rate), cell('Reliability', cells.reliability),
