@@ -1,5 +1,5 @@
 //! Experiments apart, as a caretaker sees them: the tag page's success rate counts real use,
-//! says so in words, and counts experiments and tests only when asked.
+//! says so in words, and counts experiments and tests only when asked, remembering the choice.
 
 use pps_tests::browser::PHONE;
 use pps_tests::{Browser, Registry};
@@ -54,6 +54,12 @@ async fn an_experiments_failures_stay_out_of_the_success_rate_until_asked_for() 
     page.wait_for_text(".counted", "Counting real use, experiments and tests.").await;
     page.wait_for_text(&format!("{open} .rate"), "40 %").await;
     page.wait_for_text(open, "of 5 tries").await;
+
+    // The choice is anna's until she changes it: it holds on her next visit.
+    page.open("/#/tags").await;
+    page.open(&format!("/#/tags/{DRAWER}")).await;
+    page.wait_for_text(".counted", "Counting real use, experiments and tests.").await;
+    page.wait_for_text(&format!("{open} .rate"), "40 %").await;
     page.click_text("label", "Include experiments and tests").await;
     page.wait_for_text(".counted", "Real use only; 3 experiment trials not counted.").await;
     page.close().await;

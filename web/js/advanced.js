@@ -3,27 +3,10 @@
 // is closed until someone opens it, and each user's choice is remembered in this browser.
 
 import { h } from './dom.js';
-import * as session from './session.js';
+import { recalled, remember } from './preference.js';
 
 const TITLE = 'Advanced (for robot engineers)';
-
-const storageKey = () => `pps.advanced-open.${session.user()?.name ?? ''}`;
-
-function remembered() {
-  try {
-    return localStorage.getItem(storageKey()) === 'open';
-  } catch {
-    return false; // storage may be switched off; closed is the safe default
-  }
-}
-
-function remember(open) {
-  try {
-    localStorage.setItem(storageKey(), open ? 'open' : 'closed');
-  } catch {
-    // Not remembered, but the section still works.
-  }
-}
+const PREFERENCE = 'advanced-open';
 
 /**
  * A closed-by-default section holding `children`. Returns the `<details>` element with
@@ -32,12 +15,12 @@ function remember(open) {
  */
 export function advancedSection(...children) {
   const remark = h('span', { class: 'advanced-note' });
-  const details = h('details', { class: 'advanced', open: remembered() },
+  const details = h('details', { class: 'advanced', open: recalled(PREFERENCE) === 'open' },
     h('summary', {}, TITLE, remark), children);
   let revealing = false;
   details.addEventListener('toggle', () => {
     if (revealing) revealing = false;
-    else remember(details.open);
+    else remember(PREFERENCE, details.open ? 'open' : 'closed');
   });
   details.reveal = () => {
     if (details.open) return;

@@ -3,6 +3,7 @@
 // thing works for the people it serves. A caretaker may count experiments and tests on request.
 
 import { h, uid } from './dom.js';
+import { recalled, remember } from './preference.js';
 
 // The titles of trial.schema.json's `purpose`, in words for a sentence.
 const TITLES = { use: 'Real use', experiment: 'Experiment', test: 'Test' };
@@ -14,10 +15,19 @@ export function purposeBadge(trial) {
   return h('span', { class: 'badge', dataset: { purpose: trial.purpose } }, TITLES[trial.purpose] ?? trial.purpose);
 }
 
-/** A checkbox to count experiments and tests too; `onChange` runs when it is switched. */
+const PREFERENCE = 'count-experiments';
+
+/**
+ * A checkbox to count experiments and tests too, as this user last left it; `onChange` runs
+ * when it is switched.
+ */
 export function countedControl(onChange) {
   const id = uid('count-experiments');
-  const box = h('input', { type: 'checkbox', id, on: { change: onChange } });
+  const changed = () => {
+    remember(PREFERENCE, box.checked ? 'yes' : 'no');
+    onChange();
+  };
+  const box = h('input', { type: 'checkbox', id, checked: recalled(PREFERENCE) === 'yes', on: { change: changed } });
   return {
     element: h('div', { class: 'field checkbox' }, box, h('label', { for: id }, 'Include experiments and tests')),
     /** The stats route's `include` parameter, or null for real use only. */

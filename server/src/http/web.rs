@@ -29,7 +29,7 @@ macro_rules! web_files {
 
 const INDEX_HTML: &[u8] = include_bytes!("../../../web/index.html");
 
-const FILES: [(&str, &[u8]); 37] = web_files![
+const FILES: [(&str, &[u8]); 38] = web_files![
     "app.css",
     "icon.svg",
     "js/advanced.js",
@@ -62,6 +62,7 @@ const FILES: [(&str, &[u8]); 37] = web_files![
     "js/pages/tasks.js",
     "js/picture.js",
     "js/pointer.js",
+    "js/preference.js",
     "js/purpose.js",
     "js/schema-field.js",
     "js/schema.js",
