@@ -3,7 +3,7 @@
 // from the registry itself (same origin, with the session cookie); each has an alt text that
 // says in words what it shows, since the picture alone tells a screen reader nothing.
 
-import { getAll, query, seg } from './api.js';
+import { seg } from './api.js';
 import { h } from './dom.js';
 import { when } from './format.js';
 
@@ -20,16 +20,10 @@ export function trialPicture(trial, { thumbnail = false } = {}) {
   return h('a', { href: trial.picture, target: '_blank', rel: 'noopener', class: 'picture-link' }, image);
 }
 
-/** The newest trial of `epc` that has a picture, or null. */
-export async function latestWithPicture(epc) {
-  const trials = await getAll(`/api/v1/trials${query({ epc, limit: 500 })}`);
-  // Listed in the order the registry received them; a picture follows its trial.
-  return trials.filter((trial) => trial.picture).at(-1) ?? null;
-}
-
-/** Fills `container` with the newest picture of `epc` and what it shows. */
-export async function renderLatestPicture(container, epc) {
-  const trial = await latestWithPicture(epc);
+/** Fills `container` with the newest picture among a tag's `trials` (in the order the
+ * registry received them; a picture follows its trial) and what it shows. */
+export function renderLatestPicture(container, trials) {
+  const trial = trials.filter((t) => t.picture).at(-1);
   if (!trial) {
     container.replaceChildren(h('p', { class: 'muted' }, 'No robot has sent a picture of this tag yet.'));
     return;

@@ -9,12 +9,12 @@ import { verdict, when } from '../format.js';
 import { purposeBadge } from '../purpose.js';
 import { trialPicture } from '../picture.js';
 
-/** Fills `container` with the trials of `epc`; returns how many there are. */
+/** Fills `container` with the trials of `epc`; returns them, in the order they arrived. */
 export async function renderTrials(container, epc, words) {
   const trials = await getAll(`/api/v1/trials${query({ epc, include: 'forces', limit: 500 })}`);
   if (trials.length === 0) {
     replace(container, h('p', { class: 'muted' }, 'No robot has tried this tag yet.'));
-    return 0;
+    return trials;
   }
   const started = (trial) => Date.parse(trial.started_at ?? trial.finished_at) || 0;
   const newestFirst = trials.slice().sort((a, b) => started(b) - started(a) || (b.seq ?? 0) - (a.seq ?? 0));
@@ -23,7 +23,7 @@ export async function renderTrials(container, epc, words) {
     h('caption', { class: 'visually-hidden' }, 'Trials, newest first'),
     h('thead', {}, h('tr', {}, ['When', 'Robot', 'Action', 'Outcome', 'Verdict', 'Evidence'].map((label) => h('th', { scope: 'col' }, label)))),
     h('tbody', {}, rows)));
-  return trials.length;
+  return trials;
 }
 
 function trialRow(trial, words, refresh) {

@@ -172,8 +172,10 @@ export async function render(main, [epc]) {
     section(historyBox, () => renderHistory(historyBox, tag.epc));
   };
   const refreshTrials = () => {
-    section(pictureBox, () => renderLatestPicture(pictureBox, tag.epc));
-    section(trialsBox, () => renderTrials(trialsBox, tag.epc, words));
+    // One read of the trials serves the list and the newest picture.
+    const trials = renderTrials(trialsBox, tag.epc, words);
+    section(trialsBox, () => trials);
+    section(pictureBox, async () => renderLatestPicture(pictureBox, await trials));
     const include = query({ include: countedScope.include() });
     section(statsBox, async () => {
       const stats = await get(`/api/v1/tags/${seg(tag.epc)}/stats${include}`);
