@@ -35,6 +35,16 @@ async fn send_picture(
         .unwrap()
 }
 
+/// GET `path` as a browser that holds the picture under `etag` asks for it again.
+async fn get_if_none_match(server: &TestServer, path: &str, token: &str, etag: &str) -> Response {
+    server
+        .request(Method::GET, path, Some(token))
+        .header("if-none-match", etag)
+        .send()
+        .await
+        .unwrap()
+}
+
 /// Records a trial of `el-e-1` on `epc`; returns its id.
 async fn record_trial(server: &TestServer, robot: &str, epc: &str) -> String {
     let id = uuid();
@@ -87,12 +97,7 @@ async fn the_robot_that_made_a_trial_sends_its_picture_once_and_readers_see_it()
     assert_eq!(own.status(), StatusCode::OK);
     problem(server.get(&path, &other_robot).await, StatusCode::FORBIDDEN).await;
 
-    let cached = server
-        .request(Method::GET, &path, Some(&caretaker))
-        .header("if-none-match", &etag)
-        .send()
-        .await
-        .unwrap();
+    let cached = get_if_none_match(&server, &path, &caretaker, &etag).await;
     assert_eq!(cached.status(), StatusCode::NOT_MODIFIED);
     assert_eq!(cached.headers()["etag"], etag.as_str());
     assert!(cached.bytes().await.unwrap().is_empty());
@@ -194,12 +199,7 @@ async fn a_tag_shows_people_the_newest_picture_of_its_trials() {
     assert_eq!(newest.headers()["cache-control"], "private, no-cache");
     let etag = newest.headers()["etag"].to_str().unwrap().to_owned();
     assert_eq!(newest.bytes().await.unwrap().as_ref(), png(64, 48, 2, 100).as_slice());
-    let cached = server
-        .request(Method::GET, &path, Some(&caretaker))
-        .header("if-none-match", &etag)
-        .send()
-        .await
-        .unwrap();
+    let cached = get_if_none_match(&server, &path, &caretaker, &etag).await;
     assert_eq!(cached.status(), StatusCode::NOT_MODIFIED);
     problem(server.get(&path, &robot).await, StatusCode::FORBIDDEN).await;
     let never_seen = format!("/api/v1/tags/{DRAWER}/picture");
