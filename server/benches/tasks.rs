@@ -14,7 +14,7 @@
 
 use std::time::{Duration, Instant};
 
-use pps_server::auth::Role;
+use pps_server::identity::Role;
 use pps_server::store::{robots, tokens};
 use pps_server::{AppState, Db, seed};
 use serde_json::{Value, json};

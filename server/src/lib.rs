@@ -18,6 +18,7 @@ pub mod error;
 pub mod export;
 pub mod feed;
 pub mod http;
+pub mod identity;
 pub mod learning;
 pub mod metrics;
 pub mod picture;

@@ -11,7 +11,7 @@ use std::fmt::Write as _;
 
 use common::*;
 use pps_server::RouteSpec;
-use pps_server::auth::Role;
+use pps_server::identity::Role;
 use pps_server::store::tokens;
 use reqwest::{Method, RequestBuilder, StatusCode};
 use serde_json::{Value, json};

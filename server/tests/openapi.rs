@@ -11,8 +11,8 @@ use std::collections::{BTreeSet, HashSet};
 
 use common::*;
 use pps_server::RouteSpec;
-use pps_server::auth::Role;
 use pps_server::http::Access;
+use pps_server::identity::Role;
 use reqwest::{Method, Response, StatusCode};
 use serde_json::{Value, json};
 

@@ -6,7 +6,7 @@ mod common;
 use std::time::{Duration, Instant};
 
 use common::*;
-use pps_server::auth::Role;
+use pps_server::identity::Role;
 use reqwest::{Method, StatusCode};
 use serde_json::{Value, json};
 

@@ -132,7 +132,7 @@ async fn an_unquoted_etag_is_a_bad_request_that_shows_the_quoted_form() {
         .unwrap();
     let body = problem(read, StatusCode::BAD_REQUEST).await;
     assert!(body["detail"].as_str().unwrap().contains(r#"If-None-Match: "r1""#), "{body}");
-    let robot = server.token(pps_server::auth::Role::Robot, "el-e-1").await;
+    let robot = server.token(pps_server::identity::Role::Robot, "el-e-1").await;
     let effective = server
         .request(Method::GET, &format!("/api/v1/robots/el-e-1/tags/{DRAWER}"), Some(&robot))
         .header("if-none-match", "r1")

@@ -185,11 +185,15 @@ async fn shutdown_ends_change_feed_streams_and_idle_connections_and_returns() {
 /// An admin token in the served registry's database.
 async fn mint_admin(served: &Served) -> String {
     let db = Db::open_file(&served._dir.path().join("pps.db")).await.unwrap();
-    let token =
-        pps_server::store::tokens::create(&db, pps_server::auth::Role::Admin, "test admin", None)
-            .await
-            .unwrap()
-            .token;
+    let token = pps_server::store::tokens::create(
+        &db,
+        pps_server::identity::Role::Admin,
+        "test admin",
+        None,
+    )
+    .await
+    .unwrap()
+    .token;
     db.close().await;
     token
 }

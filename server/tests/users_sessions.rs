@@ -11,7 +11,8 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use common::*;
-use pps_server::auth::{Role, UserName, password, secret, session};
+use pps_server::auth::{password, session};
+use pps_server::identity::{Role, UserName, secret};
 use pps_server::store::{sessions, users};
 use reqwest::header::{COOKIE, SET_COOKIE};
 use reqwest::{Method, Response, StatusCode};

@@ -8,7 +8,7 @@ use std::path::Path;
 
 use pps_robot::registry::RegistryClient;
 use pps_schema::RobotId;
-use pps_server::auth::Role;
+use pps_server::identity::Role;
 use pps_server::store::{robots, tokens};
 use pps_server::{AppState, Db};
 use serde_json::json;

@@ -25,7 +25,7 @@ struct Cached {
 
 #[derive(Debug, Default)]
 pub struct TokenCache {
-    /// By the token's SHA-256 ([`crate::auth::secret::digest`]).
+    /// By the token's SHA-256 ([`crate::identity::secret::digest`]).
     entries: RwLock<HashMap<[u8; 32], Cached>>,
 }
 

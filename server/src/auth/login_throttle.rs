@@ -24,7 +24,7 @@ const FORGET_AFTER: Duration = Duration::from_secs(15 * 60);
 const CAPACITY: usize = 10_000;
 /// Longest name kept in a key: longer than any valid login name, short enough that 10,000
 /// made-up megabyte names cost nothing.
-const MAX_KEY_NAME_CHARS: usize = 2 * crate::auth::user_name::MAX_CHARS;
+const MAX_KEY_NAME_CHARS: usize = 2 * crate::identity::user_name::MAX_CHARS;
 /// What an attempt is told while another one on its name or address is being checked.
 pub const BUSY_WAIT: Duration = Duration::from_secs(1);
 

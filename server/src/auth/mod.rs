@@ -7,10 +7,7 @@ mod cache;
 pub mod login_throttle;
 pub mod password;
 mod principal;
-mod role;
-pub mod secret;
 pub mod session;
-mod user_name;
 
 use std::sync::Arc;
 
@@ -18,10 +15,9 @@ use axum::http::HeaderMap;
 use axum::http::header::AUTHORIZATION;
 pub use cache::{RECHECK_AFTER as TOKEN_RECHECK_AFTER, TokenCache};
 pub use principal::Principal;
-pub use role::Role;
-pub use user_name::UserName;
 
 use crate::error::ApiError;
+use crate::identity::{Role, secret};
 use crate::state::AppState;
 use crate::store;
 

@@ -2,8 +2,8 @@
 
 use pps_schema::RobotId;
 
-use crate::auth::Role;
 use crate::error::ApiError;
+use crate::identity::Role;
 
 /// An authenticated caller.
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -11,8 +11,9 @@ use base64::Engine;
 use base64::engine::general_purpose::URL_SAFE_NO_PAD;
 use sha2::{Digest, Sha256};
 
-use crate::auth::{Principal, Role, secret};
+use crate::auth::Principal;
 use crate::error::ApiError;
+use crate::identity::{Role, secret};
 use crate::state::AppState;
 use crate::store;
 

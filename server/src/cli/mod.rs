@@ -14,8 +14,8 @@ use std::path::PathBuf;
 use anyhow::bail;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use crate::auth::Role;
 use crate::db::{Db, Location};
+use crate::identity::Role;
 use crate::{retention, transport};
 
 #[derive(Debug, Parser)]

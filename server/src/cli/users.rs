@@ -3,8 +3,9 @@
 use anyhow::{Context, bail};
 
 use super::UserCommand;
-use crate::auth::{Role, UserName, password};
+use crate::auth::password;
 use crate::db::Db;
+use crate::identity::{Role, UserName};
 use crate::store::users;
 
 /// A person's role: caretaker or admin; robots use tokens.

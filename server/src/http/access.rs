@@ -9,8 +9,9 @@ use axum::response::{IntoResponse, Response};
 use futures_util::future::{BoxFuture, Either};
 use tower::{Layer, Service};
 
-use crate::auth::{self, Check, Principal, Role};
+use crate::auth::{self, Check, Principal};
 use crate::error::ApiError;
+use crate::identity::Role;
 use crate::state::AppState;
 
 /// The roles of DESIGN §4's table, as far as they can be decided from the route alone.

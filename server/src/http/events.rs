@@ -14,11 +14,12 @@ use axum::response::sse::{Event as SseEvent, KeepAlive, Sse};
 use futures_util::Stream;
 use tokio::sync::{broadcast, mpsc};
 
-use crate::auth::{self, Principal, secret, session};
+use crate::auth::{self, Principal, session};
 use crate::error::ApiError;
 use crate::feed::FeedPlace;
 use crate::http::extract::Caller;
 use crate::http::openapi::{Doc, Param, Reply};
+use crate::identity::secret;
 use crate::state::AppState;
 use crate::store::events::{self, Event, EventKind};
 

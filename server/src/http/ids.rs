@@ -7,8 +7,8 @@ use axum::http::request::Parts;
 use pps_schema::{Epc, RobotId};
 use uuid::Uuid;
 
-use crate::auth::UserName;
 use crate::error::ApiError;
+use crate::identity::UserName;
 
 /// What one path segment (or query parameter) can name.
 pub trait Segment: Sized {

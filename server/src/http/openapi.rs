@@ -21,9 +21,9 @@ use serde_json::{Map, Value, json};
 
 pub use doc::{Body, Content, Doc, Header, Param, ParamType, Place, Reply};
 
-use crate::auth::Role;
 use crate::error::ApiError;
 use crate::http::{Access, RouteSpec};
+use crate::identity::Role;
 use crate::state::AppState;
 use components::SCHEMAS;
 

@@ -13,11 +13,12 @@ use axum::response::{IntoResponse, Response};
 use serde::Deserialize;
 use serde_json::json;
 
-use crate::auth::{UserName, login_throttle, password, secret, session};
+use crate::auth::{login_throttle, password, session};
 use crate::clock;
 use crate::error::ApiError;
 use crate::http::extract::Caller;
 use crate::http::typed_json::TypedJson;
+use crate::identity::{UserName, secret};
 use crate::state::AppState;
 use crate::store;
 

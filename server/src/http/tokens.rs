@@ -8,11 +8,11 @@ use axum::response::{IntoResponse, Response};
 use serde::Deserialize;
 use serde_json::Value;
 
-use crate::auth::Role;
 use crate::error::ApiError;
 use crate::http::extract::JsonBody;
 use crate::http::openapi::{Body, Doc, Param, ParamType, Reply};
 use crate::http::page::Page;
+use crate::identity::Role;
 use crate::state::AppState;
 use crate::store::tokens::{self, TokenRecord};
 

@@ -11,12 +11,13 @@ use serde_json::{Value, json};
 use uuid::Uuid;
 
 use crate::accept::accept;
-use crate::auth::{Principal, Role};
+use crate::auth::Principal;
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, JsonBody};
 use crate::http::ids::{InPath, TrialId};
 use crate::http::openapi::{Body, Doc, Param, ParamType, Reply};
 use crate::http::page::{self, Page};
+use crate::identity::Role;
 use crate::learning::{self, TrialGroup};
 use crate::state::AppState;
 use crate::store::events::{self, EventKind};

@@ -9,13 +9,14 @@ use axum::response::{IntoResponse, Response};
 use pps_schema::FieldError;
 use serde::Deserialize;
 
-use crate::auth::{Role, UserName, login_throttle, password, secret, session};
+use crate::auth::{login_throttle, password, session};
 use crate::error::{ApiError, is_unique_violation};
 use crate::http::extract::{ApiQuery, Caller};
 use crate::http::ids::InPath;
 use crate::http::page::{self, Page};
 use crate::http::session::too_many_attempts;
 use crate::http::typed_json::TypedJson;
+use crate::identity::{Role, UserName, secret};
 use crate::state::AppState;
 use crate::store;
 use crate::store::users::{self, UserRecord};

@@ -4,9 +4,9 @@
 
 use sqlx::AnyPool;
 
-use crate::auth::UserName;
 use crate::clock;
 use crate::db::Db;
+use crate::identity::UserName;
 
 /// A live session's user, as the access check needs it.
 #[derive(Debug, Clone, PartialEq, Eq, sqlx::FromRow)]

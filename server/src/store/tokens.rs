@@ -5,9 +5,9 @@ use sqlx::AnyPool;
 
 use crate::store::columns::Flag;
 
-use crate::auth::{Role, secret};
 use crate::clock;
 use crate::db::Db;
+use crate::identity::{Role, secret};
 use crate::store::users;
 
 /// A token as listed: everything but the secret, which is shown once at creation.

@@ -5,9 +5,9 @@ use sqlx::AnyPool;
 
 use crate::store::columns::Flag;
 
-use crate::auth::{Role, UserName};
 use crate::clock;
 use crate::db::Db;
+use crate::identity::{Role, UserName};
 
 /// A user as listed: everything but the password hash.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, sqlx::FromRow)]

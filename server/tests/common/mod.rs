@@ -10,8 +10,8 @@ pub mod postgres;
 
 use std::path::PathBuf;
 
-use pps_server::auth::Role;
 use pps_server::db::Location;
+use pps_server::identity::Role;
 use pps_server::store::tokens;
 use pps_server::{AppState, Db};
 use reqwest::{Method, RequestBuilder, Response, StatusCode};

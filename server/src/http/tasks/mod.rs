@@ -18,12 +18,13 @@ use serde::Deserialize;
 use serde_json::Value;
 use uuid::Uuid;
 
-use crate::auth::{Principal, Role};
+use crate::auth::Principal;
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, JsonBody};
 use crate::http::ids::{InPath, Segment, TaskId};
 use crate::http::openapi::{Body, Doc, Header, Param, ParamType, Reply};
 use crate::http::page;
+use crate::identity::Role;
 use crate::state::AppState;
 use crate::store::robots;
 use crate::store::tasks::{self, NewTask, TaskFilter, TaskRow};
