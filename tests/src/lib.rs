@@ -7,6 +7,7 @@
 pub mod browser;
 pub mod caretaker_view;
 pub mod fixtures;
+pub mod module_graph;
 pub mod registry;
 pub mod wait;
 pub mod working_robot;

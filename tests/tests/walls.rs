@@ -8,203 +8,152 @@
 //! - The paper's experiment and the simulated task worker set up simulated trials, so they use
 //!   the simulator, but never the command line: the command line parses their settings and
 //!   prints what they report, nothing more.
-//! - The registry's store never reaches into HTTP or the command line: it is what both stand on
-//!   (a write's precondition is a store notion; HTTP only parses the headers into it).
+//! - The registry's store never reaches into HTTP or the command line, not even through another
+//!   module: it is what both stand on (a write's precondition is a store notion; HTTP only
+//!   parses the headers into it).
 //! - And nothing above the store writes SQL: the connections (`db`) and the backup's
 //!   `VACUUM INTO` aside, every query is a store function, so there is one place to read them.
 //!
-//! Unit tests inside those modules may use anything (test data from the simulator's noise, say);
-//! only the code that ships is held to the walls.
+//! The walls are read from the module graph as the compiler sees it (`pps_tests::module_graph`),
+//! following every module a path leads to. Unit tests inside those modules may use anything
+//! (test data from the simulator's noise, say); only the code that ships is held to the walls.
 
 use std::path::{Path, PathBuf};
 
-/// Modules of a crate that must not use some others.
-struct Wall {
-    what: &'static str,
-    /// The crate's `src`, from the workspace root.
-    src: &'static str,
-    /// Directories or files under `src` the wall holds.
-    modules: &'static [&'static str],
-    /// Directories or files among them it does not.
-    except: &'static [&'static str],
-    beyond: &'static [&'static str],
+use pps_tests::module_graph::{ModuleGraph, ModulePath, Named};
+
+fn graph(src: &str) -> ModuleGraph {
+    ModuleGraph::read(&workspace().join(src).join("lib.rs"))
 }
 
-const WALLS: [Wall; 4] = [
-    Wall {
-        what: "robot code",
-        src: "robot_client/src",
-        modules: &[
-            "task",
-            "behaviors",
-            "perception",
-            "navigation",
-            "registry",
-            "hal",
-            "rfid",
-            "recording",
-        ],
-        except: &[],
-        beyond: &["crate::sim", "crate::cli", "super::sim", "super::cli"],
-    },
-    Wall {
-        what: "the experiment",
-        src: "robot_client/src",
-        modules: &["experiment", "worker.rs"],
-        except: &[],
-        beyond: &["crate::cli", "super::cli"],
-    },
-    Wall {
-        what: "the store",
-        src: "server/src",
-        modules: &["store"],
-        except: &[],
-        beyond: &["crate::http", "crate::cli", "super::http", "axum"],
-    },
-    Wall {
-        what: "the server above its store",
-        src: "server/src",
-        modules: &["."],
-        except: &["store", "db", "backup.rs"],
-        beyond: &[
-            "sqlx::query",
-            "sqlx::query_as",
-            "sqlx::query_scalar",
-            "sqlx::query_with",
-            "sqlx::raw_sql",
-            "sqlx::QueryBuilder",
-        ],
-    },
-];
-
-fn rust_files(dir: &Path, into: &mut Vec<PathBuf>) {
-    if dir.is_file() {
-        into.push(dir.to_path_buf());
-        return;
-    }
-    for entry in std::fs::read_dir(dir).unwrap() {
-        let path = entry.unwrap().path();
-        if path.is_dir() {
-            rust_files(&path, into);
-        } else if path.extension().is_some_and(|e| e == "rs") {
-            into.push(path);
-        }
-    }
+fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
 }
 
-/// The lines of a source file that are not test code, numbered from 1, and the names of the
-/// modules it declares test-only (`#[cfg(test)] mod name;`, whose files are test code too).
-fn shipped_code(text: &str) -> (Vec<(usize, &str)>, Vec<String>) {
-    let (mut kept, mut test_modules) = (Vec::new(), Vec::new());
-    let mut lines = text.lines().enumerate();
-    while let Some((n, line)) = lines.next() {
-        if line.trim() != "#[cfg(test)]" {
-            kept.push((n + 1, line));
+fn modules(names: &[&str]) -> Vec<ModulePath> {
+    names.iter().map(|n| n.split("::").map(str::to_owned).collect()).collect()
+}
+
+/// Whether `named` is `module` of this crate or something inside it.
+fn inside(named: &Named, module: &str) -> bool {
+    named.internal && named.path.first().is_some_and(|first| first == module)
+}
+
+/// Whether `named` is the outside crate `name` or something inside it.
+fn from_crate(named: &Named, name: &str) -> bool {
+    !named.internal && named.path.first().is_some_and(|first| first == name)
+}
+
+fn report(found: Vec<(pps_tests::module_graph::Chain, Named)>) -> String {
+    found
+        .iter()
+        .map(|(chain, named)| format!("{chain} names {}", named.path.join("::")))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+#[test]
+fn robot_code_never_reaches_into_the_simulator_or_the_command_line() {
+    let robot = graph("robot_client/src");
+    let code = modules(&[
+        "task",
+        "behaviors",
+        "perception",
+        "navigation",
+        "registry",
+        "hal",
+        "rfid",
+        "recording",
+    ]);
+    let found = robot.reach(&code, |n| inside(n, "sim") || inside(n, "cli"));
+    assert!(found.is_empty(), "robot code crosses its wall:\n{}", report(found));
+}
+
+#[test]
+fn the_experiment_never_reaches_into_the_command_line() {
+    let robot = graph("robot_client/src");
+    let found = robot.reach(&modules(&["experiment", "worker"]), |n| inside(n, "cli"));
+    assert!(found.is_empty(), "the experiment crosses its wall:\n{}", report(found));
+}
+
+#[test]
+fn the_store_never_reaches_into_http() {
+    let server = graph("server/src");
+    let found = server.reach(&modules(&["store"]), |n| {
+        inside(n, "http") || inside(n, "cli") || from_crate(n, "axum")
+    });
+    assert!(found.is_empty(), "the store crosses its wall:\n{}", report(found));
+}
+
+#[test]
+fn nothing_above_the_store_writes_sql() {
+    let found = sql_outside_the_store(&graph("server/src"));
+    assert!(found.is_empty(), "SQL outside the store:\n{}", found.join("\n"));
+}
+
+/// Every place outside `store`, `db` and `backup` that names one of sqlx's ways to send SQL.
+fn sql_outside_the_store(graph: &ModuleGraph) -> Vec<String> {
+    const SQL: [&str; 6] =
+        ["query", "query_as", "query_scalar", "query_with", "raw_sql", "QueryBuilder"];
+    let mut found = Vec::new();
+    for (module, shipped) in &graph.modules {
+        if ["store", "db", "backup"].contains(&module.first().map_or("", String::as_str)) {
             continue;
         }
-        // The item the attribute applies to: a module declared here or inline, or one line.
-        let Some((_, item)) = lines.next() else { break };
-        let item = item.trim();
-        if let Some(name) = item.strip_prefix("mod ").and_then(|rest| rest.strip_suffix(';')) {
-            test_modules.push(name.to_owned());
-        } else if item.ends_with('{') {
-            let mut depth = 1i32;
-            for (_, body) in lines.by_ref() {
-                depth += body.matches('{').count() as i32 - body.matches('}').count() as i32;
-                if depth <= 0 {
-                    break;
-                }
-            }
-        }
-    }
-    (kept, test_modules)
-}
-
-/// Whether `line` names the module `path` itself (`crate::sim`, not `crate::simple`).
-fn names(line: &str, path: &str) -> bool {
-    line.match_indices(path).any(|(at, _)| {
-        !line[at + path.len()..].starts_with(|c: char| c.is_alphanumeric() || c == '_')
-    })
-}
-
-/// The lines of `wall`'s modules that cross it, each as `path:line uses what: code`.
-fn breaches(wall: &Wall) -> Vec<String> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
-    let src = root.join(wall.src);
-    let mut files = Vec::new();
-    for module in wall.modules {
-        rust_files(&src.join(module), &mut files);
-    }
-    // `src/./x.rs` as `src/x.rs`, so that paths compare and read as written.
-    let mut files: Vec<PathBuf> = files.iter().map(|f| f.components().collect()).collect();
-    let excepted: Vec<PathBuf> = wall.except.iter().map(|e| src.join(e)).collect();
-    files.retain(|f| !excepted.iter().any(|e| f.starts_with(e)));
-    assert!(!files.is_empty(), "no sources of {} under {}", wall.what, src.display());
-    files.sort();
-    let sources: Vec<(&PathBuf, String)> =
-        files.iter().map(|f| (f, std::fs::read_to_string(f).unwrap())).collect();
-    // Files of test-only modules, wherever in the tree they are declared.
-    let test_only: Vec<PathBuf> = sources
-        .iter()
-        .flat_map(|(file, text)| {
-            let dir = file.parent().unwrap().to_path_buf();
-            shipped_code(text).1.into_iter().map(move |m| dir.join(format!("{m}.rs")))
-        })
-        .collect();
-    let mut found = Vec::new();
-    for (file, text) in sources.iter().filter(|(f, _)| !test_only.contains(f)) {
-        for (n, line) in shipped_code(text).0 {
-            if let Some(path) = wall.beyond.iter().find(|p| names(line, p)) {
-                let shown = file.strip_prefix(root).unwrap().display();
-                found.push(format!("{shown}:{n} uses {path}: {}", line.trim()));
+        for named in &shipped.named {
+            let sends_sql = named.path.get(1).is_some_and(|f| SQL.contains(&f.as_str()));
+            if from_crate(named, "sqlx") && sends_sql {
+                let (file, line, path) =
+                    (shipped.file.display(), named.line, named.path.join("::"));
+                found.push(format!("{file}:{line} names {path}"));
             }
         }
     }
     found
 }
 
+/// A crate made up for the check itself: a wall it must find two modules away, and test code it
+/// must not hold to the wall.
 #[test]
-fn robot_code_never_reaches_into_the_simulator_or_the_command_line() {
-    let found = breaches(&WALLS[0]);
-    assert!(found.is_empty(), "robot code crosses its wall:\n{}", found.join("\n"));
-}
+fn the_wall_check_follows_modules_and_leaves_test_code_out() {
+    let dir = tempfile::tempdir().unwrap();
+    let write = |path: &str, text: &str| {
+        let file = dir.path().join(path);
+        std::fs::create_dir_all(file.parent().unwrap()).unwrap();
+        std::fs::write(file, text).unwrap();
+    };
+    write("lib.rs", "pub mod store;\npub mod middle;\npub mod http;\n");
+    write("store/mod.rs", "mod rows;\n#[cfg(test)]\nmod tests { use crate::http::Router; }\n");
+    write(
+        "store/rows.rs",
+        "use crate::middle::{self, Thing};\npub fn f() -> Thing { middle::make() }\n",
+    );
+    write(
+        "middle.rs",
+        "pub struct Thing;\npub fn make() -> Thing { super::http::serve(); Thing }\n",
+    );
+    write(
+        "http/mod.rs",
+        "use sqlx::query as q;\npub fn serve() { let _ = axum::Router::new(); q(\"\"); }\n",
+    );
+    let graph = ModuleGraph::read(&dir.path().join("lib.rs"));
+    assert!(graph.modules.contains_key(&modules(&["store::rows"])[0]));
 
-#[test]
-fn the_experiment_never_reaches_into_the_command_line() {
-    let found = breaches(&WALLS[1]);
-    assert!(found.is_empty(), "the experiment crosses its wall:\n{}", found.join("\n"));
-}
-
-#[test]
-fn the_store_never_reaches_into_http() {
-    let found = breaches(&WALLS[2]);
-    assert!(found.is_empty(), "the store crosses its wall:\n{}", found.join("\n"));
-}
-
-#[test]
-fn nothing_above_the_store_writes_sql() {
-    let found = breaches(&WALLS[3]);
-    assert!(found.is_empty(), "SQL outside the store:\n{}", found.join("\n"));
-}
-
-#[test]
-fn the_wall_check_sees_through_test_modules_but_not_around_code() {
-    let text = "use crate::hal::Clock;\n\
-                use crate::sim::SimRobot;\n\
-                #[cfg(test)]\n\
-                mod helpers;\n\
-                #[cfg(test)]\n\
-                mod tests {\n\
-                    use crate::sim::gaussian;\n\
-                    fn f() { if true { } }\n\
-                }\n\
-                fn after() {}\n";
-    let (code, test_modules) = shipped_code(text);
-    let lines: Vec<&str> = code.iter().map(|(_, l)| *l).collect();
-    assert_eq!(lines, ["use crate::hal::Clock;", "use crate::sim::SimRobot;", "fn after() {}"]);
-    assert_eq!(code[1].0, 2);
-    assert_eq!(test_modules, ["helpers"]);
-    assert!(names("use crate::sim::{Room};", "crate::sim"));
-    assert!(names("crate::sim", "crate::sim"));
-    assert!(!names("use super::client::Thing;", "super::cli"));
+    let found = graph.reach(&modules(&["store"]), |n| inside(n, "http"));
+    let chains: Vec<String> = found.iter().map(|(chain, _)| chain.to_string()).collect();
+    let rows = dir.path().join("store/rows.rs");
+    let middle = dir.path().join("middle.rs");
+    assert_eq!(
+        chains,
+        [format!("store::rows ({}:1) → middle ({}:2)", rows.display(), middle.display())],
+        "one way from the store to http, through `middle`, and none from the test module"
+    );
+    let axum = graph.reach(&modules(&["store"]), |n| from_crate(n, "axum"));
+    assert_eq!(axum.len(), 1, "axum is two modules away from the store: {}", report(axum));
+    let http = dir.path().join("http/mod.rs").display().to_string();
+    assert_eq!(
+        sql_outside_the_store(&graph),
+        [format!("{http}:1 names sqlx::query"), format!("{http}:2 names sqlx::query")],
+        "SQL in http, once imported under another name and once called by it"
+    );
 }
