@@ -19,10 +19,14 @@
 //!
 //! The robot's own code (`hal` to `task`) never uses [`sim`] or [`cli`], so it runs on a real
 //! robot unchanged; [`experiment`] and [`worker`] use the simulator but not the command line.
+//! The simulator, the experiment, the worker and the commands that use them come with the
+//! `sim` feature (on by default); a robot's own software, such as the ROS 2 node, leaves it and
+//! its physics library out.
 
 pub mod behaviors;
 pub mod cli;
 pub mod cores;
+#[cfg(feature = "sim")]
 pub mod experiment;
 pub mod hal;
 pub mod navigation;
@@ -31,7 +35,9 @@ pub mod picture;
 pub mod recording;
 pub mod registry;
 pub mod rfid;
+#[cfg(feature = "sim")]
 pub mod sim;
 pub mod task;
 pub mod timings;
+#[cfg(feature = "sim")]
 pub mod worker;
