@@ -14,7 +14,7 @@ use std::time::{Duration, Instant};
 use pps_schema::Outcome;
 
 use crate::experiment::{SimulatedTrial, flush_until_stored, run_simulated};
-use crate::registry::{RegistryClient, RegistryError, Task};
+use crate::registry::{RegistryClient, RegistryError, Task, retry};
 use crate::sim::{DeviceKind, RoomOptions, SimBody};
 use crate::task::TaskConfig;
 
@@ -22,10 +22,9 @@ use crate::task::TaskConfig;
 /// since a claim the registry answers is never dropped half-way (its task would be stranded
 /// until its lease ran out).
 const CLAIM_WAIT: Duration = Duration::from_secs(5);
-/// How long to wait before trying again when the registry is unreachable.
-const RETRY_AFTER: Duration = Duration::from_secs(2);
-/// Finishing a done task is tried this often (RETRY_AFTER apart) while the registry is away.
-const FINISH_TRIES: u32 = 10;
+/// How long finishing a done task is tried while the registry is away: within the lease, which
+/// the heartbeat no longer renews once the trial is done.
+const FINISH_FOR: Duration = Duration::from_secs(20);
 /// Why the simulated robot declines a task on a tag it cannot find, in the caretaker's words.
 const NOT_IN_THE_ROOM: &str = "no device in its simulated room has this tag";
 
@@ -64,6 +63,7 @@ impl Worker {
     ) -> anyhow::Result<u64> {
         let mut done = 0u64;
         let mut idle_since = Instant::now();
+        let mut waits = retry::waits();
         while !stopping.load(Ordering::Acquire) && self.max_tasks.is_none_or(|max| done < max) {
             let idle_left = self.idle_exit.map(|idle| idle.saturating_sub(idle_since.elapsed()));
             let task = match self
@@ -71,19 +71,24 @@ impl Worker {
                 .claim_task(idle_left.map_or(CLAIM_WAIT, |left| left.min(CLAIM_WAIT)))
                 .await
             {
-                Ok(Some(task)) => task,
+                Ok(Some(task)) => {
+                    waits = retry::waits();
+                    task
+                }
                 Ok(None) if idle_left.is_some_and(|left| left <= CLAIM_WAIT) => {
                     let idle = self.idle_exit.unwrap_or_default().as_secs_f64();
                     say(Said::Pause(format!("no task came for {idle} s; stopping")));
                     break;
                 }
-                Ok(None) => continue,
+                Ok(None) => {
+                    waits = retry::waits();
+                    continue;
+                }
                 Err(error @ RegistryError::Unreachable(_)) => {
-                    say(Said::Pause(format!(
-                        "{error}; claiming again in {} s",
-                        RETRY_AFTER.as_secs()
-                    )));
-                    tokio::time::sleep(RETRY_AFTER).await;
+                    let wait = waits.next().unwrap_or(retry::LONGEST_WAIT);
+                    let seconds = wait.as_secs_f64();
+                    say(Said::Pause(format!("{error}; claiming again in {seconds:.1} s")));
+                    tokio::time::sleep(wait).await;
                     continue;
                 }
                 Err(error) => return Err(anyhow::anyhow!("cannot claim a task: {error}")),
@@ -137,9 +142,8 @@ async fn work_on(
     };
     // The registry checks the trial when the task is finished: it must be stored by then.
     flush_until_stored(registry).await?;
-    let mut tries = 0;
+    let (started, mut waits) = (Instant::now(), retry::waits());
     Ok(loop {
-        tries += 1;
         match registry.finish_task(task.id, trial, outcome).await {
             Ok(ended) => {
                 break format!(
@@ -149,8 +153,8 @@ async fn work_on(
                 );
             }
             // Done but not said: keep saying it while the lease lasts, or another robot redoes it.
-            Err(RegistryError::Unreachable(_)) if tries < FINISH_TRIES => {
-                tokio::time::sleep(RETRY_AFTER).await;
+            Err(RegistryError::Unreachable(_)) if started.elapsed() < FINISH_FOR => {
+                tokio::time::sleep(waits.next().unwrap_or(retry::LONGEST_WAIT)).await;
             }
             Err(error) => {
                 break format!(

@@ -1,8 +1,8 @@
 //! Follows the registry's change feed (SSE) and invalidates cached entries of tags that
 //! change, so a robot can use its cache without asking while the feed is live.
 //!
-//! A feed that drops is followed again; one that refuses the credential (401, 403) is not,
-//! since asking again cannot help: the watch stops and says why.
+//! A feed that drops is followed again, after the waits of [`super::retry`]; one that refuses the
+//! credential (401, 403) is not, since asking again cannot help: the watch stops and says why.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
@@ -23,8 +23,9 @@ pub struct ChangeWatch {
 
 /// How one connection to the feed ended.
 enum Ended {
-    /// Dropped, unreachable or answered with passing trouble: follow it again.
-    Dropped,
+    /// Dropped, unreachable or answered with passing trouble: follow it again. `was_live` says
+    /// whether it was streaming before it dropped.
+    Dropped { was_live: bool },
     /// The registry refused the credential: following again cannot help.
     Refused(String),
 }
@@ -47,16 +48,23 @@ impl ChangeWatch {
         let refused = refusal.clone();
         let task = tokio::spawn(async move {
             let mut last_event_id: Option<String> = None;
+            let mut waits = super::retry::waits();
             loop {
                 let ended = follow(&http, &base, &token, &cache, &live, &mut last_event_id).await;
                 // The feed dropped: until it is back, every entry must be revalidated.
                 live.store(false, Ordering::Release);
                 cache.invalidate_all();
-                if let Ended::Refused(why) = ended {
-                    *refused.lock().unwrap_or_else(|e| e.into_inner()) = Some(why);
-                    return;
+                match ended {
+                    Ended::Refused(why) => {
+                        *refused.lock().unwrap_or_else(|e| e.into_inner()) = Some(why);
+                        return;
+                    }
+                    // It was live: a drop now is news, so the next try comes soon.
+                    Ended::Dropped { was_live: true } => waits = super::retry::waits(),
+                    Ended::Dropped { was_live: false } => {}
                 }
-                tokio::time::sleep(Duration::from_secs(2)).await;
+                let wait = waits.next().unwrap_or(super::retry::LONGEST_WAIT);
+                tokio::time::sleep(wait).await;
             }
         });
         Self { task, refusal }
@@ -66,6 +74,11 @@ impl ChangeWatch {
     /// the cache then revalidates every entry it serves.
     pub fn refused(&self) -> Option<String> {
         self.refusal.lock().unwrap_or_else(|e| e.into_inner()).clone()
+    }
+
+    /// Whether the watch has stopped for good: it follows the feed no more.
+    pub fn stopped(&self) -> bool {
+        self.task.is_finished()
     }
 }
 
@@ -85,7 +98,7 @@ async fn follow(
     if let Some(id) = last_event_id.as_deref() {
         request = request.header("last-event-id", id);
     }
-    let Ok(mut response) = request.send().await else { return Ended::Dropped };
+    let Ok(mut response) = request.send().await else { return Ended::Dropped { was_live: false } };
     let status = response.status();
     if status == StatusCode::UNAUTHORIZED || status == StatusCode::FORBIDDEN {
         let detail = super::RegistryError::from_response(response).await;
@@ -95,7 +108,7 @@ async fn follow(
         ));
     }
     if !status.is_success() {
-        return Ended::Dropped;
+        return Ended::Dropped { was_live: false };
     }
     // Anything cached before the feed was live may have changed unannounced.
     cache.invalidate_all();
@@ -124,5 +137,5 @@ async fn follow(
             }
         }
     }
-    Ended::Dropped
+    Ended::Dropped { was_live: true }
 }

@@ -12,6 +12,7 @@ mod error;
 #[cfg(test)]
 mod flaky_registry;
 mod outbox;
+pub mod retry;
 mod state_file;
 mod tasks;
 
