@@ -19,7 +19,7 @@ mod robots;
 mod session;
 mod stats;
 mod tags;
-mod tasks;
+pub(crate) mod tasks;
 mod tokens;
 mod trials;
 mod typed_json;
