@@ -7,11 +7,15 @@
 pub mod browser;
 pub mod caretaker_view;
 pub mod fixtures;
+pub mod mosquitto;
+pub mod mqtt_watch;
 pub mod registry;
 pub mod wait;
 pub mod working_robot;
 
 pub use browser::{Browser, Session};
+pub use mosquitto::Mosquitto;
+pub use mqtt_watch::MqttWatch;
 pub use registry::Registry;
 pub use working_robot::WorkingRobot;
 

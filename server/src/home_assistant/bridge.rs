@@ -39,8 +39,9 @@ const MAX_BACKOFF: Duration = Duration::from_secs(8);
 /// Home Assistant asks to be re-announced to when it starts; many bridges answer, so each
 /// waits a little, at random.
 const REANNOUNCE_WITHIN: Duration = Duration::from_secs(3);
-/// Commands are a word; anything bigger is refused before it is read.
-const MAX_INCOMING_PACKET: usize = 64 * 1024;
+/// Packets up to this size are read (and a press that big ignored, with a line in the log);
+/// a bigger one ends the connection, which is then made again.
+const MAX_INCOMING_PACKET: usize = 1024 * 1024;
 
 /// Why the bridge stopped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
