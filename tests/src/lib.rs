@@ -7,6 +7,7 @@
 pub mod browser;
 pub mod caretaker_view;
 pub mod fixtures;
+pub mod home_assistant;
 pub mod mosquitto;
 pub mod mqtt_watch;
 pub mod registry;
@@ -14,6 +15,7 @@ pub mod wait;
 pub mod working_robot;
 
 pub use browser::{Browser, Session};
+pub use home_assistant::HomeAssistant;
 pub use mosquitto::Mosquitto;
 pub use mqtt_watch::MqttWatch;
 pub use registry::Registry;
