@@ -31,7 +31,7 @@ impl Mosquitto {
         std::fs::write(
             &config,
             format!(
-                "listener {port} 127.0.0.1\nallow_anonymous true\npersistence false\n\
+                "listener {port} 127.0.0.1\nallow_anonymous true\npersistence false\nsys_interval 1\n\
                  log_dest none\n"
             ),
         )
