@@ -196,9 +196,19 @@ async fn the_bridge_outlives_its_broker_and_says_goodbye() {
         MqttWatch::connect(broker.port, "watch-restart", &["homeassistant/#", BRIDGE]).await;
     announced(&watch, 5).await;
 
+    let bridge = registry.get("/api/v1/home-assistant").await;
+    assert_eq!(
+        bridge,
+        json!({ "bridge": "connected", "broker": broker.url(), "prefix": "homeassistant" })
+    );
+
     broker.kill();
-    // The registry serves on while the broker is gone.
+    // The registry serves on while the broker is gone, and the admin page says so.
     assert_eq!(registry.get("/api/v1/tags").await["items"].as_array().map(Vec::len), Some(5));
+    wait::until("the bridge to say it lost the broker", || async {
+        (registry.get("/api/v1/home-assistant").await["bridge"] == "connecting").then_some(())
+    })
+    .await;
     broker.restart().await;
     let back = Instant::now();
     // The restarted broker lost every retained message: seeing them means they were said again.
@@ -206,6 +216,7 @@ async fn the_bridge_outlives_its_broker_and_says_goodbye() {
     fresh.until_text(BRIDGE, "online").await;
     announced(&fresh, 5).await;
     eprintln!("broker back to everything announced again: {} ms", back.elapsed().as_millis());
+    assert_eq!(registry.get("/api/v1/home-assistant").await["bridge"], "connected");
 
     // Home Assistant restarting asks for everything again.
     let ada_off = format!("homeassistant/button/{}/off/config", device(ADA_SWITCH));

@@ -77,6 +77,8 @@ pub fn parse_client_id(text: &str) -> Result<String, String> {
 /// Starts the bridge; it runs until the feed closes (the server is shutting down), and the
 /// handle completes once it said goodbye to the broker.
 pub fn start(state: &AppState, config: Config) -> tokio::task::JoinHandle<()> {
+    state.home_assistant.configured(config.broker.to_string(), config.prefix.clone());
+    state.home_assistant.set(Status::Standby);
     tokio::spawn(lease::run(state.clone(), config))
 }
 
