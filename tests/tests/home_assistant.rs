@@ -54,8 +54,15 @@ async fn home_assistant_shows_the_tagged_devices_and_a_press_is_done_by_a_robot(
         (state["state"] != "unavailable").then(|| state["entity_id"].as_str().unwrap().to_owned())
     })
     .await;
+    // The entity ids docs/home-assistant.md's example automation uses.
+    assert_eq!(button, "button.a_d_a_light_switch_1_turn_off");
     let light = "A D A light switch 1";
-    assert_eq!(state_of(&hass, light).await.as_deref(), Some("unknown"), "no trial said yet");
+    let state = hass.state_named(light).await.expect("the light's state entity");
+    assert_eq!(state["entity_id"], "binary_sensor.a_d_a_light_switch_1");
+    assert_eq!(state["state"], "unknown", "no trial said yet");
+    let task_sensor =
+        hass.state_named("A D A light switch 1 Robot task").await.expect("a task sensor");
+    assert_eq!(task_sensor["entity_id"], "sensor.a_d_a_light_switch_1_robot_task");
 
     let pressed = Instant::now();
     let entity = json!({ "entity_id": button });
