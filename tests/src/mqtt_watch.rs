@@ -4,17 +4,20 @@
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
-use std::time::Duration;
+use std::time::{Duration, SystemTime};
 
 use rumqttc::{AsyncClient, Event, MqttOptions, Packet, QoS};
 
 use crate::wait;
 
+/// The last payload on each topic, and when it arrived.
+type Seen = Arc<Mutex<HashMap<String, (Vec<u8>, SystemTime)>>>;
+
 /// A connected client and the last payload seen on each topic.
 #[derive(Debug)]
 pub struct MqttWatch {
     client: AsyncClient,
-    seen: Arc<Mutex<HashMap<String, Vec<u8>>>>,
+    seen: Seen,
     task: tokio::task::JoinHandle<()>,
 }
 
@@ -24,15 +27,16 @@ impl MqttWatch {
         let mut options = MqttOptions::new(id, "127.0.0.1", port);
         options.set_keep_alive(Duration::from_secs(30)).set_max_packet_size(1 << 20, 1 << 20);
         let (client, mut eventloop) = AsyncClient::new(options, 256);
-        let seen: Arc<Mutex<HashMap<String, Vec<u8>>>> = Arc::default();
+        let seen: Seen = Arc::default();
         let kept = seen.clone();
         let task = tokio::spawn(async move {
             loop {
                 match eventloop.poll().await {
                     Ok(Event::Incoming(Packet::Publish(publish))) => {
-                        kept.lock()
-                            .unwrap_or_else(|e| e.into_inner())
-                            .insert(publish.topic.clone(), publish.payload.to_vec());
+                        kept.lock().unwrap_or_else(|e| e.into_inner()).insert(
+                            publish.topic.clone(),
+                            (publish.payload.to_vec(), SystemTime::now()),
+                        );
                     }
                     Ok(_) => {}
                     // The test's broker went away on purpose; try again until it is back.
@@ -48,7 +52,14 @@ impl MqttWatch {
 
     /// The last payload on `topic`, if any came.
     pub fn last(&self, topic: &str) -> Option<Vec<u8>> {
-        self.seen.lock().unwrap_or_else(|e| e.into_inner()).get(topic).cloned()
+        let seen = self.seen.lock().unwrap_or_else(|e| e.into_inner());
+        seen.get(topic).map(|(payload, _)| payload.clone())
+    }
+
+    /// When the last payload on `topic` arrived (for figures such as "trial to state").
+    pub fn arrived(&self, topic: &str) -> Option<SystemTime> {
+        let seen = self.seen.lock().unwrap_or_else(|e| e.into_inner());
+        seen.get(topic).map(|(_, at)| *at)
     }
 
     /// The last payload on `topic` as text.
@@ -61,7 +72,7 @@ impl MqttWatch {
         let seen = self.seen.lock().unwrap_or_else(|e| e.into_inner());
         let mut topics: Vec<String> = seen
             .iter()
-            .filter(|(topic, payload)| !payload.is_empty() && keep(topic))
+            .filter(|(topic, (payload, _))| !payload.is_empty() && keep(topic))
             .map(|(topic, _)| topic.clone())
             .collect();
         topics.sort();

@@ -9,6 +9,7 @@ use pps_tests::fixtures::{self, ADA_SWITCH, DRAWER};
 use pps_tests::{Mosquitto, MqttWatch, Registry, WorkingRobot, wait};
 use reqwest::Method;
 use serde_json::{Value, json};
+use time::format_description::well_known::Rfc3339;
 
 const TRASH_CAN: &str = "355AB1C60000005000000001";
 const BRIDGE: &str = "pps/bridge/availability";
@@ -113,9 +114,16 @@ async fn a_press_in_home_assistant_is_one_task_a_robot_does_and_the_state_is_wha
     })
     .await;
     assert_eq!(done["state"], "done", "{done}");
-    let finished = Instant::now();
     watch.until_text(&format!("pps/{ada}/state"), "OFF").await;
-    eprintln!("trial to state: {} ms after the task was seen done", finished.elapsed().as_millis());
+    let trial = registry.get(&format!("/api/v1/trials/{}", done["trial"].as_str().unwrap())).await;
+    assert_eq!(trial["detector"]["saw"], "turned_off", "{trial}");
+    let received = trial["received_at"].as_str().expect("received_at");
+    let received = time::OffsetDateTime::parse(received, &Rfc3339).expect("an RFC 3339 time");
+    let arrived = time::OffsetDateTime::from(watch.arrived(&format!("pps/{ada}/state")).unwrap());
+    eprintln!(
+        "trial stored to state on the broker: {} ms",
+        (arrived - received).whole_milliseconds()
+    );
     watch.until_text(&format!("pps/{ada}/task"), "done by el-e-1").await;
     assert_eq!(tasks_on(&registry, ADA_SWITCH).await.len(), 1, "one press, one task");
 }
