@@ -243,3 +243,24 @@ async fn the_bridge_outlives_its_broker_and_says_goodbye() {
     assert!(status.success());
     fresh.until_text(BRIDGE, "offline").await;
 }
+
+#[test]
+fn a_broker_url_the_bridge_cannot_use_stops_serve_in_one_sentence() {
+    let dir = tempfile::tempdir().unwrap();
+    let db = dir.path().join("pps.db");
+    for (url, says) in [
+        ("mqtts://broker.lan:8883", "mqtts:// (MQTT over TLS) is not supported yet"),
+        ("http://broker.lan", "a broker URL starts with mqtt://, not http://"),
+        ("mqtt://broker.lan/topic", "has a path or query"),
+    ] {
+        let output = std::process::Command::new(pps_tests::workspace_bin("pps-server"))
+            .args(["serve", "--listen", "127.0.0.1:0", "--mqtt", url, "--db"])
+            .arg(&db)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(!output.status.success(), "{url} was accepted");
+        assert!(stderr.contains(says), "{url}: {stderr}");
+        assert!(!db.exists(), "{url}: a refused start left a database behind");
+    }
+}
