@@ -7,12 +7,12 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use pps_schema::{Epc, RobotId};
-use rumqttc::{AsyncClient, Event, LastWill, MqttOptions, Packet, QoS};
+use rumqttc::{AsyncClient, QoS};
 use serde_json::Value;
 use tokio::sync::broadcast::error::RecvError;
-use tokio::sync::mpsc;
 use tokio::time::Instant;
 
+use super::connection::{self, Link};
 use super::device::TagDevice;
 use super::discovery::{self, ButtonConfig, StateConfig, TaskConfig, Topics};
 use super::lease::{Lease, RENEW_EVERY};
@@ -27,35 +27,19 @@ use crate::store::{home_assistant, retired, robots};
 
 /// How often availability is looked at again: robots come online and go quiet without events.
 const AVAILABILITY_EVERY: Duration = Duration::from_secs(5);
-/// The broker declares the bridge gone (and sends its last will) after 1.5 of these.
-const KEEP_ALIVE: Duration = Duration::from_secs(10);
 /// A publish not taken by the connection within this means the broker is gone for now.
 const PUBLISH_WAIT: Duration = Duration::from_secs(5);
 /// Trials read back to find a tag's state.
 const TRIALS_FOR_STATE: u32 = 20;
-/// Reconnecting waits this long at first, doubling to the cap, each wait jittered.
-const FIRST_BACKOFF: Duration = Duration::from_millis(250);
-const MAX_BACKOFF: Duration = Duration::from_secs(8);
 /// Home Assistant asks to be re-announced to when it starts; many bridges answer, so each
 /// waits a little, at random.
 const REANNOUNCE_WITHIN: Duration = Duration::from_secs(3);
-/// Packets up to this size are read (and a press that big ignored, with a line in the log);
-/// a bigger one ends the connection, which is then made again.
-const MAX_INCOMING_PACKET: usize = 1024 * 1024;
 
 /// Why the bridge stopped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Ended {
     LeaseLost,
     Shutdown,
-}
-
-/// What the connection reports to the bridge.
-#[derive(Debug)]
-enum Link {
-    Connected,
-    Lost,
-    Message { topic: String, payload: bytes::Bytes },
 }
 
 /// A tag announced to Home Assistant.
@@ -80,24 +64,7 @@ struct Bridge<'a> {
 pub async fn run(state: &AppState, config: &Config, lease: &Lease) -> Ended {
     state.home_assistant.set(Status::Connecting);
     super::press::mint_credential_once(state).await;
-    let mut options = MqttOptions::new(&config.client_id, &config.broker.host, config.broker.port);
-    options
-        .set_keep_alive(KEEP_ALIVE)
-        // A fresh session each time: presses sent while the bridge was away are not replayed.
-        .set_clean_session(true)
-        .set_max_packet_size(MAX_INCOMING_PACKET, 256 * 1024)
-        .set_last_will(LastWill::new(
-            discovery::BRIDGE_AVAILABILITY,
-            discovery::OFFLINE,
-            QoS::AtLeastOnce,
-            true,
-        ));
-    if let Some((user, password)) = &config.broker.login {
-        options.set_credentials(user, password);
-    }
-    let (client, eventloop) = AsyncClient::new(options, 1024);
-    let (links, mut link) = mpsc::unbounded_channel();
-    let connection = tokio::spawn(drive(eventloop, links, config.broker.to_string()));
+    let (client, mut link, connection) = connection::open(config);
     let mut bridge = Bridge {
         state,
         config,
@@ -169,52 +136,6 @@ async fn wait_until(at: Option<Instant>) {
     match at {
         Some(at) => tokio::time::sleep_until(at).await,
         None => std::future::pending().await,
-    }
-}
-
-/// Polls the connection, reconnecting with backoff and jitter, until the client disconnects.
-async fn drive(
-    mut eventloop: rumqttc::EventLoop,
-    links: mpsc::UnboundedSender<Link>,
-    broker: String,
-) {
-    let mut backoff = FIRST_BACKOFF;
-    let mut down_since: Option<Instant> = None;
-    loop {
-        match eventloop.poll().await {
-            Ok(Event::Incoming(Packet::ConnAck(_))) => {
-                match down_since.take() {
-                    Some(since) => tracing::info!(
-                        %broker, after_ms = since.elapsed().as_millis() as u64,
-                        "reconnected to the MQTT broker"
-                    ),
-                    None => tracing::info!(%broker, "connected to the MQTT broker"),
-                }
-                backoff = FIRST_BACKOFF;
-                let _ = links.send(Link::Connected);
-            }
-            Ok(Event::Incoming(Packet::Publish(publish))) => {
-                let _ = links.send(Link::Message {
-                    topic: publish.topic.clone(),
-                    payload: publish.payload.clone(),
-                });
-            }
-            Ok(Event::Outgoing(rumqttc::Outgoing::Disconnect)) => return,
-            Ok(_) => {}
-            Err(error) => {
-                if links.is_closed() {
-                    return;
-                }
-                if down_since.is_none() {
-                    // Once per outage; the registry goes on serving meanwhile.
-                    tracing::warn!(%broker, %error, "lost the MQTT broker; reconnecting");
-                    down_since = Some(Instant::now());
-                    let _ = links.send(Link::Lost);
-                }
-                tokio::time::sleep(backoff.mul_f64(rand::random_range(0.5..1.0))).await;
-                backoff = (backoff * 2).min(MAX_BACKOFF);
-            }
-        }
     }
 }
 

@@ -8,6 +8,7 @@
 
 mod bridge;
 mod broker;
+mod connection;
 mod device;
 mod discovery;
 mod lease;
