@@ -264,3 +264,14 @@ fn a_broker_url_the_bridge_cannot_use_stops_serve_in_one_sentence() {
         assert!(!db.exists(), "{url}: a refused start left a database behind");
     }
 }
+
+#[tokio::test]
+async fn a_registry_that_dies_is_marked_offline_by_its_last_will() {
+    let broker = Mosquitto::start().await;
+    let registry = Registry::with_flags(&["--mqtt", &broker.url()]);
+    let watch = MqttWatch::connect(broker.port, "watch-will", &[BRIDGE]).await;
+    watch.until_text(BRIDGE, "online").await;
+    // Killed outright: no goodbye, so it is the broker that says it.
+    drop(registry);
+    watch.until_text(BRIDGE, "offline").await;
+}
