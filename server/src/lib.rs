@@ -17,6 +17,7 @@ pub mod effective_cache;
 pub mod error;
 pub mod export;
 pub mod feed;
+pub mod home_assistant;
 pub mod http;
 pub mod identity;
 pub mod learning;
@@ -58,6 +59,8 @@ pub struct ServeOptions {
     pub transport: transport::Transport,
     /// Thin the force samples of trials received longer ago than this, once a day.
     pub thin_forces_after: Option<retention::Age>,
+    /// Show the tags in Home Assistant through this MQTT broker.
+    pub home_assistant: Option<home_assistant::Config>,
 }
 
 /// [`serve`] with connection limits, TLS and retention as `options` say.
@@ -72,6 +75,7 @@ pub async fn serve_with(
     if let Some(age) = options.thin_forces_after {
         retention::start_daily(state.db.clone(), age);
     }
+    let bridge = options.home_assistant.clone().map(|config| home_assistant::start(&state, config));
     let feed = state.feed.clone();
     let shutdown = async move {
         shutdown.await;
@@ -80,5 +84,9 @@ pub async fn serve_with(
     };
     transport::serve(listener, router(state.clone()), &options.transport, shutdown).await?;
     background::flush(&state).await;
+    if let Some(bridge) = bridge {
+        // Its devices marked unavailable before the process goes.
+        let _ = tokio::time::timeout(home_assistant::GOODBYE_WITHIN, bridge).await;
+    }
     Ok(())
 }

@@ -7,6 +7,7 @@ use crate::auth::login_throttle::LoginThrottle;
 use crate::db::Db;
 use crate::effective_cache::EffectiveCache;
 use crate::feed::ChangeFeed;
+use crate::home_assistant::BridgeStatus;
 use crate::metrics::Metrics;
 use crate::presence::Presence;
 use crate::sightings::Sightings;
@@ -35,6 +36,8 @@ pub struct Shared {
     /// Robots waiting for a task, and the lease a claim gives.
     pub tasks: Arc<TaskBoard>,
     pub metrics: Arc<Metrics>,
+    /// Whether this process runs the Home Assistant bridge and is connected.
+    pub home_assistant: Arc<BridgeStatus>,
     /// Pictures kept per tag: a new one removes the bytes of the oldest beyond this.
     pub pictures_per_tag: u32,
 }
@@ -64,6 +67,7 @@ impl AppState {
             trials,
             tasks: Arc::default(),
             metrics: Arc::default(),
+            home_assistant: Arc::default(),
             pictures_per_tag: crate::picture::DEFAULT_PICTURES_PER_TAG,
         }))
     }

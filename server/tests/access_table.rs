@@ -125,6 +125,7 @@ fn rule(route: &RouteSpec) -> Rule {
         ) => ThatRobot,
         ("PUT", "/api/v1/robots/{robot}") => Admin,
         ("GET" | "POST", "/api/v1/users" | "/api/v1/tokens") => Admin,
+        ("GET", "/api/v1/home-assistant") => Admin,
         ("DELETE", "/api/v1/users/{name}" | "/api/v1/tokens/{id}") => Admin,
         ("PUT", "/api/v1/users/{name}/password") => ThatUserAndAdmin,
         (method, path) => panic!("{method} {path} is not in DESIGN §4's table: add its rule"),

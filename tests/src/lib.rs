@@ -7,12 +7,18 @@
 pub mod browser;
 pub mod caretaker_view;
 pub mod fixtures;
+pub mod home_assistant;
 pub mod module_graph;
+pub mod mosquitto;
+pub mod mqtt_watch;
 pub mod registry;
 pub mod wait;
 pub mod working_robot;
 
 pub use browser::{Browser, Session};
+pub use home_assistant::HomeAssistant;
+pub use mosquitto::Mosquitto;
+pub use mqtt_watch::MqttWatch;
 pub use registry::Registry;
 pub use working_robot::WorkingRobot;
 

@@ -12,6 +12,10 @@ use tempfile::TempDir;
 
 use crate::workspace_bin;
 
+/// What replicas log: where they serve and which of them runs the Home Assistant bridge, at
+/// info; everything else only when it warns.
+const REPLICA_LOG: &str = "warn,pps_server::cli=info,pps_server::home_assistant=info";
+
 /// A running registry; stopped when dropped.
 #[derive(Debug)]
 pub struct Registry {
@@ -47,32 +51,75 @@ impl Registry {
         Self::serve(dir, db.to_owned(), &[])
     }
 
+    /// Starts the first replica of a registry on a new, empty PostgreSQL database at `url`
+    /// (the database is "a path" to the CLI calls as well: `--db` takes either).
+    pub fn on_postgres(url: &str, flags: &[&str]) -> Self {
+        let dir = tempfile::tempdir().expect("a temporary directory");
+        Self::serve(dir, PathBuf::from(url), flags)
+    }
+
+    /// Starts another replica on this registry's (PostgreSQL) database; it finds the admin
+    /// credential made already, so it prints no banner, and says where it serves in its log.
+    pub fn another_replica(&self, flags: &[&str]) -> Self {
+        let dir = tempfile::tempdir().expect("a temporary directory");
+        let mut replica = Self::spawn(&self.db, flags, (REPLICA_LOG, false), |line, url, _| {
+            if let Some((_, at)) = line.split_once("serving the PPS-tag registry") {
+                let at = at.split_once("url=").map_or("", |(_, at)| at);
+                let at = at.split_whitespace().next().unwrap_or_default();
+                *url = Some(at.trim_end_matches('/').to_owned());
+            }
+        });
+        replica.admin_token = self.admin_token.clone();
+        replica._dir = dir;
+        replica
+    }
+
     fn serve(dir: TempDir, db: PathBuf, flags: &[&str]) -> Self {
+        let log = if db.to_string_lossy().starts_with("postgres") { REPLICA_LOG } else { "warn" };
+        let mut registry = Self::spawn(&db, flags, (log, true), |line, url, admin_token| {
+            if let Some(rest) = line.strip_prefix("PPS-tag registry at ") {
+                *url = Some(rest.trim_end_matches('/').to_owned());
+            } else if line.starts_with("pps_") {
+                *admin_token = Some(line.to_owned());
+            }
+        });
+        registry._dir = dir;
+        registry
+    }
+
+    /// Starts `pps-server serve` and reads its stderr with `read` until it knows the URL (and
+    /// the admin token, when `read` finds one; `another_replica` sets it after).
+    fn spawn(
+        db: &Path,
+        flags: &[&str],
+        (log_filter, banner): (&str, bool),
+        read: impl Fn(&str, &mut Option<String>, &mut Option<String>),
+    ) -> Self {
         let mut child = Command::new(workspace_bin("pps-server"))
             .args(["serve", "--listen", "127.0.0.1:0", "--db"])
-            .arg(&db)
+            .arg(db)
             .args(flags)
-            .env("RUST_LOG", "warn")
+            .env("RUST_LOG", log_filter)
+            .env("NO_COLOR", "1")
             .stdin(Stdio::null())
             .stderr(Stdio::piped())
             .spawn()
             .expect("pps-server starts");
         let mut lines = BufReader::new(child.stderr.take().expect("piped stderr")).lines();
         let (mut url, mut admin_token) = (None, None);
-        while url.is_none() || admin_token.is_none() {
+        let log = Arc::new(Mutex::new(Vec::new()));
+        loop {
             let line = lines
                 .next()
-                .expect("pps-server printed its first-start banner before exiting")
+                .expect("pps-server said where it serves before exiting")
                 .expect("pps-server's stderr is text");
-            let line = line.trim();
-            if let Some(rest) = line.strip_prefix("PPS-tag registry at ") {
-                url = Some(rest.trim_end_matches('/').to_owned());
-            } else if line.starts_with("pps_") {
-                admin_token = Some(line.to_owned());
+            read(line.trim(), &mut url, &mut admin_token);
+            log.lock().unwrap_or_else(|e| e.into_inner()).push(line);
+            if url.is_some() && (admin_token.is_some() || !banner) {
+                break;
             }
         }
         // Keep draining stderr so the server never blocks on a full pipe, keeping what it says.
-        let log = Arc::new(Mutex::new(Vec::new()));
         let kept = log.clone();
         std::thread::spawn(move || {
             for line in lines.map_while(Result::ok) {
@@ -82,11 +129,11 @@ impl Registry {
         Self {
             child,
             url: url.expect("a URL"),
-            admin_token: admin_token.expect("an admin token"),
-            db,
+            admin_token: admin_token.unwrap_or_default(),
+            db: db.to_owned(),
             http: reqwest::Client::new(),
             log,
-            _dir: dir,
+            _dir: tempfile::tempdir().expect("a temporary directory"),
         }
     }
 

@@ -124,6 +124,19 @@ struct ServeArgs {
           default_value_t = crate::picture::DEFAULT_PICTURES_PER_TAG,
           value_parser = clap::value_parser!(u32).range(1..=10_000))]
     pictures_per_tag: u32,
+    /// Show the tags in Home Assistant: the MQTT broker its MQTT integration uses,
+    /// mqtt://[USER:PASS@]HOST[:PORT]. Off when not given.
+    #[arg(long, env = "PPS_MQTT", value_name = "URL")]
+    mqtt: Option<crate::home_assistant::Broker>,
+    /// Home Assistant's MQTT discovery prefix.
+    #[arg(long, env = "PPS_MQTT_PREFIX", value_name = "PREFIX",
+          default_value = crate::home_assistant::DEFAULT_PREFIX,
+          value_parser = crate::home_assistant::parse_prefix)]
+    mqtt_prefix: String,
+    /// The bridge's MQTT client id (a random one when not given).
+    #[arg(long, env = "PPS_MQTT_CLIENT_ID", value_name = "ID",
+          value_parser = crate::home_assistant::parse_client_id)]
+    mqtt_client_id: Option<String>,
 }
 
 #[derive(Debug, Args)]

@@ -9,7 +9,7 @@ use crate::retention::Age;
 use crate::state::AppState;
 use crate::store::tokens;
 use crate::transport::{TlsIdentity, Transport};
-use crate::{ServeOptions, seed};
+use crate::{ServeOptions, home_assistant, seed};
 
 /// A lease long enough for one heartbeat round trip, and at most an hour.
 pub(super) fn parse_lease(text: &str) -> Result<f64, String> {
@@ -60,6 +60,9 @@ pub(super) async fn serve(location: &Location, args: ServeArgs) -> anyhow::Resul
     let options = ServeOptions {
         transport,
         thin_forces_after: args.thin_forces_after.map(|days| Age { days }),
+        home_assistant: args.mqtt.map(|broker| {
+            home_assistant::Config::new(broker, args.mqtt_prefix, args.mqtt_client_id)
+        }),
     };
     let state = AppState::new(db.clone())
         .with_task_lease(std::time::Duration::from_secs_f64(args.task_lease))

@@ -7,6 +7,7 @@ mod envelope;
 mod events;
 pub mod extract;
 mod fallback;
+mod home_assistant;
 pub mod ids;
 mod inbox;
 mod meta;
@@ -19,7 +20,7 @@ mod robots;
 mod session;
 mod stats;
 mod tags;
-mod tasks;
+pub(crate) mod tasks;
 mod tokens;
 mod trials;
 mod typed_json;
@@ -156,6 +157,7 @@ pub fn router_with_routes(state: AppState) -> (Router, Vec<RouteSpec>) {
             tasks::decline::decline,
             tasks::decline::DECLINE,
         )
+        .add(get(), "/api/v1/home-assistant", Admin, home_assistant::get, home_assistant::GET)
         .add(get(), "/api/v1/tokens", Admin, tokens::list, tokens::LIST)
         .add(Method::POST, "/api/v1/tokens", Admin, tokens::create, tokens::CREATE)
         .add(Method::DELETE, "/api/v1/tokens/{id}", Admin, tokens::revoke, tokens::REVOKE)

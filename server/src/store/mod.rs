@@ -2,6 +2,7 @@
 
 pub mod columns;
 pub mod events;
+pub mod home_assistant;
 pub mod inbox;
 pub mod learning;
 pub mod pictures;

@@ -29,6 +29,25 @@ pub async fn successor(conn: &mut AnyConnection, epc: &Epc) -> sqlx::Result<Opti
         .transpose()
 }
 
+/// The first EPC the tag behind `epc` ever had, following its replacements back (`epc` itself
+/// when it never replaced one): what stays the same when a worn tag is replaced.
+pub async fn origin(conn: &mut AnyConnection, epc: &Epc) -> sqlx::Result<Epc> {
+    let mut first = epc.as_hex().to_owned();
+    // A chain longer than this would mean a cycle, which retagging never creates.
+    for _ in 0..64 {
+        let found: Option<String> =
+            sqlx::query_scalar("select epc from retired_epcs where successor = $1")
+                .bind(&first)
+                .fetch_optional(&mut *conn)
+                .await?;
+        match found {
+            Some(predecessor) => first = predecessor,
+            None => break,
+        }
+    }
+    Epc::parse(&first).map_err(|error| sqlx::Error::Decode(error.into()))
+}
+
 pub async fn retire(
     conn: &mut AnyConnection,
     epc: &Epc,

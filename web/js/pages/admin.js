@@ -212,6 +212,21 @@ async function tokensSection() {
     h('p', { class: 'help' }, 'Robots and scripts use tokens; they are stored only as hashes.'), minted, list, h('h3', {}, 'Create a token'), form, status);
 }
 
+/** Whether this server's Home Assistant bridge is connected, and how to turn it on. */
+async function homeAssistantSection() {
+  const { data } = await request('GET', '/api/v1/home-assistant');
+  const said = {
+    off: ['off', 'warn', 'Start the server with --mqtt mqtt://USER:PASS@HOST:1883 (the broker Home Assistant\'s MQTT integration uses) to show every tag there.'],
+    standby: ['standby', 'good', 'Another replica of this registry runs the bridge.'],
+    connecting: ['connecting', 'bad', `Cannot reach the broker ${data.broker ?? ''} now; the bridge keeps trying, and the registry works on meanwhile.`],
+    connected: ['connected', 'good', `Tags appear in Home Assistant through ${data.broker ?? ''} (discovery prefix ${data.prefix ?? ''}).`],
+  }[data.bridge] ?? [data.bridge, 'warn', ''];
+  const [label, tone, help] = said;
+  return h('section', { 'aria-labelledby': 'ha-h' }, h('h2', { id: 'ha-h' }, 'Home Assistant'),
+    h('p', {}, 'Bridge: ', h('span', { class: ['badge', tone], dataset: { bridge: data.bridge } }, label)),
+    h('p', { class: 'help' }, help, ' Presses there are asked as the caretaker token “Home Assistant bridge”; revoke it below to refuse them.'));
+}
+
 export async function render(main) {
   document.title = 'Admin · PPS-tag registry';
   const guarded = async (build, title) => {
@@ -221,6 +236,6 @@ export async function render(main) {
       return h('section', {}, h('h2', {}, title), h('p', { class: 'status bad' }, `Could not load: ${error.message}`));
     }
   };
-  const [users, tokens] = await Promise.all([guarded(usersSection, 'Users'), guarded(tokensSection, 'API tokens')]);
-  replace(main, h('h1', {}, 'Admin'), users, robotsSection(), tokens);
+  const [users, tokens, bridge] = await Promise.all([guarded(usersSection, 'Users'), guarded(tokensSection, 'API tokens'), guarded(homeAssistantSection, 'Home Assistant')]);
+  replace(main, h('h1', {}, 'Admin'), users, robotsSection(), tokens, bridge);
 }

@@ -469,6 +469,23 @@ pub(super) fn shapes() -> Vec<(&'static str, Value)> {
         ),
         ("health", object(&["status"], json!({ "status": { "const": "ok" } }))),
         (
+            "home_assistant_bridge",
+            object(
+                &["bridge", "broker", "prefix"],
+                json!({
+                    "bridge": { "enum": ["off", "standby", "connecting", "connected"] },
+                    "broker": {
+                        "type": ["string", "null"],
+                        "description": "The broker's URL without its password; null when off"
+                    },
+                    "prefix": {
+                        "type": ["string", "null"],
+                        "description": "Home Assistant's discovery prefix; null when off"
+                    }
+                }),
+            ),
+        ),
+        (
             "json_schema",
             json!({
                 "description": "A JSON Schema (2020-12) document of the contract, as published.",

@@ -1,12 +1,12 @@
 //! `/api/v1/tasks`: a caretaker asks for an action on a tag; robots that can run it claim it
 //! under a lease ([`lease`]) and finish it with the trial it ended in (DESIGN §8).
 
-mod availability;
+pub(crate) mod availability;
 pub mod decline;
 pub mod lease;
 mod offer;
 mod outlook;
-mod request;
+pub(crate) mod request;
 
 use axum::Json;
 use axum::extract::State;
@@ -26,9 +26,9 @@ use crate::http::openapi::{Body, Doc, Header, Param, ParamType, Reply};
 use crate::http::page;
 use crate::identity::Role;
 use crate::state::AppState;
-use crate::store::robots;
 use crate::store::tasks::{self, NewTask, TaskFilter, TaskRow};
-use request::TaskRequest;
+use crate::store::{home_assistant, robots};
+pub(crate) use request::TaskRequest;
 
 pub const TASK_ID: Param = Param::path("id", ParamType::Uuid, "The task's id")
     .example("3f0c5a8e-9b1d-4e2f-8a7c-6d5e4f3a2b10");
@@ -57,7 +57,24 @@ pub async fn create(
     JsonBody(body): JsonBody,
 ) -> Result<Response, ApiError> {
     let asked = TaskRequest::parse(&body)?;
-    asked.check(&state).await?;
+    let row = ask(&state, asked, &caller.name, None).await?;
+    let location = format!("/api/v1/tasks/{}", row.id);
+    let shown = outlook::shown(&state, &row).await?;
+    Ok((StatusCode::CREATED, [(LOCATION, location)], Json(shown)).into_response())
+}
+
+/// Queues the task `asker` asked for: checked as every request is, stored with its event,
+/// and the robots waiting for work woken. The web UI's "Ask a robot" and the Home Assistant
+/// bridge's buttons both come here. With `bridge_lease`, the task is stored only while that
+/// holder still holds the bridge's lease, checked in the same write transaction: a replica
+/// that lost the lease never turns a press into a second task.
+pub(crate) async fn ask(
+    state: &AppState,
+    asked: TaskRequest,
+    asker: &str,
+    bridge_lease: Option<&str>,
+) -> Result<TaskRow, ApiError> {
+    asked.check(state).await?;
     let task = NewTask {
         id: Uuid::new_v4(),
         epc: asked.epc,
@@ -65,16 +82,22 @@ pub async fn create(
         robot: asked.robot,
         class: asked.class,
         note: asked.note,
-        created_by: caller.name.clone(),
+        created_by: asker.to_owned(),
     };
     let mut tx = state.db.begin_write().await?;
+    if let Some(holder) = bridge_lease
+        && !home_assistant::holds_lease(&mut tx, holder).await?
+    {
+        return Err(ApiError::Conflict(
+            "this replica no longer runs the Home Assistant bridge; another one took it over"
+                .into(),
+        ));
+    }
     let row = tasks::create(&mut tx, &task).await?;
     tx.commit().await?;
     state.feed.committed();
     state.tasks.changed();
-    let location = format!("/api/v1/tasks/{}", row.id);
-    let shown = outlook::shown(&state, &row).await?;
-    Ok((StatusCode::CREATED, [(LOCATION, location)], Json(shown)).into_response())
+    Ok(row)
 }
 
 #[derive(Debug, Deserialize)]

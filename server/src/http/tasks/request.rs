@@ -13,7 +13,7 @@ use crate::store::{retired, robots, tags};
 const MAX_NOTE_CHARS: usize = 500;
 
 /// A create request, parsed; every problem found is reported at once.
-pub(super) struct TaskRequest {
+pub(crate) struct TaskRequest {
     pub(super) epc: Epc,
     pub(super) action: String,
     pub(super) robot: Option<RobotId>,
@@ -22,6 +22,11 @@ pub(super) struct TaskRequest {
 }
 
 impl TaskRequest {
+    /// A request for `action` on `epc` by any robot that can, with a note.
+    pub(crate) fn action_on(epc: Epc, action: String, note: Option<String>) -> Self {
+        Self { epc, action, robot: None, class: None, note }
+    }
+
     pub(super) fn parse(body: &Value) -> Result<Self, ApiError> {
         let Some(object) = body.as_object() else {
             return Err(ApiError::invalid_at(
@@ -95,7 +100,7 @@ impl TaskRequest {
     }
 
     /// The tag must be active and have the action, and the targets must be able to run it.
-    pub(super) async fn check(&self, state: &AppState) -> Result<(), ApiError> {
+    pub(crate) async fn check(&self, state: &AppState) -> Result<(), ApiError> {
         let epc = self.epc.as_hex();
         let tag = match tags::get(state.db.reader(), &self.epc).await? {
             Some(tag) if tag.archived => {

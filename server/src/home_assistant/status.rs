@@ -1,0 +1,60 @@
+//! Whether this process's bridge is connected, for the admin page.
+
+use std::sync::OnceLock;
+use std::sync::atomic::{AtomicU8, Ordering};
+
+/// The bridge as this process sees it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Status {
+    /// No `--mqtt` was given.
+    Off,
+    /// Another replica holds the bridge's lease.
+    Standby,
+    /// This process runs the bridge and is (re)connecting to the broker.
+    Connecting,
+    Connected,
+}
+
+impl Status {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Off => "off",
+            Self::Standby => "standby",
+            Self::Connecting => "connecting",
+            Self::Connected => "connected",
+        }
+    }
+}
+
+/// The bridge's status, shared with the HTTP side.
+#[derive(Debug, Default)]
+pub struct BridgeStatus {
+    status: AtomicU8,
+    /// The broker (without its password) and the discovery prefix, once the bridge started.
+    broker: OnceLock<(String, String)>,
+}
+
+impl BridgeStatus {
+    pub fn set(&self, status: Status) {
+        self.status.store(status as u8, Ordering::Relaxed);
+    }
+
+    /// Notes where the bridge announces (once: the flags do not change while serving).
+    pub fn configured(&self, broker: String, prefix: String) {
+        let _ = self.broker.set((broker, prefix));
+    }
+
+    /// The broker and the discovery prefix, when the bridge is configured.
+    pub fn broker(&self) -> Option<&(String, String)> {
+        self.broker.get()
+    }
+
+    pub fn get(&self) -> Status {
+        match self.status.load(Ordering::Relaxed) {
+            1 => Status::Standby,
+            2 => Status::Connecting,
+            3 => Status::Connected,
+            _ => Status::Off,
+        }
+    }
+}

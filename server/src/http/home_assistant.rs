@@ -1,0 +1,26 @@
+//! `GET /api/v1/home-assistant`: whether this replica's Home Assistant bridge is connected, for
+//! the admin page.
+
+use axum::Json;
+use axum::extract::State;
+use serde_json::{Value, json};
+
+use crate::http::openapi::{Doc, Reply};
+use crate::state::AppState;
+
+pub const GET: Doc =
+    Doc::new("getHomeAssistantBridge", "The Home Assistant bridge, as this replica sees it")
+        .describe(
+            "`bridge` is `off` (no `--mqtt`), `standby` (another replica runs it), `connecting` \
+         (this replica runs it and the broker does not answer now) or `connected`.",
+        )
+        .replies(&[Reply::json(200, "The bridge's status", "home_assistant_bridge")]);
+
+pub async fn get(State(state): State<AppState>) -> Json<Value> {
+    let configured = state.home_assistant.broker();
+    Json(json!({
+        "bridge": state.home_assistant.get().as_str(),
+        "broker": configured.map(|(broker, _)| broker),
+        "prefix": configured.map(|(_, prefix)| prefix),
+    }))
+}
