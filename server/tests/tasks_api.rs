@@ -778,3 +778,36 @@ async fn a_robot_that_declined_and_waits_in_line_does_not_hold_the_task_up() {
     assert_eq!(got["id"], task["id"]);
     waiting.abort();
 }
+
+#[tokio::test]
+async fn a_trial_finishes_one_task_and_a_replayed_finish_says_what_the_first_said() {
+    let server = TestServer::start().await;
+    let token = robot(&server, "el-e-1", "el-e").await;
+    let first = asked(&server, json!({ "epc": FLIP_SWITCH, "action": "off" })).await;
+    claimed(&server, &token, "el-e-1").await;
+    let trial = record(&server, &token, "el-e-1", FLIP_SWITCH, "off").await;
+    let finish = format!("/api/v1/tasks/{}/finish", id(&first));
+    let success = json!({ "trial": trial, "outcome": "success" });
+    let done: Value =
+        post(&server, &finish, &token, Some(success.clone())).await.json().await.unwrap();
+    assert_eq!(done["state"], "done");
+
+    let otherwise = json!({ "trial": trial, "outcome": "failure" });
+    let refused =
+        problem(post(&server, &finish, &token, Some(otherwise)).await, StatusCode::CONFLICT).await;
+    let detail = refused["detail"].as_str().unwrap();
+    assert!(detail.contains("the outcome success"), "{detail}");
+    let replayed = post(&server, &finish, &token, Some(success.clone())).await;
+    assert_eq!(replayed.status(), StatusCode::OK);
+    assert_eq!(replayed.json::<Value>().await.unwrap(), done, "the same finish, the same answer");
+
+    let second = asked(&server, json!({ "epc": FLIP_SWITCH, "action": "off" })).await;
+    claimed(&server, &token, "el-e-1").await;
+    let finish = format!("/api/v1/tasks/{}/finish", id(&second));
+    let reused =
+        problem(post(&server, &finish, &token, Some(success)).await, StatusCode::CONFLICT).await;
+    let detail = reused["detail"].as_str().unwrap();
+    assert!(detail.contains(&format!("finished task {} already", id(&first))), "{detail}");
+    let still = server.get_json(&format!("/api/v1/tasks/{}", id(&second))).await;
+    assert_eq!((still["state"].as_str(), still["trial"].as_str()), (Some("claimed"), None));
+}

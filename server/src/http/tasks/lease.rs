@@ -134,8 +134,9 @@ pub const FINISH: Doc =
     Doc::new("finishTask", "End a task this robot holds with its trial")
         .describe(
             "The trial must be recorded already, by this robot, on the task's tag and action, \
-         with this outcome. A success makes the task `done`, any other outcome `failed`. \
-         Repeating the same finish is answered with the ended task.",
+         with this outcome, and it must not have finished another task. A success makes the \
+         task `done`, any other outcome `failed`. Repeating the same finish is answered with \
+         the ended task; a finish naming another trial or outcome is 409.",
         )
         .params(&[TASK_ID])
         .body(Body::json("task_finish", "The trial the task ended in and its outcome").example(
@@ -145,7 +146,11 @@ pub const FINISH: Doc =
             Reply::json(200, "The ended task", "task"),
             Reply::problem(403, "The trial is another robot's, or this robot never held the task"),
             Reply::problem(404, "No task has this id"),
-            Reply::problem(409, "The lease was lost: the task is no longer this robot's to finish"),
+            Reply::problem(
+                409,
+                "The lease was lost, the trial finished another task, or the task ended with \
+                 another trial or outcome",
+            ),
             Reply::problem(422, "No such trial, or it is on another tag or action or outcome"),
         ]);
 
@@ -160,12 +165,15 @@ pub async fn finish(
     let robot = caller.own_robot()?;
     let (trial_id, outcome) = parse_finish(&body)?;
     let task = find(&state, &id).await?;
-    if task.trial == Some(trial_id) && task.claimed_by.as_ref() == Some(robot) {
-        // A retry whose first answer was lost.
-        return Ok(Json(task.to_json()));
+    if let Some(first) = task.trial.filter(|_| task.claimed_by.as_ref() == Some(robot)) {
+        // A retry whose first answer was lost: it must say what the first finish said.
+        return replayed(&state, task, first, trial_id, &outcome).await;
     }
     if task.state != "claimed" || task.claimed_by.as_ref() != Some(robot) {
         return Err(not_held(&task, robot));
+    }
+    if let Some(other) = tasks::finished_with(state.db.reader(), &trial_id).await? {
+        return Err(trial_used(&trial_id, &other));
     }
     let Some(trial) = trials::get(state.db.reader(), &trial_id).await? else {
         return Err(ApiError::invalid_at(
@@ -214,9 +222,43 @@ pub async fn finish(
             state.feed.committed();
             Ok(Json(row.to_json()))
         }
-        // The lease ran out between the look and the write.
-        None => Err(not_held(&find(&state, &id).await?, robot)),
+        // The lease ran out, or the trial finished another task, between the look and the
+        // write.
+        None => match tasks::finished_with(state.db.reader(), &trial_id).await? {
+            Some(other) if other != id => Err(trial_used(&trial_id, &other)),
+            _ => Err(not_held(&find(&state, &id).await?, robot)),
+        },
     }
+}
+
+/// The answer to a finish of a task that already ended with `first`: the ended task when the
+/// finish says the same as the one that ended it, 409 when it says something else.
+async fn replayed(
+    state: &AppState,
+    task: TaskRow,
+    first: Uuid,
+    trial_id: Uuid,
+    outcome: &str,
+) -> Result<Json<Value>, ApiError> {
+    let recorded = trials::get(state.db.reader(), &first).await?.map(|trial| trial.outcome);
+    if trial_id == first && recorded.as_deref() == Some(outcome) {
+        return Ok(Json(task.to_json()));
+    }
+    Err(ApiError::Conflict(format!(
+        "task {} is {} already: it was finished with trial {first}{}; a repeated finish must \
+         name the same trial and outcome",
+        task.id,
+        task.state,
+        recorded.map(|o| format!(" and the outcome {o}")).unwrap_or_default()
+    )))
+}
+
+/// Why a trial cannot finish a second task.
+fn trial_used(trial: &Uuid, task: &Uuid) -> ApiError {
+    ApiError::Conflict(format!(
+        "trial {trial} finished task {task} already; a trial finishes one task, so record a new \
+         trial for this one"
+    ))
 }
 
 /// The finish body: `{"trial": UUID, "outcome"}`, every problem reported at once.

@@ -10,7 +10,7 @@ use uuid::Uuid;
 use super::{MAX_ATTEMPTS, TaskRow, announce, announced};
 use crate::clock;
 use crate::db::Dialect;
-use crate::store::columns::Flag;
+use crate::store::columns::{Flag, Id};
 
 /// Tasks `robot` (of `class`) could claim now, oldest first: queued ones, and claimed ones whose
 /// lease ran out but that have attempts left, that target it, its class or anyone, and that it
@@ -134,7 +134,18 @@ pub async fn extend_lease(
     .await
 }
 
-/// Ends a task `robot` holds under a live lease with `trial`: `done` or `failed`.
+/// The task `trial` finished, if any: a trial finishes one task.
+#[tracing::instrument(skip_all)]
+pub async fn finished_with(pool: &AnyPool, trial: &Uuid) -> sqlx::Result<Option<Uuid>> {
+    let task: Option<Id<Uuid>> = sqlx::query_scalar("select id from tasks where trial = $1")
+        .bind(trial.hyphenated().to_string())
+        .fetch_optional(pool)
+        .await?;
+    Ok(task.map(|Id(id)| id))
+}
+
+/// Ends a task `robot` holds under a live lease with `trial`, unless the trial finished
+/// another task: `done` or `failed`.
 #[tracing::instrument(skip_all)]
 pub async fn finish(
     tx: &mut AnyConnection,
@@ -148,6 +159,7 @@ pub async fn finish(
     let row: Option<TaskRow> = sqlx::query_as(concat!(
         "update tasks set state = $1, trial = $2, reason = $3, lease_until = null, updated_at = $4
          where id = $5 and state = 'claimed' and claimed_by = $6 and lease_until > $4
+           and not exists (select 1 from tasks where trial = $2)
          returning ",
         columns!()
     ))

@@ -127,6 +127,7 @@ mod lease;
 pub use decline::decline;
 pub use lease::{
     any_claimable, any_lease_expired, claim, claimable, expire_leases, extend_lease, finish,
+    finished_with,
 };
 
 /// A task as a caretaker asked for it, checked.
