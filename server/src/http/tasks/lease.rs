@@ -26,6 +26,7 @@ use crate::http::openapi::{Body, Doc, Param, ParamType, Reply};
 use crate::state::AppState;
 use crate::store::tasks::{self, TaskRow};
 use crate::store::{robots, trials};
+use crate::task_board::MAX_WAITING_PER_ROBOT;
 
 /// The longest a claim may wait for a task (DESIGN §8).
 pub const MAX_WAIT_SECONDS: u64 = 30;
@@ -42,7 +43,8 @@ pub const CLAIM: Doc = Doc::new("claimTask", "Take the next task this robot shou
          anyone, and the robot's effective entry makes the action available), unless a robot \
          waiting longer, or one whose class is reliable for the action, should have it. With \
          `wait`, the answer comes as soon as such a task appears. The robot then holds the \
-         task until `lease_until`; heartbeats extend it.",
+         task until `lease_until`; heartbeats extend it. A robot holds at most a few tasks \
+         at once, and has at most a few claims waiting at once.",
     )
     .params(&[
         Param::ROBOT,
@@ -55,6 +57,12 @@ pub const CLAIM: Doc = Doc::new("claimTask", "Take the next task this robot shou
     .replies(&[
         Reply::json(200, "The task, claimed by this robot until lease_until", "task"),
         Reply::empty(204, "No task came within the wait"),
+        Reply::problem(
+            409,
+            "The robot holds as many tasks as one robot may hold at once (`pps-server serve \
+             --max-tasks-per-robot`); it finishes or declines one first",
+        ),
+        Reply::problem(429, "The robot already has as many claims waiting as it may"),
     ]);
 
 pub async fn claim(
@@ -82,25 +90,43 @@ pub async fn claim(
         }
     };
     let deadline = tokio::time::Instant::now() + wait;
+    let held = tasks::held_by(state.db.reader(), &robot, &clock::now()).await?;
+    if held.len() >= state.tasks.max_held() {
+        return Err(holds_enough(&robot, &held));
+    }
     let class = robots::get(state.db.reader(), &robot).await?.and_then(|r| r.class);
-    let place = state.tasks.join(&robot, class.as_deref(), !wait.is_zero());
+    let place = state.tasks.join(&robot, class.as_deref(), !wait.is_zero()).map_err(|_| {
+        ApiError::TooManyRequests(format!(
+            "robot {robot} already has {MAX_WAITING_PER_ROBOT} claims waiting for a task; \
+             wait for their answers (each comes by its wait) before claiming again"
+        ))
+    })?;
     loop {
+        let generation = place.begin_look();
         if let Some(task) = offer::claim_next(&state, &place, &robot, class.as_deref()).await? {
             return Ok(Json(task.to_json()).into_response());
         }
-        // Nothing for this robot: the robot behind it may have better luck.
-        let now = clock::now();
-        if tasks::any_claimable(state.db.reader(), &now).await? {
-            state.tasks.pass_on(&place);
-        }
+        // Nothing for this robot: it waits, at no cost, until something changes.
+        place.looked(generation);
         tokio::select! {
-            () = place.turn() => {}
+            () = place.next_change() => {}
             () = tokio::time::sleep_until(deadline) => break,
             // A shutdown does not wait for long polls.
             () = state.feed.closed() => break,
         }
     }
     Ok(StatusCode::NO_CONTENT.into_response())
+}
+
+/// Why a robot that holds as many tasks as it may gets no other.
+fn holds_enough(robot: &RobotId, held: &[Uuid]) -> ApiError {
+    let held: Vec<String> = held.iter().map(Uuid::to_string).collect();
+    ApiError::Conflict(format!(
+        "robot {robot} holds {} task(s) already ({}), as many as one robot may hold at once; \
+         finish or decline one before claiming another",
+        held.len(),
+        held.join(", ")
+    ))
 }
 
 pub const HEARTBEAT: Doc = Doc::new("heartbeatTask", "Extend the lease on a task this robot holds")

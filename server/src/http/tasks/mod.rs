@@ -65,12 +65,13 @@ pub async fn create(
         class: asked.class,
         note: asked.note,
         created_by: caller.name.clone(),
+        expires_at: asked.expires_at,
     };
     let mut tx = state.db.begin_write().await?;
     let row = tasks::create(&mut tx, &task).await?;
     tx.commit().await?;
+    // The feed's pump wakes the robots waiting for a task.
     state.feed.committed();
-    state.tasks.changed();
     let location = format!("/api/v1/tasks/{}", row.id);
     let shown = outlook::shown(&state, &row).await?;
     Ok((StatusCode::CREATED, [(LOCATION, location)], Json(shown)).into_response())
