@@ -50,6 +50,11 @@ struct Line {
 }
 
 impl Line {
+    /// Claims of `robot` waiting for a task.
+    fn waiting_claims(&self, robot: &RobotId) -> usize {
+        self.waiters.values().filter(|w| w.waits && &w.robot == robot).count()
+    }
+
     /// Gives the turn to the first robot after `arrival` (exclusive) that has not looked at
     /// the current generation.
     fn wake_next_after(&self, arrival: Option<u64>) {
@@ -135,10 +140,7 @@ impl TaskBoard {
         waits: bool,
     ) -> Result<Place, TooManyWaiting> {
         let mut line = self.lock();
-        if waits
-            && line.waiters.values().filter(|w| w.waits && &w.robot == robot).count()
-                >= MAX_WAITING_PER_ROBOT
-        {
+        if waits && line.waiting_claims(robot) >= MAX_WAITING_PER_ROBOT {
             return Err(TooManyWaiting);
         }
         let arrival = self.arrivals.fetch_add(1, Ordering::Relaxed);
@@ -155,6 +157,11 @@ impl TaskBoard {
         };
         line.waiters.insert(arrival, waiter);
         Ok(Place { board: self.clone(), arrival, turn })
+    }
+
+    /// Claims of `robot` waiting for a task now.
+    pub fn waiting_claims(&self, robot: &RobotId) -> usize {
+        self.lock().waiting_claims(robot)
     }
 
     /// Everyone in line who waits for a task, but the holder of `place`, first come first.

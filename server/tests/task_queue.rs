@@ -93,8 +93,9 @@ async fn waiting_claims_read_the_queue_only_when_something_changes() {
 
     let waiting: Vec<_> = (0..4).map(|_| claiming(&server, &token, "pusher-1", 1.0)).collect();
     claims_waiting(&server, 4).await;
-    let refused =
-        problem(claim(&server, &token, "pusher-1", 1.0).await, StatusCode::TOO_MANY_REQUESTS).await;
+    let refused = claim(&server, &token, "pusher-1", 1.0).await;
+    assert_eq!(refused.headers()["retry-after"], "5");
+    let refused = problem(refused, StatusCode::TOO_MANY_REQUESTS).await;
     let detail = refused["detail"].as_str().unwrap();
     assert!(detail.contains("already has 4 claims waiting"), "{detail}");
     for claim in waiting {

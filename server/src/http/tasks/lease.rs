@@ -90,17 +90,19 @@ pub async fn claim(
         }
     };
     let deadline = tokio::time::Instant::now() + wait;
+    let waits = !wait.is_zero();
+    // Refused before any read: a robot that claims in a loop costs no database work.
+    if waits && state.tasks.waiting_claims(&robot) >= MAX_WAITING_PER_ROBOT {
+        return Ok(too_many_waiting(&robot));
+    }
     let held = tasks::held_by(state.db.reader(), &robot, &clock::now()).await?;
     if held.len() >= state.tasks.max_held() {
         return Err(holds_enough(&robot, &held));
     }
     let class = robots::get(state.db.reader(), &robot).await?.and_then(|r| r.class);
-    let place = state.tasks.join(&robot, class.as_deref(), !wait.is_zero()).map_err(|_| {
-        ApiError::TooManyRequests(format!(
-            "robot {robot} already has {MAX_WAITING_PER_ROBOT} claims waiting for a task; \
-             wait for their answers (each comes by its wait) before claiming again"
-        ))
-    })?;
+    let Ok(place) = state.tasks.join(&robot, class.as_deref(), waits) else {
+        return Ok(too_many_waiting(&robot));
+    };
     loop {
         let generation = place.begin_look();
         if let Some(task) = offer::claim_next(&state, &place, &robot, class.as_deref()).await? {
@@ -116,6 +118,18 @@ pub async fn claim(
         }
     }
     Ok(StatusCode::NO_CONTENT.into_response())
+}
+
+/// The answer to a claim beyond the robot's waiting claims: 429 with `Retry-After`.
+fn too_many_waiting(robot: &RobotId) -> Response {
+    let mut response = ApiError::TooManyRequests(format!(
+        "robot {robot} already has {MAX_WAITING_PER_ROBOT} claims waiting for a task; wait for \
+         their answers (each comes by its wait) before claiming again"
+    ))
+    .into_response();
+    let retry = axum::http::HeaderValue::from(crate::error::RETRY_AFTER_SECONDS);
+    response.headers_mut().insert(axum::http::header::RETRY_AFTER, retry);
+    response
 }
 
 /// Why a robot that holds as many tasks as it may gets no other.
