@@ -303,7 +303,8 @@ mod tests {
         let second = board.join(&robot("b"), None, true).unwrap();
         board.changed();
         // The first robot looks at generation 1 before its turn arrives.
-        first.looked(board.lock().generation);
+        let generation = board.lock().generation;
+        first.looked(generation);
         assert_eq!(turn_now(&second), Some(1));
         second.looked(1);
         board.changed();
