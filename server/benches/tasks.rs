@@ -73,7 +73,8 @@ async fn run(options: &Options) -> anyhow::Result<()> {
         robots::put(&db, &pps_schema::RobotId::parse(&id)?, &document, "bench").await?;
         fleet.push((id.clone(), tokens::create(&db, Role::Robot, &id, None).await?.token));
     }
-    let state = AppState::new(db);
+    // The contention phase measures claims alone: its robots never finish what they hold.
+    let state = AppState::new(db).with_max_tasks_per_robot(usize::MAX);
     let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await?;
     let url = format!("http://{}", listener.local_addr()?);
     tokio::spawn(pps_server::serve(listener, state.clone(), std::future::pending()));

@@ -1,6 +1,7 @@
 //! The registry's background work: fanning out the change feed, flushing what the hot path
-//! only noted in memory (robots' last-seen times, unknown EPCs for the inbox), and returning
-//! the tasks of robots whose lease ran out to the queue.
+//! only noted in memory (robots' last-seen times, unknown EPCs for the inbox), expiring tasks
+//! and returning the tasks of robots whose lease ran out to the queue. Robots waiting for a
+//! task are woken here, from the feed, for every change that could give them one.
 
 use std::time::Duration;
 
@@ -65,12 +66,26 @@ fn invalidate(state: &AppState, event: &Event) {
             }
         }
         EventKind::RobotChanged => state.effective.clear(),
-        // A task asked for or requeued anywhere; this process's own writers woke them already,
-        // and one more look by the robot first in line costs a read.
-        EventKind::TaskChanged if event.data.get("state") == Some(&Value::from("queued")) => {
-            state.tasks.changed()
-        }
         _ => {}
+    }
+    if could_change_an_offer(event) {
+        state.tasks.changed();
+    }
+}
+
+/// Whether a robot waiting for a task could get another answer after this event: a task asked
+/// for or back in the queue (here or on another replica), or a change to what a robot can do
+/// (a tag, a robot, learned values) or to who ranks first for it (reliability). Every other event leaves waiting robots asleep.
+fn could_change_an_offer(event: &Event) -> bool {
+    match event.kind {
+        EventKind::TaskChanged => event.data.get("state") == Some(&Value::from("queued")),
+        EventKind::TagChanged
+        | EventKind::TagArchived
+        | EventKind::TagRetagged
+        | EventKind::LearnedChanged
+        | EventKind::ReliabilityChanged
+        | EventKind::RobotChanged => true,
+        _ => false,
     }
 }
 
@@ -108,34 +123,37 @@ async fn prune_events(state: &AppState) {
     }
 }
 
-/// Returns the tasks of robots whose lease ran out (from its stored expiry, so also for leases
-/// given before a restart) to the queue, or fails them after their last attempt.
+/// Cancels the tasks that expired, then returns the tasks of robots whose lease ran out (from
+/// its stored expiry, so also for leases given before a restart) to the queue, or fails them
+/// after their last attempt.
 pub async fn expire_leases(state: &AppState) {
     let now = crate::clock::now();
     // A look on the read pool first: the sweep takes the write lock only when it has work.
-    match tasks::any_lease_expired(state.db.reader(), &now).await {
+    match tasks::any_overdue(state.db.reader(), &now).await {
         Ok(true) => {}
         Ok(false) => return,
         Err(error) => return tracing::warn!(%error, "cannot look for leases that ran out"),
     }
     let result = async {
         let mut tx = state.db.begin_write().await?;
+        let expired = tasks::expire(&mut tx, &now).await?;
         let changed = tasks::expire_leases(&mut tx, &now).await?;
         tx.commit().await?;
-        Ok::<_, sqlx::Error>(changed)
+        Ok::<_, sqlx::Error>((expired, changed))
     }
     .await;
     match result {
-        Ok(changed) => {
+        Ok((expired, changed)) => {
+            for task in &expired {
+                tracing::info!(task = %task.id, "a task expired before a robot did it");
+            }
             for task in &changed {
                 tracing::info!(task = %task.id, state = %task.state, "a robot's lease ran out");
             }
+            // Waiting robots hear of tasks back in the queue from the feed's pump.
             state.feed.committed();
-            if changed.iter().any(|task| task.state == "queued") {
-                state.tasks.changed();
-            }
         }
-        Err(error) => tracing::warn!(%error, "could not return tasks whose lease ran out"),
+        Err(error) => tracing::warn!(%error, "could not expire tasks or return lapsed leases"),
     }
 }
 

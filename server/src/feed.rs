@@ -19,8 +19,9 @@ const POLL_EVERY: Duration = Duration::from_millis(500);
 const LIVE_BUFFER: usize = 4096;
 /// SSE clients served at once; each holds a connection and a task.
 pub const MAX_CLIENTS: usize = 256;
-/// Streams one credential may hold at once: a robot needs one, a caretaker one per open tab;
-/// a quarter of the feed leaves room for everyone else when one credential runs away.
+/// Streams one holder (a robot, a user over all their sessions, a person's token) may hold at
+/// once: a robot needs one, a caretaker one per open tab; a quarter of the feed leaves room
+/// for everyone else when one holder runs away.
 pub const MAX_CLIENTS_PER_CREDENTIAL: usize = MAX_CLIENTS / 4;
 
 /// Why a client found no place on the feed.
@@ -28,7 +29,7 @@ pub const MAX_CLIENTS_PER_CREDENTIAL: usize = MAX_CLIENTS / 4;
 pub enum Full {
     /// Every place is taken.
     Feed,
-    /// Its credential holds its share already.
+    /// Its holder (robot, user or token) holds its share already.
     Credential,
 }
 
@@ -57,7 +58,7 @@ pub struct ChangeFeed {
     live: broadcast::Sender<Arc<Event>>,
     wake: Notify,
     clients: Arc<Semaphore>,
-    /// Places held per credential (keyed by a hash of it).
+    /// Places held per holder: a robot, a user, a person's token.
     holders: Arc<Mutex<HashMap<String, usize>>>,
     closing: watch::Sender<bool>,
 }
@@ -75,7 +76,7 @@ impl Default for ChangeFeed {
 }
 
 impl ChangeFeed {
-    /// A place for one more SSE client of `credential`, held until it leaves.
+    /// A place for one more SSE client of `credential` (its holder), held until it leaves.
     pub fn join(&self, credential: &str) -> Result<FeedPlace, Full> {
         let mut holders = self.holders.lock().unwrap_or_else(|e| e.into_inner());
         let held = holders.get(credential).copied().unwrap_or(0);

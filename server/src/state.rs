@@ -76,7 +76,15 @@ impl AppState {
     /// registry; tests of dead robots use a short one). Set before the state is shared.
     pub fn with_task_lease(mut self, lease: std::time::Duration) -> Self {
         let shared = Arc::get_mut(&mut self.0).expect("the task lease is set before serving");
-        shared.tasks = Arc::new(TaskBoard::new(lease));
+        shared.tasks = Arc::new(TaskBoard::new(lease, shared.tasks.max_held()));
+        self
+    }
+
+    /// The state letting one robot hold at most `tasks` tasks at once. Set before the state is
+    /// shared.
+    pub fn with_max_tasks_per_robot(mut self, tasks: usize) -> Self {
+        let shared = Arc::get_mut(&mut self.0).expect("the task cap is set before serving");
+        shared.tasks = Arc::new(TaskBoard::new(shared.tasks.lease(), tasks));
         self
     }
 

@@ -148,13 +148,16 @@ async fn robot_ids_are_at_most_sixty_three_characters() {
 /// nothing more, far cheaper than an HTTP client per place. It comes from 127.0.0.2, so the
 /// places do not count against the test client's own address.
 async fn hold_feed_place(server: &TestServer, token: &str) -> TcpStream {
+    hold_feed_place_as(server, &format!("authorization: Bearer {token}")).await
+}
+
+/// [`hold_feed_place`] with `credential` as the request's credential header line.
+async fn hold_feed_place_as(server: &TestServer, credential: &str) -> TcpStream {
     let address = server.url.strip_prefix("http://").unwrap();
     let socket = tokio::net::TcpSocket::new_v4().unwrap();
     socket.bind("127.0.0.2:0".parse().unwrap()).unwrap();
     let mut stream = socket.connect(address.parse().unwrap()).await.unwrap();
-    let request = format!(
-        "GET /api/v1/events HTTP/1.1\r\nhost: {address}\r\nauthorization: Bearer {token}\r\n\r\n"
-    );
+    let request = format!("GET /api/v1/events HTTP/1.1\r\nhost: {address}\r\n{credential}\r\n\r\n");
     stream.write_all(request.as_bytes()).await.unwrap();
     let mut head = Vec::new();
     let mut chunk = [0u8; 512];
@@ -212,4 +215,41 @@ async fn the_change_feed_serves_two_hundred_fifty_six_clients_at_once() {
     }
     held.push(hold_feed_place(&server, &server.admin).await);
     assert_eq!(feed_clients(&server).await, cap);
+}
+
+#[tokio::test]
+async fn one_caretaker_logged_in_five_times_holds_one_share_of_the_feed() {
+    use pps_server::auth::session;
+    use pps_server::identity::secret;
+    let server = TestServer::start().await;
+    let anna = pps_server::identity::UserName::parse("anna").unwrap();
+    pps_server::store::users::create(&server.db, &anna, Role::Caretaker, "unused").await.unwrap();
+    let expires = pps_server::clock::format(time::OffsetDateTime::now_utc() + session::LIFETIME);
+    let mut cookies = Vec::new();
+    for _ in 0..5 {
+        let login = session::mint_secret();
+        pps_server::store::sessions::create(&server.db, &secret::hash(&login), &anna, &expires)
+            .await
+            .unwrap();
+        cookies.push(format!("cookie: {}={login}", session::COOKIE_NAME));
+    }
+    let share = pps_server::feed::MAX_CLIENTS_PER_CREDENTIAL;
+    let mut held = Vec::with_capacity(share);
+    for n in 0..share {
+        held.push(hold_feed_place_as(&server, &cookies[n % 4]).await);
+    }
+    let fifth_login = server
+        .request(Method::GET, "/api/v1/events", None)
+        .header("cookie", cookies[4].trim_start_matches("cookie: "))
+        .send()
+        .await
+        .unwrap();
+    let body = problem(fifth_login, StatusCode::SERVICE_UNAVAILABLE).await;
+    let detail = body["detail"].as_str().unwrap();
+    assert!(detail.starts_with("user anna already holds 64 change-feed streams"), "{detail}");
+    assert_eq!(feed_clients(&server).await, share, "the refused stream holds no place");
+    register_robot(&server, "el-e-1", "el-e", ALL, 15.0).await;
+    let robot = server.token(Role::Robot, "el-e-1").await;
+    let _robot_feed = SseClient::connect(&server, &robot, None).await;
+    assert_eq!(feed_clients(&server).await, share + 1, "a robot still gets its stream");
 }

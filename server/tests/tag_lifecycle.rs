@@ -127,3 +127,39 @@ async fn a_retired_epc_is_never_registered_again() {
     let body = problem(reuse, StatusCode::CONFLICT).await;
     assert!(body["detail"].as_str().unwrap().contains(new), "{body}");
 }
+
+#[tokio::test]
+async fn a_tag_retagged_seventy_times_is_found_from_its_first_epc() {
+    let server = TestServer::start().await;
+    register_robot(&server, "el-e-1", "el-e", ALL, 15.0).await;
+    let robot = server.token(Role::Robot, "el-e-1").await;
+    let mut current = DRAWER.to_owned();
+    for n in 1..=70 {
+        let next = format!("E2003412000000000000{n:04X}");
+        let moved = server
+            .request(Method::POST, &format!("/api/v1/tags/{current}/retag"), Some(&server.admin))
+            .json(&json!({ "new_epc": next }))
+            .send()
+            .await
+            .unwrap();
+        assert_eq!(moved.status(), StatusCode::OK, "retag {n}");
+        current = next;
+    }
+    for retired in [DRAWER.to_owned(), "E20034120000000000000001".to_owned()] {
+        let old = problem(
+            server.get(&format!("/api/v1/robots/el-e-1/tags/{retired}"), &robot).await,
+            StatusCode::NOT_FOUND,
+        )
+        .await;
+        let detail = old["detail"].as_str().unwrap();
+        assert!(detail.ends_with(&format!("the tag now has the EPC {current}")), "{detail}");
+    }
+    let asked = server
+        .request(Method::POST, "/api/v1/tasks", Some(&server.admin))
+        .json(&json!({ "epc": DRAWER, "action": "open" }))
+        .send()
+        .await
+        .unwrap();
+    let refused = problem(asked, StatusCode::UNPROCESSABLE_ENTITY).await;
+    assert!(refused.to_string().contains(&format!("on {current}")), "{refused}");
+}

@@ -560,7 +560,7 @@ async fn a_robot_of_a_reliable_class_is_preferred_then_the_one_that_asked_first(
 }
 
 #[tokio::test]
-async fn sixteen_robots_claiming_two_hundred_tasks_get_each_exactly_once() {
+async fn sixteen_robots_doing_two_hundred_tasks_claim_each_exactly_once() {
     let server = TestServer::start().await;
     let mut tokens = Vec::new();
     for n in 0..16 {
@@ -591,15 +591,31 @@ async fn sixteen_robots_claiming_two_hundred_tasks_get_each_exactly_once() {
                         .send()
                         .await
                         .unwrap();
-                    match response.status() {
-                        StatusCode::OK => {
-                            let task: Value = response.json().await.unwrap();
-                            assert_eq!(task["claimed_by"], robot.as_str());
-                            got.push(task["id"].as_str().unwrap().to_owned());
-                        }
+                    let task: Value = match response.status() {
+                        StatusCode::OK => response.json().await.unwrap(),
                         StatusCode::NO_CONTENT => return got,
                         other => panic!("{robot}: {other}"),
-                    }
+                    };
+                    assert_eq!(task["claimed_by"], robot.as_str());
+                    let id = task["id"].as_str().unwrap().to_owned();
+                    // Done at once: a robot holds only a few tasks at a time.
+                    let trial_id = uuid::Uuid::new_v4().to_string();
+                    let (epc, action) = (task["epc"].as_str().unwrap(), task["action"].as_str());
+                    let behavior = match action {
+                        Some("on") => "flip_up",
+                        _ if epc == LAMP => "pull_chain",
+                        _ => "push_bottom",
+                    };
+                    let body = trial(&trial_id, epc, &robot, action.unwrap(), behavior, "success");
+                    let put =
+                        client.put(format!("{url}/api/v1/trials/{trial_id}")).bearer_auth(&token);
+                    assert_eq!(put.json(&body).send().await.unwrap().status(), StatusCode::CREATED);
+                    let finish = client
+                        .post(format!("{url}/api/v1/tasks/{id}/finish"))
+                        .bearer_auth(&token)
+                        .json(&json!({ "trial": trial_id, "outcome": "success" }));
+                    assert_eq!(finish.send().await.unwrap().status(), StatusCode::OK);
+                    got.push(id);
                 }
             })
         })
@@ -615,8 +631,8 @@ async fn sixteen_robots_claiming_two_hundred_tasks_get_each_exactly_once() {
     let distinct: std::collections::BTreeSet<String> = claimed_ids.into_iter().collect();
     assert_eq!(distinct, asked_for, "none lost");
     assert!(busy > 1, "the work was shared");
-    let claimed_list = server.get_json("/api/v1/tasks?state=claimed&limit=500").await;
-    assert_eq!(claimed_list["items"].as_array().unwrap().len(), 200);
+    let done = server.get_json("/api/v1/tasks?state=done&limit=500").await;
+    assert_eq!(done["items"].as_array().unwrap().len(), 200);
 }
 
 /// The reason a robot gives that has no device with the tag.
@@ -777,4 +793,37 @@ async fn a_robot_that_declined_and_waits_in_line_does_not_hold_the_task_up() {
     let got = claimed(&server, &el_e, "el-e-1").await;
     assert_eq!(got["id"], task["id"]);
     waiting.abort();
+}
+
+#[tokio::test]
+async fn a_trial_finishes_one_task_and_a_replayed_finish_says_what_the_first_said() {
+    let server = TestServer::start().await;
+    let token = robot(&server, "el-e-1", "el-e").await;
+    let first = asked(&server, json!({ "epc": FLIP_SWITCH, "action": "off" })).await;
+    claimed(&server, &token, "el-e-1").await;
+    let trial = record(&server, &token, "el-e-1", FLIP_SWITCH, "off").await;
+    let finish = format!("/api/v1/tasks/{}/finish", id(&first));
+    let success = json!({ "trial": trial, "outcome": "success" });
+    let done: Value =
+        post(&server, &finish, &token, Some(success.clone())).await.json().await.unwrap();
+    assert_eq!(done["state"], "done");
+
+    let otherwise = json!({ "trial": trial, "outcome": "failure" });
+    let refused =
+        problem(post(&server, &finish, &token, Some(otherwise)).await, StatusCode::CONFLICT).await;
+    let detail = refused["detail"].as_str().unwrap();
+    assert!(detail.contains("the outcome success"), "{detail}");
+    let replayed = post(&server, &finish, &token, Some(success.clone())).await;
+    assert_eq!(replayed.status(), StatusCode::OK);
+    assert_eq!(replayed.json::<Value>().await.unwrap(), done, "the same finish, the same answer");
+
+    let second = asked(&server, json!({ "epc": FLIP_SWITCH, "action": "off" })).await;
+    claimed(&server, &token, "el-e-1").await;
+    let finish = format!("/api/v1/tasks/{}/finish", id(&second));
+    let reused =
+        problem(post(&server, &finish, &token, Some(success)).await, StatusCode::CONFLICT).await;
+    let detail = reused["detail"].as_str().unwrap();
+    assert!(detail.contains(&format!("finished task {} already", id(&first))), "{detail}");
+    let still = server.get_json(&format!("/api/v1/tasks/{}", id(&second))).await;
+    assert_eq!((still["state"].as_str(), still["trial"].as_str()), (Some("claimed"), None));
 }

@@ -136,3 +136,31 @@ async fn an_admin_adds_a_robot_and_sees_its_token_once() {
     assert!(page.fits_width().await, "the admin page fits a phone");
     page.close().await;
 }
+
+#[tokio::test]
+async fn a_task_nobody_did_in_time_reads_as_expired_on_the_tasks_page() {
+    let registry = Registry::start();
+    registry.add_user("anna", "caretaker", PASSWORD);
+    let browser = Browser::start().await;
+    let page = browser.session(&registry.url, PHONE).await;
+    page.log_in("anna", PASSWORD).await;
+    page.open("/#/tasks").await;
+    page.wait_for_text("main", "Nobody asked for anything yet").await;
+    let soon = time::OffsetDateTime::now_utc() + time::Duration::seconds(2);
+    let soon = soon.format(&time::format_description::well_known::Rfc3339).unwrap();
+    let body = json!({ "epc": ADA_SWITCH, "action": "off", "expires_at": soon });
+    let (status, task) =
+        registry.call(Method::POST, "/api/v1/tasks", &registry.admin_token, Some(&body), &[]).await;
+    assert_eq!(status, StatusCode::CREATED, "{task}");
+
+    let row = format!("table.tasks tr[data-task='{}']", task["id"].as_str().unwrap());
+    page.wait_for_text(&format!("{row}[data-expired=no]"), "Expires").await;
+    let expired = page.wait_for(&format!("{row}[data-expired=yes] .expired")).await;
+    let words = expired.text().await.unwrap();
+    assert!(words.starts_with("No robot took it before it expired ("), "{words}");
+    assert!(words.ends_with("Ask again if it is still wanted."), "{words}");
+    let state = page.wait_for(&format!("{row} .badge")).await.text().await.unwrap();
+    assert_eq!(state, "expired");
+    assert_eq!(page.accessibility_problems().await, Vec::<String>::new());
+    page.close().await;
+}

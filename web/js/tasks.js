@@ -1,6 +1,7 @@
 // Tasks in words, shared by the pages that show them: what is asked, for whom, how it stands.
 
 import { request } from './api.js';
+import { when } from './format.js';
 
 /** What asking for `action` reads as on a button: "Ask a robot to turn it off". */
 export function askLabel(action) {
@@ -31,9 +32,24 @@ export function stateOf(task) {
     case 'claimed': return { text: `being done by ${task.claimed_by}`, badge: 'warn' };
     case 'done': return { text: `done by ${task.claimed_by}`, badge: 'good' };
     case 'failed': return { text: 'failed', badge: 'bad' };
-    case 'cancelled': return { text: 'cancelled', badge: '' };
+    case 'cancelled': return task.expired ? { text: 'expired', badge: 'bad' } : { text: 'cancelled', badge: '' };
     default: return { text: String(task.state), badge: '' };
   }
+}
+
+/**
+ * When the task expires, in words: for a task not yet done, when it will; for one that expired,
+ * that no robot did it in time. Null when it has no expiry or ended otherwise.
+ */
+export function expiryNote(task) {
+  if (task.expired) {
+    const what = task.trial || task.attempts > 0 ? 'finished' : 'took';
+    return `No robot ${what} it before it expired (${when(task.expires_at)}). Ask again if it is still wanted.`;
+  }
+  if (['queued', 'claimed'].includes(task.state) && task.expires_at) {
+    return `Expires ${when(task.expires_at)} unless a robot does it by then.`;
+  }
+  return null;
 }
 
 /** Why a waiting task will not be taken ("stretch-1 declined: …; no other robot can do it"), or null. */

@@ -118,6 +118,12 @@ struct ServeArgs {
           default_value_t = crate::task_board::DEFAULT_LEASE.as_secs_f64(),
           value_parser = serve::parse_lease)]
     task_lease: f64,
+    /// Tasks one robot may hold at once; its next claim is refused (409) until it finishes or
+    /// declines one.
+    #[arg(long, env = "PPS_MAX_TASKS_PER_ROBOT", value_name = "N",
+          default_value_t = crate::task_board::DEFAULT_MAX_TASKS_PER_ROBOT as u32,
+          value_parser = clap::value_parser!(u32).range(1..=1000))]
+    max_tasks_per_robot: u32,
     /// Trial pictures kept per tag; a new picture removes the oldest beyond this (the trials
     /// stay).
     #[arg(long, env = "PPS_PICTURES_PER_TAG", value_name = "N",

@@ -66,6 +66,7 @@ pub(super) async fn serve(location: &Location, args: ServeArgs) -> anyhow::Resul
     };
     let state = AppState::new(db.clone())
         .with_task_lease(std::time::Duration::from_secs_f64(args.task_lease))
+        .with_max_tasks_per_robot(args.max_tasks_per_robot as usize)
         .with_pictures_per_tag(args.pictures_per_tag);
     let served = crate::serve_with(listener, state, options, shutdown_signal()).await;
     db.close().await;

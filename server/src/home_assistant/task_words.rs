@@ -65,6 +65,7 @@ mod tests {
             reason: None,
             updated_at: "2026-12-05T10:00:00.000Z".into(),
             declines: "[]".into(),
+            expires_at: None,
         }
     }
 

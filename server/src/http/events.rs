@@ -14,12 +14,11 @@ use axum::response::sse::{Event as SseEvent, KeepAlive, Sse};
 use futures_util::Stream;
 use tokio::sync::{broadcast, mpsc};
 
-use crate::auth::{self, Principal, session};
+use crate::auth::{self, Principal};
 use crate::error::ApiError;
 use crate::feed::FeedPlace;
 use crate::http::extract::Caller;
 use crate::http::openapi::{Doc, Param, Reply};
-use crate::identity::secret;
 use crate::state::AppState;
 use crate::store::events::{self, Event, EventKind};
 
@@ -49,15 +48,16 @@ pub async fn stream(
     Caller(caller): Caller,
     headers: HeaderMap,
 ) -> Result<Sse<impl Stream<Item = Result<SseEvent, Infallible>>>, ApiError> {
-    let permit = state.feed.join(&credential_key(&headers)).map_err(|full| {
+    let holder = holder(&caller, &headers);
+    let permit = state.feed.join(&holder).map_err(|full| {
         ApiError::Unavailable(match full {
             crate::feed::Full::Feed => format!(
                 "the change feed already serves {} clients; retry in a minute",
                 crate::feed::MAX_CLIENTS
             ),
             crate::feed::Full::Credential => format!(
-                "this credential already holds {} change-feed streams, its share; close one \
-                 (or use another credential) and retry",
+                "{holder} already holds {} change-feed streams, its share, over all its \
+                 logins and tokens; close one (a tab, another login) and retry",
                 crate::feed::MAX_CLIENTS_PER_CREDENTIAL
             ),
         })
@@ -91,12 +91,15 @@ pub async fn stream(
 /// The request headers holding the stream's credential (bearer token or session cookie).
 struct Credential(HeaderMap);
 
-/// What the stream's credential is counted as for the per-credential share: a hash of the
-/// bearer token or session cookie, never the secret itself.
-fn credential_key(headers: &HeaderMap) -> String {
-    let token = headers.get(AUTHORIZATION).and_then(|v| v.to_str().ok());
-    let secret = token.map(str::to_owned).or_else(|| session::cookie_secret(headers));
-    secret::hash(&secret.unwrap_or_default())
+/// Whom a stream is counted against for the per-holder share: the robot a robot token is
+/// bound to, the user a browser session belongs to, or the name of a person's API token. So
+/// logging in again, or minting another token for the same robot, gives no more streams.
+fn holder(caller: &Principal, headers: &HeaderMap) -> String {
+    match &caller.robot {
+        Some(robot) => format!("robot {robot}"),
+        None if headers.contains_key(AUTHORIZATION) => format!("the token {:?}", caller.name),
+        None => format!("user {}", caller.name),
+    }
 }
 
 /// Sends the backlog after `cursor`, then live events, until the client goes away or its

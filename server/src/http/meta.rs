@@ -65,8 +65,11 @@ pub async fn metrics(
     let mut text = state.metrics.render(state.feed.clients());
     text.push_str(&format!(
         "# HELP pps_robots_waiting_for_tasks Robots whose claim is waiting for a task.\n\
-         # TYPE pps_robots_waiting_for_tasks gauge\npps_robots_waiting_for_tasks {}\n",
-        state.tasks.waiting()
+         # TYPE pps_robots_waiting_for_tasks gauge\npps_robots_waiting_for_tasks {}\n\
+         # HELP pps_task_looks_total Times a claim read the queue for a task.\n\
+         # TYPE pps_task_looks_total counter\npps_task_looks_total {}\n",
+        state.tasks.waiting(),
+        state.tasks.looks()
     ));
     ([(axum::http::header::CONTENT_TYPE, "text/plain; version=0.0.4; charset=utf-8")], text)
 }

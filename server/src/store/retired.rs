@@ -5,48 +5,55 @@ use sqlx::AnyConnection;
 
 use crate::clock;
 
-/// The EPC that replaced `epc`, following a chain of replacements to the current one.
+/// The EPC that replaced `epc`, following the chain of replacements, however long, to the
+/// current one.
 pub async fn successor(conn: &mut AnyConnection, epc: &Epc) -> sqlx::Result<Option<Epc>> {
-    let mut current: Option<String> = None;
-    let mut next = epc.as_hex().to_owned();
-    // A chain longer than this would mean a cycle, which retagging never creates.
-    for _ in 0..64 {
-        let found: Option<String> =
-            sqlx::query_scalar("select successor from retired_epcs where epc = $1")
-                .bind(&next)
-                .fetch_optional(&mut *conn)
-                .await?;
-        match found {
-            Some(successor) => {
-                current = Some(successor.clone());
-                next = successor;
-            }
-            None => break,
-        }
-    }
-    current
-        .map(|hex| Epc::parse(&hex).map_err(|error| sqlx::Error::Decode(error.into())))
-        .transpose()
+    // One statement walks the whole chain. Retagging never makes a cycle (a retired EPC is
+    // never reused), so the depth bound only keeps a damaged table from looping forever.
+    let last: Option<String> = sqlx::query_scalar(
+        "with recursive chain (epc, depth) as (
+             select successor, 1 from retired_epcs where epc = $1
+             union all
+             select retired_epcs.successor, chain.depth + 1
+             from retired_epcs join chain on retired_epcs.epc = chain.epc
+             where chain.depth < $2
+         )
+         select epc from chain order by depth desc limit 1",
+    )
+    .bind(epc.as_hex())
+    .bind(MAX_CHAIN)
+    .fetch_optional(&mut *conn)
+    .await?;
+    last.map(|hex| Epc::parse(&hex).map_err(|error| sqlx::Error::Decode(error.into()))).transpose()
 }
 
-/// The first EPC the tag behind `epc` ever had, following its replacements back (`epc` itself
-/// when it never replaced one): what stays the same when a worn tag is replaced.
+/// The first EPC the tag behind `epc` ever had, following its replacements back, however
+/// many (`epc` itself when it never replaced one): what stays the same when a worn tag is
+/// replaced.
 pub async fn origin(conn: &mut AnyConnection, epc: &Epc) -> sqlx::Result<Epc> {
-    let mut first = epc.as_hex().to_owned();
-    // A chain longer than this would mean a cycle, which retagging never creates.
-    for _ in 0..64 {
-        let found: Option<String> =
-            sqlx::query_scalar("select epc from retired_epcs where successor = $1")
-                .bind(&first)
-                .fetch_optional(&mut *conn)
-                .await?;
-        match found {
-            Some(predecessor) => first = predecessor,
-            None => break,
-        }
+    // The chain of `successor`, walked the other way, with the same bound.
+    let first: Option<String> = sqlx::query_scalar(
+        "with recursive chain (epc, depth) as (
+             select epc, 1 from retired_epcs where successor = $1
+             union all
+             select retired_epcs.epc, chain.depth + 1
+             from retired_epcs join chain on retired_epcs.successor = chain.epc
+             where chain.depth < $2
+         )
+         select epc from chain order by depth desc limit 1",
+    )
+    .bind(epc.as_hex())
+    .bind(MAX_CHAIN)
+    .fetch_optional(&mut *conn)
+    .await?;
+    match first {
+        Some(hex) => Epc::parse(&hex).map_err(|error| sqlx::Error::Decode(error.into())),
+        None => Ok(epc.clone()),
     }
-    Epc::parse(&first).map_err(|error| sqlx::Error::Decode(error.into()))
 }
+
+/// More replacements of one tag than a household could make in centuries.
+const MAX_CHAIN: i64 = 1_000_000;
 
 pub async fn retire(
     conn: &mut AnyConnection,

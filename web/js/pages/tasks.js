@@ -7,7 +7,7 @@ import { cell, debounce, h, replace, uid } from '../dom.js';
 import { subscribe } from '../events.js';
 import { ago, when } from '../format.js';
 import { loadSchemas, titlesFrom } from '../schema.js';
-import { cancel, forWhom, stateOf, stuckReason } from '../tasks.js';
+import { cancel, expiryNote, forWhom, stateOf, stuckReason } from '../tasks.js';
 
 /** How often waiting tasks are looked at again: a robot counts as on for a minute after it was seen. */
 const ONLINE_CHECK_MS = 15000;
@@ -43,7 +43,8 @@ function taskRow(task, labels, refresh) {
     ? h('ul', { class: 'declines' }, task.declined.map((d) => h('li', { dataset: { robot: d.robot } },
       h('strong', {}, `${d.robot} declined`), `: ${d.reason}`, h('span', { class: 'muted' }, ` (${ago(d.at)})`))))
     : null;
-  return h('tr', { dataset: { task: task.id, state: task.state, stuck: stuck ? 'yes' : 'no' } },
+  const expiry = expiryNote(task);
+  return h('tr', { dataset: { task: task.id, state: task.state, stuck: stuck ? 'yes' : 'no', expired: task.expired ? 'yes' : 'no' } },
     cell('Asked', when(task.created_at), h('div', { class: 'muted' }, `by ${task.created_by}`)),
     cell('Tag', h('a', { href: `#/tags/${seg(task.epc)}` }, name)),
     cell('Action', h('strong', {}, action), task.note ? h('div', { class: 'muted' }, task.note) : null),
@@ -51,7 +52,9 @@ function taskRow(task, labels, refresh) {
     cell('State', h('span', { class: ['badge', badge] }, text),
       stuck ? h('p', { class: 'stuck' }, h('strong', {}, 'Why it waits: '), stuck, '. It stays waiting until a robot can take it; cancel it if it is no longer wanted.') : null,
       declines,
-      task.reason ? h('div', { class: 'muted' }, task.reason) : null,
+      task.expired ? h('p', { class: 'expired' }, expiry) : null,
+      task.reason && !task.expired ? h('div', { class: 'muted' }, task.reason) : null,
+      expiry && !task.expired ? h('div', { class: 'muted' }, expiry) : null,
       task.attempts > 1 ? h('div', { class: 'muted' }, `attempt ${task.attempts}`) : null),
     cell('Trial', task.trial ? h('a', { href: `#/tags/${seg(task.epc)}`, dataset: { trial: task.trial } }, `trial ${task.trial.slice(0, 8)}`) : '—'),
     cell('Cancel', stop, status));
@@ -76,7 +79,7 @@ export async function render(main) {
   };
   filter.addEventListener('change', () => show().catch(() => {}));
   replace(main, h('h1', {}, 'Tasks'),
-    h('p', { class: 'help' }, 'What caretakers asked robots to do. A robot that cannot do a task says why and leaves it to the others; when no robot that is on can take it, the task says so here at once. A robot that stops answering loses its task after a while and another robot takes it; after three such attempts the task fails.'),
+    h('p', { class: 'help' }, 'What caretakers asked robots to do. A robot that cannot do a task says why and leaves it to the others; when no robot that is on can take it, the task says so here at once. A robot that stops answering loses its task after a while and another robot takes it; after three such attempts the task fails. A task nobody did in time (a day, unless asked otherwise) expires and says so.'),
     h('div', { class: 'field narrow' }, h('label', { for: filterId }, 'Show'), filter),
     box);
   await show();

@@ -229,6 +229,8 @@ pub(super) fn shapes() -> Vec<(&'static str, Value)> {
                     "declined",
                     "waiting_for",
                     "stuck",
+                    "expires_at",
+                    "expired",
                 ],
                 json!({
                     "id": { "type": "string", "format": "uuid" },
@@ -274,6 +276,17 @@ pub(super) fn shapes() -> Vec<(&'static str, Value)> {
                             words (who declined and why, who could but is offline, or that no \
                             robot can). It stays queued until a robot can take it.",
                         "anyOf": [text(), { "type": "null" }]
+                    },
+                    "expires_at": {
+                        "description": "When it expires unless a robot took it (or, holding \
+                            it, finished it); null for never (tasks asked for before tasks \
+                            could expire)",
+                        "anyOf": [time(), { "type": "null" }]
+                    },
+                    "expired": {
+                        "description": "Whether it ended because it expired: it is then \
+                            `cancelled`, and `reason` says so in words",
+                        "type": "boolean"
                     }
                 }),
             ),
@@ -289,7 +302,13 @@ pub(super) fn shapes() -> Vec<(&'static str, Value)> {
                     "action": { "type": "string", "minLength": 1 },
                     "robot": nullable(component("robot/$defs/robot_id")),
                     "class": nullable(component("robot/$defs/robot_id")),
-                    "note": nullable(json!({ "type": "string", "maxLength": 500 }))
+                    "note": nullable(json!({ "type": "string", "maxLength": 500 })),
+                    "expires_at": {
+                        "description": "When the task expires unless a robot took it: later \
+                            than now and at most 30 days ahead. Left out or null: a day after \
+                            it is asked for.",
+                        "anyOf": [time(), { "type": "null" }]
+                    }
                 }
             }),
         ),

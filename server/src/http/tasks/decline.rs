@@ -62,9 +62,8 @@ pub async fn decline(
     tx.commit().await?;
     let task = match declined {
         Some(task) => {
+            // Back in the queue: the feed's pump wakes the robots waiting in line.
             state.feed.committed();
-            // Back in the queue: a robot waiting in line may take it now.
-            state.tasks.changed();
             task
         }
         // Declined already, or the task changed between the look and the write.

@@ -26,6 +26,7 @@ use crate::http::openapi::{Body, Doc, Param, ParamType, Reply};
 use crate::state::AppState;
 use crate::store::tasks::{self, TaskRow};
 use crate::store::{robots, trials};
+use crate::task_board::MAX_WAITING_PER_ROBOT;
 
 /// The longest a claim may wait for a task (DESIGN §8).
 pub const MAX_WAIT_SECONDS: u64 = 30;
@@ -42,7 +43,8 @@ pub const CLAIM: Doc = Doc::new("claimTask", "Take the next task this robot shou
          anyone, and the robot's effective entry makes the action available), unless a robot \
          waiting longer, or one whose class is reliable for the action, should have it. With \
          `wait`, the answer comes as soon as such a task appears. The robot then holds the \
-         task until `lease_until`; heartbeats extend it.",
+         task until `lease_until`; heartbeats extend it. A robot holds at most a few tasks \
+         at once, and has at most a few claims waiting at once.",
     )
     .params(&[
         Param::ROBOT,
@@ -55,6 +57,12 @@ pub const CLAIM: Doc = Doc::new("claimTask", "Take the next task this robot shou
     .replies(&[
         Reply::json(200, "The task, claimed by this robot until lease_until", "task"),
         Reply::empty(204, "No task came within the wait"),
+        Reply::problem(
+            409,
+            "The robot holds as many tasks as one robot may hold at once (`pps-server serve \
+             --max-tasks-per-robot`); it finishes or declines one first",
+        ),
+        Reply::problem(429, "The robot already has as many claims waiting as it may"),
     ]);
 
 pub async fn claim(
@@ -82,25 +90,57 @@ pub async fn claim(
         }
     };
     let deadline = tokio::time::Instant::now() + wait;
+    let waits = !wait.is_zero();
+    // Refused before any read: a robot that claims in a loop costs no database work.
+    if waits && state.tasks.waiting_claims(&robot) >= MAX_WAITING_PER_ROBOT {
+        return Ok(too_many_waiting(&robot));
+    }
+    let held = tasks::held_by(state.db.reader(), &robot, &clock::now()).await?;
+    if held.len() >= state.tasks.max_held() {
+        return Err(holds_enough(&robot, &held));
+    }
     let class = robots::get(state.db.reader(), &robot).await?.and_then(|r| r.class);
-    let place = state.tasks.join(&robot, class.as_deref(), !wait.is_zero());
+    let Ok(place) = state.tasks.join(&robot, class.as_deref(), waits) else {
+        return Ok(too_many_waiting(&robot));
+    };
     loop {
+        let generation = place.begin_look();
         if let Some(task) = offer::claim_next(&state, &place, &robot, class.as_deref()).await? {
             return Ok(Json(task.to_json()).into_response());
         }
-        // Nothing for this robot: the robot behind it may have better luck.
-        let now = clock::now();
-        if tasks::any_claimable(state.db.reader(), &now).await? {
-            state.tasks.pass_on(&place);
-        }
+        // Nothing for this robot: it waits, at no cost, until something changes.
+        place.looked(generation);
         tokio::select! {
-            () = place.turn() => {}
+            () = place.next_change() => {}
             () = tokio::time::sleep_until(deadline) => break,
             // A shutdown does not wait for long polls.
             () = state.feed.closed() => break,
         }
     }
     Ok(StatusCode::NO_CONTENT.into_response())
+}
+
+/// The answer to a claim beyond the robot's waiting claims: 429 with `Retry-After`.
+fn too_many_waiting(robot: &RobotId) -> Response {
+    let mut response = ApiError::TooManyRequests(format!(
+        "robot {robot} already has {MAX_WAITING_PER_ROBOT} claims waiting for a task; wait for \
+         their answers (each comes by its wait) before claiming again"
+    ))
+    .into_response();
+    let retry = axum::http::HeaderValue::from(crate::error::RETRY_AFTER_SECONDS);
+    response.headers_mut().insert(axum::http::header::RETRY_AFTER, retry);
+    response
+}
+
+/// Why a robot that holds as many tasks as it may gets no other.
+fn holds_enough(robot: &RobotId, held: &[Uuid]) -> ApiError {
+    let held: Vec<String> = held.iter().map(Uuid::to_string).collect();
+    ApiError::Conflict(format!(
+        "robot {robot} holds {} task(s) already ({}), as many as one robot may hold at once; \
+         finish or decline one before claiming another",
+        held.len(),
+        held.join(", ")
+    ))
 }
 
 pub const HEARTBEAT: Doc = Doc::new("heartbeatTask", "Extend the lease on a task this robot holds")
@@ -134,8 +174,9 @@ pub const FINISH: Doc =
     Doc::new("finishTask", "End a task this robot holds with its trial")
         .describe(
             "The trial must be recorded already, by this robot, on the task's tag and action, \
-         with this outcome. A success makes the task `done`, any other outcome `failed`. \
-         Repeating the same finish is answered with the ended task.",
+         with this outcome, and it must not have finished another task. A success makes the \
+         task `done`, any other outcome `failed`. Repeating the same finish is answered with \
+         the ended task; a finish naming another trial or outcome is 409.",
         )
         .params(&[TASK_ID])
         .body(Body::json("task_finish", "The trial the task ended in and its outcome").example(
@@ -145,7 +186,11 @@ pub const FINISH: Doc =
             Reply::json(200, "The ended task", "task"),
             Reply::problem(403, "The trial is another robot's, or this robot never held the task"),
             Reply::problem(404, "No task has this id"),
-            Reply::problem(409, "The lease was lost: the task is no longer this robot's to finish"),
+            Reply::problem(
+                409,
+                "The lease was lost, the trial finished another task, or the task ended with \
+                 another trial or outcome",
+            ),
             Reply::problem(422, "No such trial, or it is on another tag or action or outcome"),
         ]);
 
@@ -160,12 +205,15 @@ pub async fn finish(
     let robot = caller.own_robot()?;
     let (trial_id, outcome) = parse_finish(&body)?;
     let task = find(&state, &id).await?;
-    if task.trial == Some(trial_id) && task.claimed_by.as_ref() == Some(robot) {
-        // A retry whose first answer was lost.
-        return Ok(Json(task.to_json()));
+    if let Some(first) = task.trial.filter(|_| task.claimed_by.as_ref() == Some(robot)) {
+        // A retry whose first answer was lost: it must say what the first finish said.
+        return replayed(&state, task, first, trial_id, &outcome).await;
     }
     if task.state != "claimed" || task.claimed_by.as_ref() != Some(robot) {
         return Err(not_held(&task, robot));
+    }
+    if let Some(other) = tasks::finished_with(state.db.reader(), &trial_id).await? {
+        return Err(trial_used(&trial_id, &other));
     }
     let Some(trial) = trials::get(state.db.reader(), &trial_id).await? else {
         return Err(ApiError::invalid_at(
@@ -214,9 +262,43 @@ pub async fn finish(
             state.feed.committed();
             Ok(Json(row.to_json()))
         }
-        // The lease ran out between the look and the write.
-        None => Err(not_held(&find(&state, &id).await?, robot)),
+        // The lease ran out, or the trial finished another task, between the look and the
+        // write.
+        None => match tasks::finished_with(state.db.reader(), &trial_id).await? {
+            Some(other) if other != id => Err(trial_used(&trial_id, &other)),
+            _ => Err(not_held(&find(&state, &id).await?, robot)),
+        },
     }
+}
+
+/// The answer to a finish of a task that already ended with `first`: the ended task when the
+/// finish says the same as the one that ended it, 409 when it says something else.
+async fn replayed(
+    state: &AppState,
+    task: TaskRow,
+    first: Uuid,
+    trial_id: Uuid,
+    outcome: &str,
+) -> Result<Json<Value>, ApiError> {
+    let recorded = trials::get(state.db.reader(), &first).await?.map(|trial| trial.outcome);
+    if trial_id == first && recorded.as_deref() == Some(outcome) {
+        return Ok(Json(task.to_json()));
+    }
+    Err(ApiError::Conflict(format!(
+        "task {} is {} already: it was finished with trial {first}{}; a repeated finish must \
+         name the same trial and outcome",
+        task.id,
+        task.state,
+        recorded.map(|o| format!(" and the outcome {o}")).unwrap_or_default()
+    )))
+}
+
+/// Why a trial cannot finish a second task.
+fn trial_used(trial: &Uuid, task: &Uuid) -> ApiError {
+    ApiError::Conflict(format!(
+        "trial {trial} finished task {task} already; a trial finishes one task, so record a new \
+         trial for this one"
+    ))
 }
 
 /// The finish body: `{"trial": UUID, "outcome"}`, every problem reported at once.

@@ -83,6 +83,7 @@ pub(crate) async fn ask(
         class: asked.class,
         note: asked.note,
         created_by: asker.to_owned(),
+        expires_at: asked.expires_at,
     };
     let mut tx = state.db.begin_write().await?;
     if let Some(holder) = bridge_lease
@@ -95,8 +96,8 @@ pub(crate) async fn ask(
     }
     let row = tasks::create(&mut tx, &task).await?;
     tx.commit().await?;
+    // The feed's pump wakes the robots waiting for a task.
     state.feed.committed();
-    state.tasks.changed();
     Ok(row)
 }
 

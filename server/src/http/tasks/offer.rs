@@ -1,12 +1,13 @@
 //! Which task a claiming robot gets: the fairness rule.
 //!
 //! A robot is offered the oldest task it may claim (the task targets it, its class or anyone,
-//! and its effective entry makes the action available) unless another robot waiting in line
-//! ranks before it for that task. Robots rank first by whether their class is reliable for the
-//! task's action on that tag (the stats' reliable flag), then by when they asked. A robot that
-//! steps aside leaves that task to the best-ranked such robot and looks at the next task, for
-//! which that robot no longer counts (it takes one task at a time). When a robot leaves the
-//! line, everyone waiting looks again, so a task passed over is never stranded.
+//! it has not expired, and the robot's effective entry makes the action available) unless
+//! another robot waiting in line ranks before it for that task. Robots rank first by whether
+//! their class is reliable for the task's action on that tag (the stats' reliable flag), then
+//! by when they asked. A robot that steps aside leaves that task to the best-ranked such robot
+//! and looks at the next task, for which that robot no longer counts (it takes one task at a
+//! time). When a robot that was stepped aside for leaves the line, everyone waiting looks
+//! again, so a task passed over is never stranded.
 
 use std::collections::HashMap;
 
@@ -22,7 +23,8 @@ use crate::store::learning;
 use crate::store::tasks::{self, TaskRow};
 use crate::task_board::{Place, Waiter};
 
-/// Tasks looked at per attempt: the oldest ones this robot might claim.
+/// Tasks looked at per attempt: the oldest ones this robot can do. It passes over one only
+/// for a robot waiting in line, so more than there are robots waiting is never needed.
 const CANDIDATES: u32 = 200;
 
 /// A robot's standing for one task: lower is preferred.
@@ -50,11 +52,22 @@ impl Memo {
         if task.declined_by(robot) {
             return Ok(false);
         }
-        let key = (task.epc.clone(), task.action.clone(), robot.clone());
+        self.can_run(state, &task.epc, &task.action, robot).await
+    }
+
+    /// Whether `robot` can run `action` on `epc`: its effective entry says so.
+    async fn can_run(
+        &mut self,
+        state: &AppState,
+        epc: &Epc,
+        action: &str,
+        robot: &RobotId,
+    ) -> Result<bool, ApiError> {
+        let key = (epc.clone(), action.to_owned(), robot.clone());
         if let Some(&can) = self.can.get(&key) {
             return Ok(can);
         }
-        let can = why_not(state, &task.epc, &task.action, robot).await?.is_none();
+        let can = why_not(state, epc, action, robot).await?.is_none();
         self.can.insert(key, can);
         Ok(can)
     }
@@ -77,6 +90,11 @@ impl Memo {
 }
 
 /// Claims the task this robot should get now, if any.
+///
+/// What it cannot do is left out in the database, not after reading: the kinds of task (tag
+/// and action) open to it are read first and checked against its effective entry, then the
+/// oldest tasks of the kinds it can do. However many tasks it cannot do lie ahead, they cost
+/// one check per kind, and the task meant for it is found.
 pub async fn claim_next(
     state: &AppState,
     place: &Place,
@@ -85,13 +103,19 @@ pub async fn claim_next(
 ) -> Result<Option<TaskRow>, ApiError> {
     let reader = state.db.reader();
     let now = OffsetDateTime::now_utc();
-    let candidates =
-        tasks::claimable(reader, robot, class, &clock::format(now), CANDIDATES).await?;
+    let at = clock::format(now);
+    let mut memo = Memo::default();
+    let mut doable = Vec::new();
+    for (epc, action) in tasks::claimable_kinds(reader, robot, class, &at).await? {
+        if memo.can_run(state, &epc, &action, robot).await? {
+            doable.push((epc, action));
+        }
+    }
+    let candidates = tasks::claimable(reader, robot, class, &at, &doable, CANDIDATES).await?;
     if candidates.is_empty() {
         return Ok(None);
     }
     let mut others = state.tasks.others(place);
-    let mut memo = Memo::default();
     for task in candidates {
         if !memo.can(state, &task, robot).await? {
             continue;
@@ -106,7 +130,8 @@ pub async fn claim_next(
         }
         let lease_until = clock::format(now + state.tasks.lease());
         let mut tx = state.db.begin_write().await?;
-        let claimed = tasks::claim(&mut tx, &task.id, robot, &lease_until).await?;
+        let max_held = state.tasks.max_held();
+        let claimed = tasks::claim(&mut tx, &task.id, robot, &lease_until, max_held).await?;
         tx.commit().await?;
         if let Some(claimed) = claimed {
             state.feed.committed();

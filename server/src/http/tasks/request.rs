@@ -5,12 +5,17 @@ use pps_schema::{Epc, FieldError, RobotId};
 use serde_json::Value;
 
 use super::availability;
+use crate::clock;
 use crate::error::ApiError;
 use crate::state::AppState;
 use crate::store::{retired, robots, tags};
 
 /// A note longer than this is not a note.
 const MAX_NOTE_CHARS: usize = 500;
+/// How long a task waits for a robot unless the caretaker says otherwise: a day.
+pub const DEFAULT_EXPIRY: time::Duration = time::Duration::days(1);
+/// The latest a task may expire: a wish older than a month is no longer a wish.
+pub const MAX_EXPIRY: time::Duration = time::Duration::days(30);
 
 /// A create request, parsed; every problem found is reported at once.
 pub(crate) struct TaskRequest {
@@ -19,12 +24,16 @@ pub(crate) struct TaskRequest {
     pub(super) robot: Option<RobotId>,
     pub(super) class: Option<String>,
     pub(super) note: Option<String>,
+    /// When the task expires unless a robot took it.
+    pub(super) expires_at: String,
 }
 
 impl TaskRequest {
-    /// A request for `action` on `epc` by any robot that can, with a note.
+    /// A request for `action` on `epc` by any robot that can, with a note, expiring after the
+    /// default time.
     pub(crate) fn action_on(epc: Epc, action: String, note: Option<String>) -> Self {
-        Self { epc, action, robot: None, class: None, note }
+        let expires_at = clock::format(time::OffsetDateTime::now_utc() + DEFAULT_EXPIRY);
+        Self { epc, action, robot: None, class: None, note, expires_at }
     }
 
     pub(super) fn parse(body: &Value) -> Result<Self, ApiError> {
@@ -36,10 +45,13 @@ impl TaskRequest {
         };
         let mut errors = Vec::new();
         for key in object.keys() {
-            if !["epc", "action", "robot", "class", "note"].contains(&key.as_str()) {
+            if !["epc", "action", "robot", "class", "note", "expires_at"].contains(&key.as_str()) {
                 errors.push(FieldError::new(
                     pps_schema::pointer::join("", key),
-                    format!("a task has no field {key}; it takes epc, action, robot, class, note"),
+                    format!(
+                        "a task has no field {key}; it takes epc, action, robot, class, note, \
+                         expires_at"
+                    ),
                 ));
             }
         }
@@ -52,13 +64,17 @@ impl TaskRequest {
                 None
             }
         };
-        let (epc, action, robot, class, note) = (
+        let (epc, action, robot, class, note, expires_at) = (
             text("epc", true),
             text("action", true),
             text("robot", false),
             text("class", false),
             text("note", false),
+            text("expires_at", false),
         );
+        let expires_at = expiry(expires_at.as_deref(), time::OffsetDateTime::now_utc())
+            .map_err(|message| errors.push(FieldError::new("/expires_at", message)))
+            .ok();
         let epc = epc.and_then(|raw| {
             Epc::parse(&raw)
                 .map_err(|error| {
@@ -91,9 +107,9 @@ impl TaskRequest {
                 format!("a note holds at most {MAX_NOTE_CHARS} characters"),
             ));
         }
-        match (epc, action) {
-            (Some(epc), Some(action)) if errors.is_empty() => {
-                Ok(Self { epc, action, robot, class, note })
+        match (epc, action, expires_at) {
+            (Some(epc), Some(action), Some(expires_at)) if errors.is_empty() => {
+                Ok(Self { epc, action, robot, class, note, expires_at })
             }
             _ => Err(ApiError::Invalid(errors)),
         }
@@ -166,5 +182,46 @@ impl TaskRequest {
             errors.push(FieldError::new("/class", reason));
         }
         if errors.is_empty() { Ok(()) } else { Err(ApiError::Invalid(errors)) }
+    }
+}
+
+/// When a task asked for `now` expires: the time asked for (RFC 3339, later than now and at
+/// most [`MAX_EXPIRY`] ahead), or [`DEFAULT_EXPIRY`] from now when none was.
+fn expiry(asked: Option<&str>, now: time::OffsetDateTime) -> Result<String, String> {
+    let Some(text) = asked else {
+        return Ok(clock::format(now + DEFAULT_EXPIRY));
+    };
+    let Some(at) = clock::parse(text) else {
+        return Err(format!(
+            "{text:?} is not a time; expires_at is an RFC 3339 time such as \
+             2030-01-01T18:00:00Z"
+        ));
+    };
+    if at <= now {
+        return Err(format!("{text} has passed; a task expires later than when it is asked for"));
+    }
+    if at > now + MAX_EXPIRY {
+        return Err(format!(
+            "{text} is more than {} days ahead; ask again later if it is still wanted then",
+            MAX_EXPIRY.whole_days()
+        ));
+    }
+    Ok(clock::format(at))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_task_expires_in_a_day_unless_asked_otherwise_within_a_month() {
+        let now = clock::parse("2030-01-01T12:00:00Z").unwrap();
+        assert_eq!(expiry(None, now).unwrap(), clock::format(now + time::Duration::days(1)));
+        let asked = expiry(Some("2030-01-01T13:30:00+01:00"), now).unwrap();
+        assert_eq!(clock::parse(&asked), Some(now + time::Duration::minutes(30)));
+        for refused in ["2030-01-01T12:00:00Z", "2030-02-01T12:00:01Z", "tomorrow", ""] {
+            assert!(expiry(Some(refused), now).is_err(), "{refused}");
+        }
+        assert!(expiry(Some("2030-01-31T12:00:00Z"), now).is_ok(), "thirty days is the most");
     }
 }

@@ -1,5 +1,5 @@
-//! A task's lease: which tasks a robot could claim, the claim itself, the holder's heartbeat
-//! and finish, and the sweep that takes back tasks whose holder went quiet. Each change is one
+//! A task's lease: the claim, the holder's heartbeat and finish, and the sweep that takes back
+//! tasks whose holder went quiet. Each change is one
 //! guarded `update … where <the state it must be in> … returning`, so two robots racing for one
 //! task cannot both get it, and a lost lease cannot be finished.
 
@@ -10,76 +10,32 @@ use uuid::Uuid;
 use super::{MAX_ATTEMPTS, TaskRow, announce, announced};
 use crate::clock;
 use crate::db::Dialect;
-use crate::store::columns::Flag;
+use crate::store::columns::Id;
 
-/// Tasks `robot` (of `class`) could claim now, oldest first: queued ones, and claimed ones whose
-/// lease ran out but that have attempts left, that target it, its class or anyone, and that it
-/// has not declined.
+/// The tasks `robot` holds now under a live lease, oldest first.
 #[tracing::instrument(skip_all)]
-pub async fn claimable(
-    pool: &AnyPool,
-    robot: &RobotId,
-    class: Option<&str>,
-    now: &str,
-    limit: u32,
-) -> sqlx::Result<Vec<TaskRow>> {
-    macro_rules! claimable_unless {
-        ($declined:literal) => {
-            concat!(
-                "select ",
-                columns!(),
-                " from tasks
-                 where (state = 'queued' or (state = 'claimed' and lease_until <= $1 and attempts < $2))
-                   and (robot is null or robot = $3) and (class is null or class = $4)
-                   and not exists (",
-                $declined,
-                ") order by seq limit $5"
-            )
-        };
-    }
-    let statement = Dialect::of_pool(pool).pick(
-        claimable_unless!(
-            "select 1 from json_each(declines) where json_extract(value, '$.robot') = $3"
-        ),
-        claimable_unless!(
-            "select 1 from jsonb_array_elements(declines::jsonb) as declined(value) \
-             where declined.value ->> 'robot' = $3"
-        ),
-    );
-    sqlx::query_as(statement)
-        .bind(now)
-        .bind(MAX_ATTEMPTS)
-        .bind(robot.as_str())
-        .bind(class)
-        .bind(i64::from(limit))
-        .fetch_all(pool)
-        .await
-}
-
-/// Whether any task could be claimed now by some robot: queued, or its lease ran out with
-/// attempts left.
-pub async fn any_claimable(pool: &AnyPool, now: &str) -> sqlx::Result<bool> {
-    let found: Flag = sqlx::query_scalar(
-        "select case when exists (select 1 from tasks where state = 'queued')
-             or exists (select 1 from tasks
-                        where state = 'claimed' and lease_until <= $1 and attempts < $2)
-             then 1 else 0 end",
+pub async fn held_by(pool: &AnyPool, robot: &RobotId, now: &str) -> sqlx::Result<Vec<Uuid>> {
+    let held: Vec<Id<Uuid>> = sqlx::query_scalar(
+        "select id from tasks where state = 'claimed' and claimed_by = $1 and lease_until > $2
+         order by seq",
     )
+    .bind(robot.as_str())
     .bind(now)
-    .bind(MAX_ATTEMPTS)
-    .fetch_one(pool)
+    .fetch_all(pool)
     .await?;
-    Ok(found.into())
+    Ok(held.into_iter().map(|Id(id)| id).collect())
 }
 
 /// Gives the task to `robot` until `lease_until`, if it is still there for the taking (queued,
-/// or its holder's lease ran out with attempts left); `None` when another robot was faster.
+/// or its holder's lease ran out with attempts left, and not expired) and `robot` holds fewer
+/// than `max_held` tasks; `None` when another robot was faster.
 #[tracing::instrument(skip_all)]
 pub async fn claim(
     tx: &mut AnyConnection,
     id: &Uuid,
     robot: &RobotId,
     lease_until: &str,
+    max_held: usize,
 ) -> sqlx::Result<Option<TaskRow>> {
     let now = clock::now();
     macro_rules! claim_appending {
@@ -91,6 +47,10 @@ pub async fn claim(
                 ", updated_at = $3
                  where id = $4
                    and (state = 'queued' or (state = 'claimed' and lease_until <= $3 and attempts < $5))
+                   and (expires_at is null or expires_at > $3)
+                   and (select count(*) from tasks as held
+                        where held.state = 'claimed' and held.claimed_by = $1
+                          and held.lease_until > $3) < $6
                  returning ",
                 columns!()
             )
@@ -106,6 +66,7 @@ pub async fn claim(
         .bind(&now)
         .bind(id.hyphenated().to_string())
         .bind(MAX_ATTEMPTS)
+        .bind(i64::try_from(max_held).unwrap_or(i64::MAX))
         .fetch_optional(&mut *tx)
         .await?;
     announced(tx, row).await
@@ -134,7 +95,18 @@ pub async fn extend_lease(
     .await
 }
 
-/// Ends a task `robot` holds under a live lease with `trial`: `done` or `failed`.
+/// The task `trial` finished, if any: a trial finishes one task.
+#[tracing::instrument(skip_all)]
+pub async fn finished_with(pool: &AnyPool, trial: &Uuid) -> sqlx::Result<Option<Uuid>> {
+    let task: Option<Id<Uuid>> = sqlx::query_scalar("select id from tasks where trial = $1")
+        .bind(trial.hyphenated().to_string())
+        .fetch_optional(pool)
+        .await?;
+    Ok(task.map(|Id(id)| id))
+}
+
+/// Ends a task `robot` holds under a live lease with `trial`, unless the trial finished
+/// another task: `done` or `failed`.
 #[tracing::instrument(skip_all)]
 pub async fn finish(
     tx: &mut AnyConnection,
@@ -148,6 +120,7 @@ pub async fn finish(
     let row: Option<TaskRow> = sqlx::query_as(concat!(
         "update tasks set state = $1, trial = $2, reason = $3, lease_until = null, updated_at = $4
          where id = $5 and state = 'claimed' and claimed_by = $6 and lease_until > $4
+           and not exists (select 1 from tasks where trial = $2)
          returning ",
         columns!()
     ))
@@ -200,16 +173,4 @@ pub async fn expire_leases(tx: &mut AnyConnection, now: &str) -> sqlx::Result<Ve
     changed.extend(requeued);
     announce(tx, &changed).await?;
     Ok(changed)
-}
-
-/// Whether any claimed task's lease runs out by `now` (the sweep's cheap look before it writes).
-pub async fn any_lease_expired(pool: &AnyPool, now: &str) -> sqlx::Result<bool> {
-    let found: Flag = sqlx::query_scalar(
-        "select case when exists (select 1 from tasks where state = 'claimed' and lease_until <= $1)
-             then 1 else 0 end",
-    )
-    .bind(now)
-    .fetch_one(pool)
-    .await?;
-    Ok(found.into())
 }

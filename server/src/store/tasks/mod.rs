@@ -47,6 +47,8 @@ pub struct TaskRow {
     pub updated_at: String,
     /// JSON array of every decline, in order: `{"robot", "reason", "at"}`.
     pub declines: String,
+    /// When it expires unless a robot took it; `None` for never.
+    pub expires_at: Option<String>,
 }
 
 /// A robot's word that it cannot do a task, and why.
@@ -78,6 +80,8 @@ impl TaskRow {
             "reason": self.reason,
             "updated_at": self.updated_at,
             "declined": self.declined(),
+            "expires_at": self.expires_at,
+            "expired": self.expired(),
             // Worked out when people read a queued task (the HTTP layer's outlook).
             "waiting_for": [],
             "stuck": null,
@@ -99,6 +103,12 @@ impl TaskRow {
         serde_json::from_str(&self.holders).unwrap_or_default()
     }
 
+    /// Whether the task ended because it expired before a robot took it (or finished it).
+    pub fn expired(&self) -> bool {
+        self.state == "cancelled"
+            && self.expires_at.as_ref().is_some_and(|at| *at <= self.updated_at)
+    }
+
     /// Whether the task can still change hands or be cancelled.
     pub fn is_open(&self) -> bool {
         matches!(self.state.as_str(), "queued" | "claimed")
@@ -117,17 +127,19 @@ impl TaskRow {
 macro_rules! columns {
     () => {
         "seq, id, epc, action, robot, class, note, state, created_by, created_at, claimed_by, \
-         lease_until, attempts, holders, trial, reason, updated_at, declines"
+         lease_until, attempts, holders, trial, reason, updated_at, declines, expires_at"
     };
 }
 
 mod decline;
+mod expiry;
 mod lease;
+mod offer;
 
 pub use decline::decline;
-pub use lease::{
-    any_claimable, any_lease_expired, claim, claimable, expire_leases, extend_lease, finish,
-};
+pub use expiry::{any_overdue, expire};
+pub use lease::{claim, expire_leases, extend_lease, finish, finished_with, held_by};
+pub use offer::{claimable, claimable_kinds};
 
 /// A task as a caretaker asked for it, checked.
 #[derive(Debug, Clone)]
@@ -139,6 +151,8 @@ pub struct NewTask {
     pub class: Option<String>,
     pub note: Option<String>,
     pub created_by: String,
+    /// When it expires unless a robot took it.
+    pub expires_at: String,
 }
 
 async fn announce(tx: &mut AnyConnection, rows: &[TaskRow]) -> sqlx::Result<()> {
@@ -159,7 +173,8 @@ pub async fn create(tx: &mut AnyConnection, task: &NewTask) -> sqlx::Result<Task
     let now = clock::now();
     let row: TaskRow = sqlx::query_as(concat!(
         "insert into tasks (id, epc, action, robot, class, note, state, created_by, created_at, \
-         updated_at) values ($1, $2, $3, $4, $5, $6, 'queued', $7, $8, $9) returning ",
+         updated_at, expires_at) values ($1, $2, $3, $4, $5, $6, 'queued', $7, $8, $9, $10) \
+         returning ",
         columns!()
     ))
     .bind(task.id.hyphenated().to_string())
@@ -171,6 +186,7 @@ pub async fn create(tx: &mut AnyConnection, task: &NewTask) -> sqlx::Result<Task
     .bind(&task.created_by)
     .bind(&now)
     .bind(&now)
+    .bind(&task.expires_at)
     .fetch_one(&mut *tx)
     .await?;
     announce(tx, std::slice::from_ref(&row)).await?;
