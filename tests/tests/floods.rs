@@ -166,3 +166,39 @@ async fn many_wrong_passwords_at_once_are_slowed_and_bounded() {
     assert_eq!(checked + busy, 100, "{statuses:?}");
     assert!(peak.saturating_sub(baseline) < 600 * 1024, "peak RSS {baseline} -> {peak} KiB");
 }
+
+#[tokio::test]
+async fn logins_from_many_hosts_hash_in_the_same_memory() {
+    let registry = Registry::start();
+    for n in 0..10 {
+        registry.add_user(&format!("user{n}"), "caretaker", "the right password");
+    }
+    let baseline = registry.memory_kib("VmRSS");
+    // 200 logins from 100 hosts, right and wrong by turns, eight at a time: each one hashes.
+    let mut statuses = Vec::new();
+    for wave in 0..25 {
+        let logins = (0..8).map(|n| {
+            let i = wave * 8 + n;
+            let client = reqwest::Client::builder()
+                .local_address(std::net::IpAddr::from([127, 0, 2, (i % 100) as u8 + 1]))
+                .build()
+                .unwrap();
+            let url = format!("{}/api/v1/session", registry.url);
+            let body = if i % 2 == 0 {
+                json!({ "username": format!("user{}", i % 10), "password": "the right password" })
+            } else {
+                json!({ "username": format!("stranger{i}"), "password": format!("wrong {i}") })
+            };
+            tokio::spawn(async move { client.post(url).json(&body).send().await.unwrap().status() })
+        });
+        for login in logins.collect::<Vec<_>>() {
+            statuses.push(login.await.unwrap());
+        }
+    }
+    let peak = registry.memory_kib("VmHWM");
+    eprintln!("200 logins from 100 hosts: peak RSS {baseline} -> {peak} KiB");
+    assert_eq!(count(&statuses, StatusCode::OK), 100, "{statuses:?}");
+    assert_eq!(count(&statuses, StatusCode::UNAUTHORIZED), 100, "{statuses:?}");
+    // Four hashing threads' 19 MiB and room for the rest; a block per login would be gigabytes.
+    assert!(peak.saturating_sub(baseline) < 120 * 1024, "peak RSS {baseline} -> {peak} KiB");
+}
