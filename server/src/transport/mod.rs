@@ -41,6 +41,9 @@ pub const DEFAULT_MAX_CONNECTIONS: u32 = 512;
 pub const DEFAULT_MAX_CONNECTIONS_PER_ADDRESS: u32 = DEFAULT_MAX_CONNECTIONS / 2;
 /// A 1 MiB trial crosses even a poor Wi-Fi link in a few seconds.
 pub const DEFAULT_BODY_READ_TIMEOUT: Duration = Duration::from_secs(30);
+/// The longest any connection timeout may be: an hour is already no protection, and a timer
+/// much further out overflows the clock.
+pub const MAX_TIMEOUT: Duration = Duration::from_secs(3600);
 
 /// Marks a request that arrived over TLS (so cookies may carry `Secure`).
 #[derive(Debug, Clone, Copy)]
@@ -93,7 +96,8 @@ pub async fn serve(
     shutdown: impl Future<Output = ()>,
 ) -> io::Result<()> {
     let mut http = http1::Builder::new();
-    http.timer(TokioTimer::new()).header_read_timeout(transport.header_read_timeout);
+    http.timer(TokioTimer::new())
+        .header_read_timeout(transport.header_read_timeout.min(MAX_TIMEOUT));
     let slots = Arc::new(Semaphore::new(transport.max_connections.max(1)));
     let shares = AddressShares::new(transport.max_connections_per_address);
     // Every connection holds a receiver; the sender learns when the last one is gone.
@@ -112,11 +116,11 @@ pub async fn serve(
         };
         let connection = Connection {
             peer,
-            body_read_timeout: transport.body_read_timeout,
+            body_read_timeout: transport.body_read_timeout.min(MAX_TIMEOUT),
             http: http.clone(),
             app: app.clone(),
             tls: transport.tls.clone(),
-            handshake_timeout: transport.header_read_timeout,
+            handshake_timeout: transport.header_read_timeout.min(MAX_TIMEOUT),
             closing: watch_closing.clone(),
             _slots: (slot, share),
         };
