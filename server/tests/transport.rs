@@ -324,7 +324,7 @@ async fn the_binary_serves_https_and_explains_bad_tls_settings() {
 #[tokio::test]
 async fn the_binary_refuses_durations_it_cannot_count_with_their_range() {
     let dir = tempfile::tempdir().unwrap();
-    let flags = ["--header-timeout", "--body-timeout"];
+    let flags = ["--header-timeout", "--body-timeout", "--write-timeout"];
     for (flag, value) in flags.iter().flat_map(|f| [(*f, "18446744073709551615"), (*f, "0")]) {
         let said = serve_binary(dir.path(), &[flag.as_ref(), value.as_ref()])
             .map(|(mut child, _)| child.kill())

@@ -99,7 +99,8 @@ struct ServeArgs {
           default_value_t = transport::DEFAULT_HEADER_READ_TIMEOUT.as_secs(),
           value_parser = durations::timeout_seconds)]
     header_timeout: u64,
-    /// Connections one client address may hold at once (at most --max-connections).
+    /// Connections one client address may hold at once (at most --max-connections); more are
+    /// closed as they come.
     #[arg(long, env = "PPS_MAX_CONNECTIONS_PER_ADDRESS", value_name = "N",
           default_value_t = transport::DEFAULT_MAX_CONNECTIONS_PER_ADDRESS,
           value_parser = clap::value_parser!(u32).range(1..))]
@@ -110,6 +111,12 @@ struct ServeArgs {
           default_value_t = transport::DEFAULT_BODY_READ_TIMEOUT.as_secs(),
           value_parser = durations::timeout_seconds)]
     body_timeout: u64,
+    /// Seconds (1 to 3600) a client may leave a response untaken, from the first write it
+    /// refuses until it has taken all of it; then its connection closes.
+    #[arg(long, env = "PPS_WRITE_TIMEOUT", value_name = "SECONDS",
+          default_value_t = transport::DEFAULT_WRITE_TIMEOUT.as_secs(),
+          value_parser = durations::timeout_seconds)]
+    write_timeout: u64,
     /// Once a day, thin the force samples of trials received more than DAYS ago.
     #[arg(long, env = "PPS_THIN_FORCES_AFTER_DAYS", value_name = "DAYS",
           value_parser = clap::value_parser!(u32).range(..=retention::MAX_AGE_DAYS as i64))]

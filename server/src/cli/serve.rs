@@ -27,6 +27,7 @@ fn transport(args: &ServeArgs) -> anyhow::Result<Transport> {
         max_connections_per_address: args.max_connections_per_address.min(args.max_connections)
             as usize,
         body_read_timeout: std::time::Duration::from_secs(args.body_timeout),
+        write_timeout: std::time::Duration::from_secs(args.write_timeout),
         tls,
     })
 }
