@@ -38,8 +38,8 @@ pub async fn backup(db: &Db, to: &Path, replace: bool) -> anyhow::Result<BackupR
     let Some(source) = db.location().file() else {
         bail!("{NOT_ON_POSTGRES}");
     };
-    if same_file(source, to) {
-        bail!("{} is the database itself; back it up to another file", to.display());
+    if let Some(live) = live_file(source, to) {
+        bail!("{} is {}; back it up to a file of its own", to.display(), live.what);
     }
     if to.exists() && !replace {
         bail!("{} already exists; choose a new file or pass --force to replace it", to.display());
@@ -80,11 +80,67 @@ pub async fn backup(db: &Db, to: &Path, replace: bool) -> anyhow::Result<BackupR
     copied
 }
 
-fn same_file(a: &Path, b: &Path) -> bool {
-    match (a.canonicalize(), b.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
+/// One of the files SQLite keeps a live database in.
+#[derive(Debug, PartialEq, Eq)]
+struct LiveFile {
+    what: &'static str,
+}
+
+/// The files of a live database: the file itself, and beside it under the same name the journals
+/// SQLite may create at any moment (replacing one loses every write it holds).
+const LIVE_FILES: [(&str, &str); 4] = [
+    ("", "the database itself"),
+    ("-wal", "the live database's write-ahead log"),
+    ("-shm", "the live database's shared-memory index"),
+    ("-journal", "the live database's rollback journal"),
+];
+
+/// Which of the live database's files `to` names, if any: by path, after following symlinks
+/// (also dangling ones, since a journal comes and goes) and `..`, or as another name (a hard
+/// link) of an existing one.
+fn live_file(source: &Path, to: &Path) -> Option<LiveFile> {
+    let source = resolved(source);
+    let target = resolved(to);
+    LIVE_FILES.iter().find_map(|(suffix, what)| {
+        let mut live = source.clone().into_os_string();
+        live.push(suffix);
+        let live = PathBuf::from(live);
+        (live == target || same_inode(&live, &target)).then_some(LiveFile { what })
+    })
+}
+
+/// `path` made absolute with every symlink followed, as far as the file system says; a name
+/// that does not exist (yet) is resolved through its directory.
+fn resolved(path: &Path) -> PathBuf {
+    let mut path = std::path::absolute(path).unwrap_or_else(|_| path.to_owned());
+    // As many links as the kernel follows before it calls it a loop.
+    for _ in 0..40 {
+        if let Ok(real) = path.canonicalize() {
+            return real;
+        }
+        match std::fs::read_link(&path) {
+            Ok(link) => path = path.parent().map_or(link.clone(), |dir| dir.join(link)),
+            Err(_) => break,
+        }
+    }
+    match (path.parent().and_then(|dir| dir.canonicalize().ok()), path.file_name()) {
+        (Some(dir), Some(name)) => dir.join(name),
+        _ => path,
+    }
+}
+
+#[cfg(unix)]
+fn same_inode(a: &Path, b: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        (Ok(a), Ok(b)) => (a.dev(), a.ino()) == (b.dev(), b.ino()),
         _ => false,
     }
+}
+
+#[cfg(not(unix))]
+fn same_inode(_: &Path, _: &Path) -> bool {
+    false
 }
 
 /// The temporary name the copy is written under, in the target's directory so the final
@@ -118,4 +174,36 @@ async fn inspect(path: &Path) -> anyhow::Result<BackupReport> {
     conn.close().await?;
     let bytes = std::fs::metadata(path)?.len();
     Ok(BackupReport { path: path.to_owned(), bytes, tags, trials, pictures })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_live_database_and_its_journals_are_found_by_any_name() {
+        let dir = tempfile::tempdir().unwrap();
+        let db = dir.path().join("pps.db");
+        std::fs::write(&db, "").unwrap();
+        std::fs::write(dir.path().join("pps.db-wal"), "").unwrap();
+        let elsewhere = dir.path().join("elsewhere");
+        std::fs::create_dir(&elsewhere).unwrap();
+        let linked_dir = dir.path().join("linked");
+        std::os::unix::fs::symlink(dir.path(), &linked_dir).unwrap();
+        let to_journal = elsewhere.join("to-journal");
+        std::os::unix::fs::symlink("../pps.db-journal", &to_journal).unwrap();
+        let hard = elsewhere.join("hard");
+        std::fs::hard_link(dir.path().join("pps.db-wal"), &hard).unwrap();
+
+        let what = |to: &Path| live_file(&db, to).map(|live| live.what);
+        assert_eq!(what(&db), Some("the database itself"));
+        assert_eq!(what(&dir.path().join("pps.db-wal")), Some(LIVE_FILES[1].1));
+        assert_eq!(what(&elsewhere.join("../pps.db-shm")), Some(LIVE_FILES[2].1));
+        assert_eq!(what(&linked_dir.join("pps.db-wal")), Some(LIVE_FILES[1].1));
+        assert_eq!(what(&to_journal), Some(LIVE_FILES[3].1), "a link to a journal not there yet");
+        assert_eq!(what(&hard), Some(LIVE_FILES[1].1), "another name of the WAL");
+        assert_eq!(what(&dir.path().join("pps.db-wal.bak")), None);
+        assert_eq!(what(&elsewhere.join("pps.db-wal")), None);
+        assert_eq!(what(&dir.path().join("copy.db")), None);
+    }
 }

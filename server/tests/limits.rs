@@ -145,17 +145,18 @@ async fn robot_ids_are_at_most_sixty_three_characters() {
 }
 
 /// Holds one place of the change feed: a raw connection that read the answer's head and
-/// nothing more, far cheaper than an HTTP client per place. It comes from 127.0.0.2, so the
-/// places do not count against the test client's own address.
-async fn hold_feed_place(server: &TestServer, token: &str) -> TcpStream {
-    hold_feed_place_as(server, &format!("authorization: Bearer {token}")).await
+/// nothing more, far cheaper than an HTTP client per place. It comes from 127.0.0.`host`, so
+/// the places do not count against the test client's own address, and a screen's places
+/// from its own host, as the server holds each host to its share once it is busy.
+async fn hold_feed_place(server: &TestServer, token: &str, host: u8) -> TcpStream {
+    hold_feed_place_as(server, &format!("authorization: Bearer {token}"), host).await
 }
 
 /// [`hold_feed_place`] with `credential` as the request's credential header line.
-async fn hold_feed_place_as(server: &TestServer, credential: &str) -> TcpStream {
+async fn hold_feed_place_as(server: &TestServer, credential: &str, host: u8) -> TcpStream {
     let address = server.url.strip_prefix("http://").unwrap();
     let socket = tokio::net::TcpSocket::new_v4().unwrap();
-    socket.bind("127.0.0.2:0".parse().unwrap()).unwrap();
+    socket.bind(std::net::SocketAddr::from(([127, 0, 0, host], 0))).unwrap();
     let mut stream = socket.connect(address.parse().unwrap()).await.unwrap();
     let request = format!("GET /api/v1/events HTTP/1.1\r\nhost: {address}\r\n{credential}\r\n\r\n");
     stream.write_all(request.as_bytes()).await.unwrap();
@@ -190,7 +191,7 @@ async fn the_change_feed_serves_two_hundred_fifty_six_clients_at_once() {
     }
     let mut held = Vec::with_capacity(cap);
     for n in 0..cap - 1 {
-        held.push(hold_feed_place(&server, &tokens[n / share]).await);
+        held.push(hold_feed_place(&server, &tokens[n / share], 2 + (n / share) as u8).await);
     }
     // One credential's share: its next stream is refused although the feed has room.
     let over_share = server.request(Method::GET, "/api/v1/events", Some(&tokens[0])).send().await;
@@ -213,7 +214,7 @@ async fn the_change_feed_serves_two_hundred_fifty_six_clients_at_once() {
         assert!(tokio::time::Instant::now() < deadline, "the place was never freed");
         tokio::time::sleep(Duration::from_millis(50)).await;
     }
-    held.push(hold_feed_place(&server, &server.admin).await);
+    held.push(hold_feed_place(&server, &server.admin, 10).await);
     assert_eq!(feed_clients(&server).await, cap);
 }
 
@@ -236,7 +237,7 @@ async fn one_caretaker_logged_in_five_times_holds_one_share_of_the_feed() {
     let share = pps_server::feed::MAX_CLIENTS_PER_CREDENTIAL;
     let mut held = Vec::with_capacity(share);
     for n in 0..share {
-        held.push(hold_feed_place_as(&server, &cookies[n % 4]).await);
+        held.push(hold_feed_place_as(&server, &cookies[n % 4], 2).await);
     }
     let fifth_login = server
         .request(Method::GET, "/api/v1/events", None)

@@ -209,6 +209,44 @@ async fn a_backup_taken_while_robots_write_holds_every_acknowledged_trial_and_re
     assert!(!onto_itself.status.success(), "a backup never overwrites the live database");
 }
 
+#[tokio::test]
+async fn a_backup_never_replaces_the_live_databases_journals() {
+    let server = TestServer::start_sqlite().await;
+    let token = server.token(Role::Robot, "el-e-1").await;
+    let id = Uuid::new_v4().to_string();
+    let body = trial(&id, ADA_SWITCH, "el-e-1", "on", "push_top", "success");
+    let stored = server.put(&format!("/api/v1/trials/{id}"), &token, &body, None).await;
+    assert_eq!(stored.status(), StatusCode::CREATED);
+
+    let dir = server.db_path.parent().unwrap();
+    let wal = dir.join("pps.db-wal");
+    let inode = |path: &std::path::Path| {
+        std::os::unix::fs::MetadataExt::ino(&std::fs::metadata(path).unwrap())
+    };
+    let wal_before = inode(&wal);
+    let linked = tempfile::tempdir().unwrap();
+    let link = linked.path().join("innocent.db");
+    std::os::unix::fs::symlink(&wal, &link).unwrap();
+    let via_dotdot = dir.join("..").join(dir.file_name().unwrap()).join("pps.db-shm");
+    let journal = dir.join("pps.db-journal");
+    for (to, what) in [
+        (wal.clone(), "write-ahead log"),
+        (via_dotdot, "shared-memory index"),
+        (journal.clone(), "rollback journal"),
+        (link, "write-ahead log"),
+    ] {
+        let output =
+            cli(&server.db_arg(), &["backup", "--to", to.to_str().unwrap(), "--force"]).await;
+        let said = String::from_utf8_lossy(&output.stderr);
+        assert!(!output.status.success(), "{}: {said}", to.display());
+        assert!(said.contains(&format!("is the live database's {what}")), "{said}");
+    }
+    assert!(!journal.exists(), "no journal was made");
+    assert_eq!(inode(&wal), wal_before, "the server's WAL was not replaced");
+    let read = server.get(&format!("/api/v1/trials/{id}"), &server.admin).await;
+    assert_eq!(read.status(), StatusCode::OK);
+}
+
 /// Trials of two robots on two tags, over several days, with forces and awkward text.
 async fn varied_trials(server: &TestServer) -> Vec<Value> {
     let mut written = Vec::new();

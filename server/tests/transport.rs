@@ -324,3 +324,23 @@ async fn the_binary_serves_https_and_explains_bad_tls_settings() {
     let mismatched = refused([flag("--tls-cert", &cert), flag("--tls-key", &other_key)].concat());
     assert!(mismatched.contains("does not belong to the certificate"), "{mismatched}");
 }
+
+#[tokio::test]
+async fn the_binary_refuses_durations_it_cannot_count_with_their_range() {
+    let dir = tempfile::tempdir().unwrap();
+    let flags = ["--header-timeout", "--body-timeout", "--write-timeout"];
+    for (flag, value) in flags.iter().flat_map(|f| [(*f, "18446744073709551615"), (*f, "0")]) {
+        let said = serve_binary(dir.path(), &[flag.as_ref(), value.as_ref()])
+            .map(|(mut child, _)| child.kill())
+            .expect_err("the server refuses to start");
+        assert!(
+            said.contains(flag) && said.contains("1 to 3600 seconds"),
+            "{flag} {value}: {said}"
+        );
+    }
+    let said = serve_binary(dir.path(), &["--task-lease".as_ref(), "1e300".as_ref()])
+        .map(|(mut child, _)| child.kill())
+        .expect_err("the server refuses to start");
+    assert!(said.contains("0.5 to 3600 seconds"), "{said}");
+    assert!(!dir.path().join("pps.db").exists(), "a refused start leaves no database");
+}

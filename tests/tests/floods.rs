@@ -166,3 +166,96 @@ async fn many_wrong_passwords_at_once_are_slowed_and_bounded() {
     assert_eq!(checked + busy, 100, "{statuses:?}");
     assert!(peak.saturating_sub(baseline) < 600 * 1024, "peak RSS {baseline} -> {peak} KiB");
 }
+
+#[tokio::test]
+async fn logins_from_many_hosts_hash_in_the_same_memory() {
+    let registry = Registry::start();
+    for n in 0..10 {
+        registry.add_user(&format!("user{n}"), "caretaker", "the right password");
+    }
+    let baseline = registry.memory_kib("VmRSS");
+    // 200 logins from 100 hosts, right and wrong by turns, eight at a time: each one hashes.
+    let mut statuses = Vec::new();
+    for wave in 0..25 {
+        let logins = (0..8).map(|n| {
+            let i = wave * 8 + n;
+            let client = reqwest::Client::builder()
+                .local_address(std::net::IpAddr::from([127, 0, 2, (i % 100) as u8 + 1]))
+                .build()
+                .unwrap();
+            let url = format!("{}/api/v1/session", registry.url);
+            let body = if i % 2 == 0 {
+                json!({ "username": format!("user{}", i % 10), "password": "the right password" })
+            } else {
+                json!({ "username": format!("stranger{i}"), "password": format!("wrong {i}") })
+            };
+            tokio::spawn(async move { client.post(url).json(&body).send().await.unwrap().status() })
+        });
+        for login in logins.collect::<Vec<_>>() {
+            statuses.push(login.await.unwrap());
+        }
+    }
+    let peak = registry.memory_kib("VmHWM");
+    eprintln!("200 logins from 100 hosts: peak RSS {baseline} -> {peak} KiB");
+    assert_eq!(count(&statuses, StatusCode::OK), 100, "{statuses:?}");
+    assert_eq!(count(&statuses, StatusCode::UNAUTHORIZED), 100, "{statuses:?}");
+    // Four hashing threads' 19 MiB and room for the rest; a block per login would be gigabytes.
+    assert!(peak.saturating_sub(baseline) < 120 * 1024, "peak RSS {baseline} -> {peak} KiB");
+}
+
+/// A connection from `source` that asks for the OpenAPI document `times` times in one go and
+/// never reads an answer, its receive buffer made small so the server's writes stall at once.
+async fn pipelining_non_reader(registry: &Registry, source: [u8; 4], times: usize) -> TcpStream {
+    let socket = TcpSocket::new_v4().unwrap();
+    socket.set_recv_buffer_size(4096).unwrap();
+    socket.bind(SocketAddr::from((source, 0))).unwrap();
+    let mut stream = socket.connect(address(registry)).await.unwrap();
+    let request = "GET /api/v1/openapi.json HTTP/1.1\r\nhost: registry\r\n\r\n".repeat(times);
+    // The server closes connections beyond the host's share; writing to one may fail.
+    let _ = stream.write_all(request.as_bytes()).await;
+    stream
+}
+
+#[tokio::test]
+async fn two_hosts_that_never_read_leave_room_for_a_third() {
+    let registry = Registry::with_flags(&["--max-connections", "64"]);
+    let mut hogs = Vec::new();
+    for source in [[127, 0, 0, 8], [127, 0, 0, 9]] {
+        for _ in 0..32 {
+            hogs.push(pipelining_non_reader(&registry, source, 60).await);
+        }
+    }
+    let client = reqwest::Client::builder()
+        .local_address(std::net::IpAddr::from([127, 0, 0, 10]))
+        .timeout(Duration::from_secs(3))
+        .build()
+        .unwrap();
+    let asked = Instant::now();
+    let health = client.get(format!("{}/healthz", registry.url)).send().await;
+    eprintln!("with 64 connections that never read, /healthz answered in {:?}", asked.elapsed());
+    assert_eq!(health.expect("a third host is served within 3 s").status(), StatusCode::OK);
+}
+
+#[tokio::test]
+async fn a_connection_that_never_reads_its_answers_is_closed_after_the_write_timeout() {
+    let timeout = Duration::from_secs(2);
+    let registry = Registry::with_flags(&[
+        "--max-connections",
+        "2",
+        "--write-timeout",
+        &timeout.as_secs().to_string(),
+    ]);
+    // Both connections go to one host that never reads what it asked for.
+    let hogs = [
+        pipelining_non_reader(&registry, [127, 0, 0, 8], 60).await,
+        pipelining_non_reader(&registry, [127, 0, 0, 8], 60).await,
+    ];
+    let client = reqwest::Client::builder().timeout(timeout * 5).build().unwrap();
+    let asked = Instant::now();
+    let health = client.get(format!("{}/healthz", registry.url)).send().await;
+    let waited = asked.elapsed();
+    eprintln!("/healthz waited {waited:?} for a connection that never read to be closed");
+    assert_eq!(health.expect("a slot was freed").status(), StatusCode::OK);
+    assert!(waited >= timeout - Duration::from_millis(300), "{waited:?}");
+    drop(hogs);
+}

@@ -24,7 +24,7 @@ pub struct WorkArgs {
     /// Stop after this many tasks.
     #[arg(long, value_name = "N")]
     pub max_tasks: Option<u64>,
-    /// Stop once no task came for this many seconds.
+    /// Stop once no task came for this many seconds (at most a week).
     #[arg(long, value_name = "SECONDS")]
     pub idle_exit: Option<f64>,
     /// The simulated room: paper or home (as for `run`).
@@ -35,9 +35,13 @@ pub struct WorkArgs {
     pub no_picture: bool,
 }
 
+/// The longest `--idle-exit`, seconds.
+const MAX_IDLE_EXIT_SECONDS: f64 = 7.0 * 86_400.0;
+
 pub fn run(args: &WorkArgs) -> anyhow::Result<()> {
-    if args.idle_exit.is_some_and(|s| !(s >= 0.0 && s.is_finite())) {
-        anyhow::bail!("--idle-exit takes a number of seconds, 0 or more");
+    // A week is already "never"; far beyond, the clock cannot count it and the worker panics.
+    if args.idle_exit.is_some_and(|s| !(0.0..=MAX_IDLE_EXIT_SECONDS).contains(&s)) {
+        anyhow::bail!("--idle-exit takes 0 to {MAX_IDLE_EXIT_SECONDS} seconds (a week)");
     }
     let registry = args.registry.connect()?;
     // Heartbeats run on the workers while the simulation computes on this thread.

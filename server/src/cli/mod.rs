@@ -2,6 +2,7 @@
 //! which module runs each.
 
 mod backup;
+mod durations;
 mod serve;
 mod tags;
 mod tokens;
@@ -92,31 +93,39 @@ struct ServeArgs {
     #[arg(long, env = "PPS_MAX_CONNECTIONS", value_name = "N", default_value_t = transport::DEFAULT_MAX_CONNECTIONS,
           value_parser = clap::value_parser!(u32).range(1..))]
     max_connections: u32,
-    /// Seconds a client has to send a request's headers (and to finish the TLS handshake);
-    /// idle connections close after this too.
+    /// Seconds (1 to 3600) a client has to send a request's headers (and to finish the TLS
+    /// handshake); idle connections close after this too.
     #[arg(long, env = "PPS_HEADER_TIMEOUT", value_name = "SECONDS",
           default_value_t = transport::DEFAULT_HEADER_READ_TIMEOUT.as_secs(),
-          value_parser = clap::value_parser!(u64).range(1..))]
+          value_parser = durations::timeout_seconds)]
     header_timeout: u64,
-    /// Connections one client address may hold at once (at most --max-connections).
+    /// Connections one client address may hold at once (at most --max-connections); more are
+    /// closed as they come.
     #[arg(long, env = "PPS_MAX_CONNECTIONS_PER_ADDRESS", value_name = "N",
           default_value_t = transport::DEFAULT_MAX_CONNECTIONS_PER_ADDRESS,
           value_parser = clap::value_parser!(u32).range(1..))]
     max_connections_per_address: u32,
-    /// Seconds a client has to send a request's body once its headers are in; then 408.
+    /// Seconds (1 to 3600) a client has to send a request's body once its headers are in;
+    /// then 408.
     #[arg(long, env = "PPS_BODY_TIMEOUT", value_name = "SECONDS",
           default_value_t = transport::DEFAULT_BODY_READ_TIMEOUT.as_secs(),
-          value_parser = clap::value_parser!(u64).range(1..))]
+          value_parser = durations::timeout_seconds)]
     body_timeout: u64,
+    /// Seconds (1 to 3600) a client may leave a response untaken, from the first write it
+    /// refuses until it has taken all of it; then its connection closes.
+    #[arg(long, env = "PPS_WRITE_TIMEOUT", value_name = "SECONDS",
+          default_value_t = transport::DEFAULT_WRITE_TIMEOUT.as_secs(),
+          value_parser = durations::timeout_seconds)]
+    write_timeout: u64,
     /// Once a day, thin the force samples of trials received more than DAYS ago.
     #[arg(long, env = "PPS_THIN_FORCES_AFTER_DAYS", value_name = "DAYS",
           value_parser = clap::value_parser!(u32).range(..=retention::MAX_AGE_DAYS as i64))]
     thin_forces_after: Option<u32>,
-    /// Seconds a robot's claim on a task lasts without a heartbeat; then the task goes back to
+    /// Seconds (0.5 to 3600) a robot's claim on a task lasts without a heartbeat; then the task goes back to
     /// the queue for another robot.
     #[arg(long, env = "PPS_TASK_LEASE", value_name = "SECONDS",
           default_value_t = crate::task_board::DEFAULT_LEASE.as_secs_f64(),
-          value_parser = serve::parse_lease)]
+          value_parser = durations::lease_seconds)]
     task_lease: f64,
     /// Tasks one robot may hold at once; its next claim is refused (409) until it finishes or
     /// declines one.

@@ -11,14 +11,6 @@ use crate::store::tokens;
 use crate::transport::{TlsIdentity, Transport};
 use crate::{ServeOptions, home_assistant, seed};
 
-/// A lease long enough for one heartbeat round trip, and at most an hour.
-pub(super) fn parse_lease(text: &str) -> Result<f64, String> {
-    match text.parse::<f64>() {
-        Ok(seconds) if (0.5..=3600.0).contains(&seconds) => Ok(seconds),
-        _ => Err(format!("{text:?} is not a lease of 0.5 to 3600 seconds")),
-    }
-}
-
 /// Connection limits and TLS as the serve flags say; TLS files are checked before anything.
 fn transport(args: &ServeArgs) -> anyhow::Result<Transport> {
     let tls = match (&args.tls_cert, &args.tls_key) {
@@ -35,6 +27,7 @@ fn transport(args: &ServeArgs) -> anyhow::Result<Transport> {
         max_connections_per_address: args.max_connections_per_address.min(args.max_connections)
             as usize,
         body_read_timeout: std::time::Duration::from_secs(args.body_timeout),
+        write_timeout: std::time::Duration::from_secs(args.write_timeout),
         tls,
     })
 }

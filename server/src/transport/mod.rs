@@ -12,6 +12,7 @@
 mod address_share;
 pub mod body_deadline;
 pub mod tls;
+mod write_deadline;
 
 use std::future::Future;
 use std::io;
@@ -31,16 +32,24 @@ use tower::ServiceExt;
 use address_share::{AddressShares, AddressSlot};
 use body_deadline::DeadlineBody;
 pub use tls::TlsIdentity;
+use write_deadline::WriteDeadline;
 
 /// Generous for a LAN; a robot on flaky Wi-Fi still gets its request head through.
 pub const DEFAULT_HEADER_READ_TIMEOUT: Duration = Duration::from_secs(30);
 /// Room for every change-feed client (`feed::MAX_CLIENTS`) plus as many again for requests.
 pub const DEFAULT_MAX_CONNECTIONS: u32 = 512;
-/// Half the connections: a robot or browser needs a handful, and whoever stalls connections
-/// from one address still leaves the other half to everyone else.
-pub const DEFAULT_MAX_CONNECTIONS_PER_ADDRESS: u32 = DEFAULT_MAX_CONNECTIONS / 2;
+/// A small share: a browser opens six connections and its change feed, a robot a few and its
+/// feed. Once half of the connections are in use no address gets more, so two hosts can no
+/// longer hold them all.
+pub const DEFAULT_MAX_CONNECTIONS_PER_ADDRESS: u32 = 16;
 /// A 1 MiB trial crosses even a poor Wi-Fi link in a few seconds.
 pub const DEFAULT_BODY_READ_TIMEOUT: Duration = Duration::from_secs(30);
+/// A client that stops reading is cut off after this; an honest one on poor Wi-Fi takes a
+/// response of a few megabytes well within it, as the kernel buffers much of it.
+pub const DEFAULT_WRITE_TIMEOUT: Duration = Duration::from_secs(30);
+/// The longest any connection timeout may be: an hour is already no protection, and a timer
+/// much further out overflows the clock.
+pub const MAX_TIMEOUT: Duration = Duration::from_secs(3600);
 
 /// Marks a request that arrived over TLS (so cookies may carry `Secure`).
 #[derive(Debug, Clone, Copy)]
@@ -56,12 +65,15 @@ pub struct Transport {
     /// Connections served at once; further clients wait in the listen backlog until one
     /// closes.
     pub max_connections: usize,
-    /// Connections one client address may hold at once; beyond, its new connections are
-    /// closed at once.
+    /// Connections one client address may hold at once when half of `max_connections` are in
+    /// use; beyond, its new connections are closed at once.
     pub max_connections_per_address: usize,
     /// How long a client has to deliver a request body, from the end of its head; then it is
     /// answered 408 and the connection closes.
     pub body_read_timeout: Duration,
+    /// How long a client may leave a response waiting, from the first write its connection
+    /// refuses until all of it is taken; then the connection closes.
+    pub write_timeout: Duration,
     /// Serve HTTPS with this certificate; plain HTTP when `None`.
     pub tls: Option<TlsIdentity>,
 }
@@ -73,6 +85,7 @@ impl Default for Transport {
             max_connections: DEFAULT_MAX_CONNECTIONS as usize,
             max_connections_per_address: DEFAULT_MAX_CONNECTIONS_PER_ADDRESS as usize,
             body_read_timeout: DEFAULT_BODY_READ_TIMEOUT,
+            write_timeout: DEFAULT_WRITE_TIMEOUT,
             tls: None,
         }
     }
@@ -93,9 +106,11 @@ pub async fn serve(
     shutdown: impl Future<Output = ()>,
 ) -> io::Result<()> {
     let mut http = http1::Builder::new();
-    http.timer(TokioTimer::new()).header_read_timeout(transport.header_read_timeout);
+    http.timer(TokioTimer::new())
+        .header_read_timeout(transport.header_read_timeout.min(MAX_TIMEOUT));
     let slots = Arc::new(Semaphore::new(transport.max_connections.max(1)));
-    let shares = AddressShares::new(transport.max_connections_per_address);
+    let shares =
+        AddressShares::new(transport.max_connections_per_address, transport.max_connections);
     // Every connection holds a receiver; the sender learns when the last one is gone.
     let (closing, watch_closing) = watch::channel(false);
     tokio::pin!(shutdown);
@@ -112,11 +127,12 @@ pub async fn serve(
         };
         let connection = Connection {
             peer,
-            body_read_timeout: transport.body_read_timeout,
+            body_read_timeout: transport.body_read_timeout.min(MAX_TIMEOUT),
+            write_timeout: transport.write_timeout.min(MAX_TIMEOUT),
             http: http.clone(),
             app: app.clone(),
             tls: transport.tls.clone(),
-            handshake_timeout: transport.header_read_timeout,
+            handshake_timeout: transport.header_read_timeout.min(MAX_TIMEOUT),
             closing: watch_closing.clone(),
             _slots: (slot, share),
         };
@@ -161,6 +177,7 @@ struct Connection {
     /// The client's address, for the login slow-down.
     peer: SocketAddr,
     body_read_timeout: Duration,
+    write_timeout: Duration,
     http: http1::Builder,
     app: Router,
     tls: Option<TlsIdentity>,
@@ -215,6 +232,7 @@ impl Connection {
             }
             app.clone().oneshot(request)
         });
+        let io = WriteDeadline::new(io, self.write_timeout);
         let connection = self.http.serve_connection(TokioIo::new(io), service);
         tokio::pin!(connection);
         let ended = tokio::select! {
