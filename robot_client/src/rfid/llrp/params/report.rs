@@ -23,7 +23,7 @@ const TV_SPEC_INDEX: u8 = 14;
 const TV_ACCESS_SPEC_ID: u8 = 16;
 
 /// A tag's EPC as the reader sent it: `EPC-96` or `EPCData` of any bit length.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct EpcData {
     /// Length in bits; the bytes hold it, padded with zero bits at the end.
     pub bits: u16,
