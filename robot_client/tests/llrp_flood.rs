@@ -263,7 +263,7 @@ fn a_reader_that_floods_instead_of_answering_is_told_to_stop_and_memory_stays_bo
     let seen = reader.seen();
     let peak_mib = seen.peak_kib.load(Ordering::SeqCst) / 1024;
     let stderr = String::from_utf8_lossy(&output.stderr);
-    eprintln!("flood during set-up: exited after {took:?}, peak RSS {peak_mib} MiB");
+    eprintln!("flood during set-up: exited after {took:?}, peak RSS {peak_mib} MiB\n{stderr}");
     assert!(!output.status.success(), "no set-up, no reads: {stderr}");
     assert!(output.stdout.is_empty(), "--json prints nothing when there is no document");
     assert!(seen.requested("DISABLE_ROSPEC"), "the reader is told to stop reading");
@@ -288,7 +288,9 @@ fn a_round_flooded_with_tags_keeps_the_strongest_read_and_stops_the_reader() {
     assert!(output.status.success(), "{stderr}");
     let doc: Value = serde_json::from_slice(&output.stdout).expect("one JSON document");
     let reads = doc["reads"].as_array().unwrap().len();
-    eprintln!("flooded round: {reads} reads kept, took {took:?}, peak RSS {peak_mib} MiB");
+    eprintln!(
+        "flooded round: {reads} reads kept, took {took:?}, peak RSS {peak_mib} MiB\n{stderr}"
+    );
     assert!(reads <= 4096, "{reads} reads kept of one round");
     assert_eq!(doc["chosen"], "355AB1C60000001000000001");
     assert_eq!(doc["tags"][0]["rssi_dbm"], -41.0, "the held tag's strongest read is kept");
