@@ -5,7 +5,7 @@ use std::io::{ErrorKind, Read, Write};
 use std::net::{Shutdown, TcpStream, ToSocketAddrs};
 use std::time::{Duration, Instant};
 
-use super::messages::{Message, kind_name};
+use super::messages::{Message, kind, kind_name};
 use super::wire::{DecodeError, MESSAGE_HEADER_LEN, MessageHeader};
 
 /// The port IANA assigned to LLRP.
@@ -35,6 +35,11 @@ pub enum Received {
     Message {
         id: u32,
         message: Message,
+    },
+    /// An RO_ACCESS_REPORT, whole but still as bytes: whoever keeps its reads decodes them one
+    /// at a time ([`super::params::report::for_each_tag_report`]).
+    Reports {
+        bytes: Vec<u8>,
     },
     /// A whole message that did not decode; its length was sound, so the next one can be read.
     Undecodable {
@@ -196,6 +201,12 @@ impl Connection {
         let len = header.length as usize;
         if self.pending.len() < len {
             return Ok(None);
+        }
+        if header.kind == kind::RO_ACCESS_REPORT {
+            // Moved out, not copied: a report may be megabytes.
+            let rest = self.pending.split_off(len);
+            let bytes = std::mem::replace(&mut self.pending, rest);
+            return Ok(Some(Received::Reports { bytes }));
         }
         let received = match Message::decode(&self.pending[..len]) {
             Ok((id, message)) => Received::Message { id, message },

@@ -15,7 +15,7 @@ use super::params::config::{KeepaliveSpec, ReaderEventNotificationSpec, event_ty
 use super::params::events::{
     ConnectionAttemptStatus, ReaderEventNotificationData, RoSpecEventKind,
 };
-use super::params::report::TagReportData;
+use super::params::report::{TagReportData, for_each_tag_report};
 use super::params::rospec::{
     AiSpec, AiSpecStopTrigger, AntennaConfiguration, EPC_GLOBAL_CLASS1_GEN2,
     InventoryParameterSpec, RfTransmitter, RoBoundarySpec, RoReportSpec, RoReportTrigger, RoSpec,
@@ -23,6 +23,7 @@ use super::params::rospec::{
 };
 use super::reader::{LlrpSettings, RoundStop};
 use super::round_reads::{MAX_KEPT, RoundReads};
+use super::wire::{FieldReader, MESSAGE_HEADER_LEN};
 
 /// Our ROSpec's id ("PP" for PPS-tags); any stale one is deleted at connection.
 pub const ROSPEC_ID: u32 = 0x5050;
@@ -375,16 +376,13 @@ impl Session {
     fn handle_unasked(&mut self, received: Received) -> Result<(), SessionError> {
         let (id, message) = match received {
             Received::Message { id, message } => (id, message),
+            Received::Reports { bytes } => return self.note_reports(&bytes),
             Received::Undecodable { kind, error } => {
                 warn!(reader = %self.connection.peer, "skipped a {kind} that did not decode: {error}");
                 return Ok(());
             }
         };
         match message {
-            Message::RoAccessReport { tags } if self.in_round => {
-                tags.into_iter().for_each(|tag| self.reads.add(tag))
-            }
-            Message::RoAccessReport { tags } => self.note_stray_reads(tags.len())?,
             Message::Keepalive => self.connection.send_as(&Message::KeepaliveAck, id)?,
             Message::ReaderEventNotification { data } => self.note_event(&data)?,
             Message::ErrorMessage { status } => {
@@ -392,6 +390,27 @@ impl Session {
                 warn!(reader = %self.connection.peer, "the reader sent ERROR_MESSAGE: {status}");
             }
             other => debug!(reader = %self.connection.peer, "ignored {}", other.name()),
+        }
+        Ok(())
+    }
+
+    /// An RO_ACCESS_REPORT's reads: the round's while one runs, else stray.
+    fn note_reports(&mut self, bytes: &[u8]) -> Result<(), SessionError> {
+        let mut body = FieldReader::new(bytes.get(MESSAGE_HEADER_LEN..).unwrap_or_default());
+        let (in_round, reads) = (self.in_round, &mut self.reads);
+        let mut stray = 0;
+        let decoded =
+            for_each_tag_report(
+                &mut body,
+                |tag| {
+                    if in_round { reads.add(tag) } else { stray += 1 }
+                },
+            );
+        if let Err(error) = decoded {
+            warn!(reader = %self.connection.peer, "skipped the rest of an RO_ACCESS_REPORT that did not decode: {error}");
+        }
+        if stray > 0 {
+            self.note_stray_reads(stray)?;
         }
         Ok(())
     }
