@@ -205,3 +205,85 @@ async fn a_tag_shows_people_the_newest_picture_of_its_trials() {
     let never_seen = format!("/api/v1/tags/{DRAWER}/picture");
     problem(server.get(&never_seen, &caretaker).await, StatusCode::NOT_FOUND).await;
 }
+
+/// Runs `pps-server export-trials` on the test's database without blocking its runtime.
+async fn export_trials(server: &TestServer, args: &[&str]) -> std::process::Output {
+    let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_pps-server"));
+    command.args(["export-trials", "--db", &server.db_arg()]).args(args);
+    tokio::task::spawn_blocking(move || command.output().unwrap()).await.unwrap()
+}
+
+#[tokio::test]
+async fn an_export_with_pictures_carries_each_trials_picture_beside_its_lines() {
+    let server = TestServer::start_keeping_pictures(2).await;
+    register_robot(&server, "el-e-1", "el-e", ALL, 15.0).await;
+    let robot = server.token(Role::Robot, "el-e-1").await;
+    let jpeg = vec![0xFF, 0xD8, 0xFF, 0xE0, 0, 4, 0, 0, 0xFF, 0xC0, 0, 11, 8, 0, 10, 0, 10];
+    // The first picture is removed by retention when the third arrives; one trial has none.
+    let mut trials = Vec::new();
+    for (seed, kind) in [(1, "image/png"), (2, "image/png"), (3, "image/jpeg")] {
+        let id = record_trial(&server, &robot, ADA_SWITCH).await;
+        let bytes = if kind == "image/jpeg" { jpeg.clone() } else { png(30, 20, seed, 50) };
+        let sent = send_picture(&server, &id, &robot, kind, bytes).await;
+        assert_eq!(sent.status(), StatusCode::CREATED);
+        trials.push(id);
+    }
+    let without = record_trial(&server, &robot, DRAWER).await;
+
+    let dir = tempfile::tempdir().unwrap();
+    let pictures = dir.path().join("export/pictures");
+    let lines = dir.path().join("trials.jsonl");
+    let output = export_trials(
+        &server,
+        &[
+            "--format",
+            "jsonl",
+            "--out",
+            lines.to_str().unwrap(),
+            "--pictures",
+            pictures.to_str().unwrap(),
+        ],
+    )
+    .await;
+    let said = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{said}");
+    assert_eq!(
+        said.trim(),
+        format!(
+            "exported 4 trials to {}, and 2 pictures to {}",
+            lines.display(),
+            pictures.display()
+        )
+    );
+    let exported: Vec<Value> = std::fs::read_to_string(&lines)
+        .unwrap()
+        .lines()
+        .map(|line| serde_json::from_str(line).unwrap())
+        .collect();
+    let file_of =
+        |id: &str| exported.iter().find(|t| t["id"] == id).unwrap()["picture_file"].clone();
+    assert_eq!(file_of(&trials[0]), Value::Null, "retention removed it before the export");
+    assert_eq!(file_of(&without), Value::Null);
+    let png_file = pictures.join(format!("{}.png", trials[1]));
+    let jpeg_file = pictures.join(format!("{}.jpg", trials[2]));
+    assert_eq!(file_of(&trials[1]), png_file.display().to_string());
+    assert_eq!(file_of(&trials[2]), jpeg_file.display().to_string());
+    assert_eq!(std::fs::read(&png_file).unwrap(), png(30, 20, 2, 50));
+    assert_eq!(std::fs::read(&jpeg_file).unwrap(), jpeg);
+    assert_eq!(std::fs::read_dir(&pictures).unwrap().count(), 2, "nothing else is written");
+
+    // CSV names the same files; without --pictures the column is empty and nothing is written.
+    let csv =
+        export_trials(&server, &["--format", "csv", "--pictures", pictures.to_str().unwrap()])
+            .await;
+    let mut reader = csv::Reader::from_reader(csv.stdout.as_slice());
+    let rows: Vec<std::collections::HashMap<String, String>> =
+        reader.deserialize().map(Result::unwrap).collect();
+    let files: Vec<&str> = rows.iter().map(|r| r["picture_file"].as_str()).collect();
+    let (png_name, jpeg_name) = (png_file.display().to_string(), jpeg_file.display().to_string());
+    assert_eq!(files, ["", png_name.as_str(), jpeg_name.as_str(), ""]);
+    let plain = export_trials(&server, &["--format", "jsonl"]).await;
+    let first: Value =
+        serde_json::from_slice(plain.stdout.split(|b| *b == b'\n').next().unwrap()).unwrap();
+    assert!(first.get("picture_file").is_none(), "the lines are the API's unless asked");
+}

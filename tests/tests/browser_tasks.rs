@@ -118,6 +118,20 @@ async fn an_admin_adds_a_robot_and_sees_its_token_once() {
     page.open("/#/admin").await;
     page.fill("input[name=robot-id]", "stretch-2").await;
     page.fill("input[name=robot-class]", "stretch").await;
+    // What a robot can do reads as the schema titles it, as on every other page.
+    let labels = page
+        .eval("return [...document.querySelectorAll('input[name=capability]')].map((box) => `${box.value}: ${box.labels[0].textContent}`)")
+        .await;
+    assert_eq!(
+        labels,
+        json!([
+            "light_switch: Operate a light switch",
+            "pull_back: Pull back (to open)",
+            "push: Push (to close)",
+            "pull_lamp: Pull a lamp's chain",
+            "drop: Drop an object in"
+        ])
+    );
     page.click("input[name=capability][value=drop]").await;
     page.click_text("form.add-robot button", "Add robot").await;
     page.wait_for_text("main .status", "Added stretch-2").await;
@@ -126,7 +140,7 @@ async fn an_admin_adds_a_robot_and_sees_its_token_once() {
 
     let robot = registry.get("/api/v1/robots/stretch-2").await;
     assert_eq!(robot["class"], "stretch");
-    assert_eq!(robot["capabilities"], json!(["light_switch", "push", "pull_back", "pull_lamp"]));
+    assert_eq!(robot["capabilities"], json!(["light_switch", "pull_back", "push", "pull_lamp"]));
     let claim = registry
         .request(Method::POST, "/api/v1/robots/stretch-2/tasks/claim", token)
         .send()

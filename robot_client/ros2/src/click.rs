@@ -6,7 +6,7 @@
 use std::sync::Arc;
 
 use nalgebra::{Point3, Rotation3, UnitQuaternion, Vector3};
-use pps_robot::hal::PointCloud;
+use pps_robot::hal::{CameraCalibration, ColorImage, PointCloud};
 use pps_robot::navigation::{ApproachParams, ApproachPlan, BackingPlane, plan_approach};
 
 use crate::camera::calibration;
@@ -46,6 +46,10 @@ pub enum RangeInput {
 #[derive(Debug, Clone)]
 pub struct ClickAnswer {
     pub plan: ApproachPlan,
+    /// The image the plan was made on, and its camera: with the plan, what the trial's picture
+    /// shows.
+    pub image: ColorImage,
+    pub calibration: CameraCalibration,
     /// `None` when no tag was found near the click.
     pub tag_pose: Option<PoseStamped>,
     /// `None` when there is no backing plane to approach along.
@@ -108,7 +112,7 @@ pub fn answer_click(
         ),
     });
     let markers = fig5_markers(&plan, &target, params, &header);
-    Ok(ClickAnswer { plan, tag_pose, goal_pose, markers })
+    Ok(ClickAnswer { plan, image: colour, calibration, tag_pose, goal_pose, markers })
 }
 
 /// The tag's frame: x into the backing plane (−normal), z as near up as that allows. Without a

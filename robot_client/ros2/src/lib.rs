@@ -8,7 +8,8 @@
 //! - [`image`], [`cloud`], [`depth`], [`camera`], [`transforms`]: ROS 2 messages read into
 //!   what `pps-robot`'s perception takes, each refusal an [`InputError`] in words.
 //! - [`click`]: a click answered with the paper's chain; [`markers`]: its Fig. 5 for RViz.
-//! - [`registry_bridge`]: inventory rounds and trials through `pps-robot`'s registry client.
+//! - [`registry_bridge`]: inventory rounds and trials through `pps-robot`'s registry client;
+//!   [`picture`]: which click's view a trial is sent with.
 //! - [`node`]: the DDS wiring; [`dds`]: the participant (domain, interface); [`topics`],
 //!   [`qos`]: names and QoS.
 //!
@@ -26,6 +27,7 @@ pub mod markers;
 pub mod msg;
 pub mod node;
 pub mod once;
+pub mod picture;
 pub mod qos;
 pub mod registry_bridge;
 pub mod topics;

@@ -37,6 +37,9 @@ struct Cli {
     /// `ROS_DISTRO`: Humble's RViz reads an older layout of the markers. Default jazzy.
     #[arg(long, env = "ROS_DISTRO", default_value = "jazzy")]
     ros_distro: String,
+    /// Send trials without the picture of the click that led to them.
+    #[arg(long)]
+    no_picture: bool,
 }
 
 fn parse_hsv(text: &str) -> Result<HsvThresholds, String> {
@@ -84,6 +87,7 @@ async fn main() -> anyhow::Result<()> {
         approach,
         rfid_margin_db: TaskConfig::default().rfid_margin_db,
         marker_layout: MarkerLayout::of_distro(&cli.ros_distro),
+        picture: !cli.no_picture,
     };
     let dds = DdsSettings {
         domain_id: DdsSettings::domain_from_env().map_err(anyhow::Error::msg)?,

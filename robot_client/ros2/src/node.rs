@@ -7,6 +7,7 @@ use std::sync::{Arc, Mutex};
 use pps_robot::navigation::ApproachParams;
 use pps_robot::registry::RegistryClient;
 use ros2_client::{Context, NodeName, NodeOptions, Publisher};
+use time::OffsetDateTime;
 
 use crate::click::RangeInput;
 use crate::click::{SensorState, answer_click};
@@ -19,8 +20,9 @@ use crate::msg::sensor::{CameraInfo, Image, PointCloud2};
 use crate::msg::tf::TfMessage;
 use crate::msg::visualization::{HumbleMarkerArray, MarkerArray, MarkerLayout};
 use crate::once::LogOnce;
+use crate::picture::{LastView, PerceivedView};
 use crate::qos;
-use crate::registry_bridge::{entry_for_round, hal_reads, record_trial};
+use crate::registry_bridge::{entry_for_round, hal_reads, record_trial, trial_document};
 use crate::topics::{Topics, advertise, subscribe};
 
 /// How the node is set up.
@@ -34,6 +36,8 @@ pub struct NodeSettings {
     pub rfid_margin_db: f64,
     /// The layout of the markers the robot's RViz reads.
     pub marker_layout: MarkerLayout,
+    /// Send each trial with the picture of the click that led to it.
+    pub picture: bool,
 }
 
 /// `/pps/markers` in the layout the robot's ROS 2 distribution reads.
@@ -66,6 +70,7 @@ struct Shared {
     once: LogOnce,
     outputs: Outputs,
     registry: RegistryClient,
+    last_view: LastView,
 }
 
 /// Logs a message that could not be published; a full queue or a vanished reader is the
@@ -118,6 +123,7 @@ pub async fn run(
         once: LogOnce::default(),
         outputs,
         registry,
+        last_view: LastView::default(),
     });
     tracing::info!(
         base_frame = %shared.settings.base_frame,
@@ -246,6 +252,14 @@ async fn on_click(shared: &Arc<Shared>, click: PointStamped) {
     let topics = &shared.settings.topics;
     let outputs = &shared.outputs;
     outputs.markers.publish(&topics.markers, answer.markers);
+    if shared.settings.picture {
+        shared.last_view.perceived(PerceivedView {
+            image: answer.image,
+            calibration: answer.calibration,
+            plan: answer.plan,
+            at: OffsetDateTime::now_utc(),
+        });
+    }
     match (answer.tag_pose, answer.goal_pose) {
         (Some(tag), Some(goal)) => {
             tracing::info!(
@@ -283,8 +297,24 @@ async fn on_round(shared: &Arc<Shared>, round: TagReads) {
     publish(&shared.outputs.entry, &shared.settings.topics.entry, entry);
 }
 
-async fn on_trial(shared: &Arc<Shared>, trial: Trial) {
-    match record_trial(&shared.registry, &trial).await {
+async fn on_trial(shared: &Arc<Shared>, message: Trial) {
+    let trial = match trial_document(&shared.registry, &message) {
+        Ok(trial) => trial,
+        Err(e) => {
+            tracing::warn!(topic = "trial", "{e} (ignored)");
+            return;
+        }
+    };
+    let picture = match shared.last_view.take_for(&trial) {
+        Some(view) => {
+            let footprint = shared.settings.approach.footprint;
+            // Drawing and encoding take milliseconds: off the tasks that move messages.
+            tokio::task::spawn_blocking(move || view.picture(&footprint)).await.ok().flatten()
+        }
+        None => None,
+    };
+    let with = if picture.is_some() { " with its picture" } else { "" };
+    match record_trial(&shared.registry, &trial, picture.as_deref()).await {
         Ok((id, report)) if report.remaining > 0 => tracing::info!(
             "trial {id} kept in the outbox; {} waiting for the registry",
             report.remaining
@@ -292,7 +322,7 @@ async fn on_trial(shared: &Arc<Shared>, trial: Trial) {
         Ok((id, report)) if report.rejected > 0 => {
             tracing::warn!("trial {id}: the registry refused it; set aside in the outbox")
         }
-        Ok((id, _)) => tracing::info!("trial {id} recorded"),
+        Ok((id, _)) => tracing::info!("trial {id} recorded{with}"),
         Err(e) => tracing::warn!(topic = "trial", "{e} (ignored)"),
     }
 }

@@ -89,12 +89,11 @@ pub enum TrialError {
     Outbox(#[from] RegistryError),
 }
 
-/// Records a trial: durably into the outbox, then uploads what is waiting. The trial's own id
-/// makes the upload idempotent, so a retry after a lost answer stores it once.
-pub async fn record_trial(
+/// The trial document a `/pps/trial` message carries, if it is one of this robot's.
+pub fn trial_document(
     registry: &RegistryClient,
     message: &Trial,
-) -> Result<(uuid::Uuid, FlushReport), TrialError> {
+) -> Result<TrialDocument, TrialError> {
     let trial: TrialDocument = serde_json::from_str(&message.trial_json)?;
     if &trial.robot != registry.robot() {
         return Err(TrialError::OtherRobot {
@@ -103,7 +102,18 @@ pub async fn record_trial(
             claimed: trial.robot.to_string(),
         });
     }
-    let report = registry.record_trial(&trial).await?;
+    Ok(trial)
+}
+
+/// Records a trial and its picture (PNG), if any: durably into the outbox, then uploads what is
+/// waiting. The trial's own id makes the upload idempotent, so a retry after a lost answer
+/// stores it once, picture included.
+pub async fn record_trial(
+    registry: &RegistryClient,
+    trial: &TrialDocument,
+    picture: Option<&[u8]>,
+) -> Result<(uuid::Uuid, FlushReport), TrialError> {
+    let report = registry.record_trial_with_picture(trial, picture).await?;
     Ok((trial.id, report))
 }
 

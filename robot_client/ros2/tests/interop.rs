@@ -129,6 +129,81 @@ async fn a_click_on_a_rendered_scene_gives_the_tag_pose_and_the_goal() {
         .matches("a point was clicked before any point cloud or depth image arrived")
         .count();
     assert_eq!(said, 1, "the early clicks were to be said once:\n{}", node.log());
+
+    // The trial that follows the click carries what the click saw, as `pps-robot run`'s do.
+    let id = "5c0ffee0-1d2e-4f3a-8b4c-5d6e7f809a1b";
+    let switch = DeviceKind::LightSwitch.epc().as_hex().to_owned();
+    assert_eq!(peer.command(json!({"trial": trial_now(id, &switch)}))["sent"], true);
+    logged(&node, &format!("trial {id} recorded with its picture")).await;
+    let (status, kind, png) = server.get_bytes(&format!("/api/v1/trials/{id}/picture")).await;
+    assert_eq!((status, kind.as_str()), (200, "image/png"), "node log:\n{}", node.log());
+    let picture = image_size(&png);
+    assert!(picture.0 >= 64 && picture.0 <= 320, "a view around the tag: {picture:?}");
+    assert!(png.len() <= 200 * 1024);
+    // The view went with that trial; the next one has none.
+    let next = "5c0ffee0-1d2e-4f3a-8b4c-5d6e7f809a1c";
+    assert_eq!(peer.command(json!({"trial": trial_now(next, &switch)}))["sent"], true);
+    logged(&node, &format!("trial {next} recorded")).await;
+    let (status, _, _) = server.get_bytes(&format!("/api/v1/trials/{next}/picture")).await;
+    assert_eq!(status, 404, "a click's view goes with one trial");
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn with_no_picture_the_trial_after_a_click_goes_without_one() {
+    if !isolated("with_no_picture_the_trial_after_a_click_goes_without_one") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let scene = capture_scene(
+        Room::paper(),
+        DeviceKind::LightSwitch,
+        StartDirection::PAPER[0],
+        1.5,
+        3,
+        &CaptureSettings::small(),
+    );
+    write_scene(&scene, dir.path());
+    let server = Server::start(dir.path()).await;
+    let node = RosNode::start_with(&server, &dir.path().join("state"), &["--no-picture"]);
+    let mut peer = Peer::start();
+    matched(&mut peer, &node);
+    peer.command(json!({"scene": dir.path()}));
+    let t = scene.target;
+    let answer = peer.command(json!({"click": [t.x, t.y, t.z], "timeout": 60}));
+    assert!(answer["tag_pose"].is_object(), "{answer}\nnode log:\n{}", node.log());
+    let id = "5c0ffee0-1d2e-4f3a-8b4c-5d6e7f809a2b";
+    let switch = DeviceKind::LightSwitch.epc().as_hex().to_owned();
+    assert_eq!(peer.command(json!({"trial": trial_now(id, &switch)}))["sent"], true);
+    logged(&node, &format!("trial {id} recorded")).await;
+    server.stored_trial(id, &node).await;
+    let (status, _, _) = server.get_bytes(&format!("/api/v1/trials/{id}/picture")).await;
+    assert_eq!(status, 404, "--no-picture sends none");
+}
+
+/// Waits until the node has logged `text`.
+async fn logged(node: &RosNode, text: &str) {
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
+    while !node.log().contains(text) {
+        assert!(std::time::Instant::now() < deadline, "never logged `{text}`:\n{}", node.log());
+        tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+    }
+}
+
+/// A PNG's width and height, from its header.
+fn image_size(png: &[u8]) -> (u32, u32) {
+    assert_eq!(&png[1..4], b"PNG", "not a PNG");
+    let word = |at: usize| u32::from_be_bytes(png[at..at + 4].try_into().unwrap());
+    (word(16), word(20))
+}
+
+/// A trial the robot did just now, after the click.
+fn trial_now(id: &str, epc: &str) -> Value {
+    let format = &time::format_description::well_known::Rfc3339;
+    let now = time::OffsetDateTime::now_utc();
+    let mut trial = trial(id, epc);
+    trial["started_at"] = json!(now.format(format).unwrap());
+    trial["finished_at"] = json!((now + time::Duration::seconds(20)).format(format).unwrap());
+    trial
 }
 
 fn trial(id: &str, epc: &str) -> Value {
@@ -195,6 +270,8 @@ async fn inventory_rounds_give_entries_and_trials_are_stored() {
     };
     assert_eq!(stored["epc"], switch.as_str());
     assert_eq!(stored["measurements"]["via"], "ros2");
+    let (status, _, _) = server.get_bytes(&format!("/api/v1/trials/{id}/picture")).await;
+    assert_eq!(status, 404, "no click, so no view to send with the trial");
     // Sent twice (a peer retrying), still stored once.
     assert_eq!(peer.command(json!({"trial": trial(id, &switch)}))["sent"], true);
     let recorded = format!("trial {id} recorded");

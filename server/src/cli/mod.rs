@@ -179,6 +179,10 @@ struct ExportTrialsArgs {
     /// Write to this file instead of stdout.
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Also write each trial's picture into this directory (made if missing) as
+    /// `<trial id>.png` or `.jpg`, and name that file in the export (`picture_file`).
+    #[arg(long, value_name = "DIR")]
+    pictures: Option<PathBuf>,
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum)]

@@ -21,6 +21,7 @@ pub(super) async fn export_trials(db: &Db, args: ExportTrialsArgs) -> anyhow::Re
         FormatArg::Jsonl => TrialFormat::Jsonl,
         FormatArg::Csv => TrialFormat::Csv,
     };
+    let pictures = args.pictures.as_deref();
     let written = match &args.out {
         Some(path) => {
             let file = crate::private_file::options()
@@ -28,16 +29,23 @@ pub(super) async fn export_trials(db: &Db, args: ExportTrialsArgs) -> anyhow::Re
                 .truncate(true)
                 .open(path)
                 .with_context(|| format!("cannot write {}", path.display()))?;
-            export::export_trials(db.reader(), &filter, format, std::io::BufWriter::new(file))
-                .await?
+            let out = std::io::BufWriter::new(file);
+            export::export_trials(db.reader(), &filter, format, out, pictures).await?
         }
         None => {
-            export::export_trials(db.reader(), &filter, format, std::io::stdout().lock()).await?
+            let out = std::io::stdout().lock();
+            export::export_trials(db.reader(), &filter, format, out, pictures).await?
         }
     };
-    match &args.out {
-        Some(path) => eprintln!("exported {written} trials to {}", path.display()),
-        None => eprintln!("exported {written} trials"),
+    let to = args.out.as_ref().map(|p| format!(" to {}", p.display())).unwrap_or_default();
+    match pictures {
+        Some(dir) => eprintln!(
+            "exported {} trials{to}, and {} pictures to {}",
+            written.trials,
+            written.pictures,
+            dir.display()
+        ),
+        None => eprintln!("exported {} trials{to}", written.trials),
     }
     Ok(())
 }

@@ -5,6 +5,7 @@ import { getAll, request, seg } from '../api.js';
 import { askPassword, confirmDialog } from '../dialog.js';
 import { cell, field, h, replace, uid } from '../dom.js';
 import { when } from '../format.js';
+import { loadSchemas, titlesFrom } from '../schema.js';
 import * as session from '../session.js';
 
 function select(options) {
@@ -82,15 +83,6 @@ async function usersSection() {
     h('p', { class: 'help' }, 'People who log in here.'), list, h('h3', {}, 'Add a user'), form, status);
 }
 
-/** The behaviours of the paper, as a caretaker would say what a robot can do. */
-const BEHAVIOURS = [
-  ['light_switch', 'Flip a light switch'],
-  ['push', 'Push a button or rocker switch'],
-  ['pull_back', 'Pull open a drawer or door'],
-  ['pull_lamp', 'Pull a lamp\'s chain'],
-  ['drop', 'Drop something into a bin'],
-];
-
 /** Shows a robot token once, with what to do with it. */
 function showSecret(into, title, token) {
   const secret = h('input', { type: 'text', readOnly: true, value: token, class: 'secret', 'aria-label': 'The new token' });
@@ -101,15 +93,18 @@ function showSecret(into, title, token) {
   secret.focus();
 }
 
-function robotsSection() {
+async function robotsSection() {
+  // What a robot can do, named and titled by the tag schema, as on every other page.
+  const schemas = await loadSchemas();
+  const { behavior } = titlesFrom(schemas);
   const status = h('p', { class: 'status', role: 'status', 'aria-live': 'polite' });
   const minted = h('div', { 'aria-live': 'polite', id: 'robot-token' });
   const id = field({ label: 'Robot id', control: h('input', { type: 'text', autocomplete: 'off', autocapitalize: 'none', name: 'robot-id' }), help: 'How the robot names itself, e.g. stretch-2: letters, digits, “.”, “_” and “-”.' });
   const name = field({ label: 'Name', control: h('input', { type: 'text', autocomplete: 'off', name: 'robot-name' }), help: 'A name people recognise, e.g. “Kitchen Stretch”. Leave empty to use the id.' });
   const kind = field({ label: 'Class', control: h('input', { type: 'text', autocomplete: 'off', autocapitalize: 'none', name: 'robot-class' }), help: 'The kind of robot, e.g. stretch or el-e: robots of a class learn together.' });
-  const abilities = BEHAVIOURS.map(([value, label]) => {
+  const abilities = schemas.behaviorNames.map((value) => {
     const box = h('input', { type: 'checkbox', id: uid('can'), name: 'capability', value, checked: true });
-    return { value, box, wrapper: h('div', { class: 'field checkbox' }, box, h('label', { for: box.id }, label)) };
+    return { value, box, wrapper: h('div', { class: 'field checkbox' }, box, h('label', { for: box.id }, behavior(value))) };
   });
   const form = h('form', { class: 'add-robot', novalidate: true }, id.wrapper, name.wrapper, kind.wrapper,
     h('fieldset', { class: 'section' }, h('legend', {}, 'What it can do'), abilities.map((a) => a.wrapper)),
@@ -236,6 +231,9 @@ export async function render(main) {
       return h('section', {}, h('h2', {}, title), h('p', { class: 'status bad' }, `Could not load: ${error.message}`));
     }
   };
-  const [users, tokens, bridge] = await Promise.all([guarded(usersSection, 'Users'), guarded(tokensSection, 'API tokens'), guarded(homeAssistantSection, 'Home Assistant')]);
-  replace(main, h('h1', {}, 'Admin'), users, robotsSection(), tokens, bridge);
+  const [users, robots, tokens, bridge] = await Promise.all([
+    guarded(usersSection, 'Users'), guarded(robotsSection, 'Robots'), guarded(tokensSection, 'API tokens'),
+    guarded(homeAssistantSection, 'Home Assistant'),
+  ]);
+  replace(main, h('h1', {}, 'Admin'), users, robots, tokens, bridge);
 }

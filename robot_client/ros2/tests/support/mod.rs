@@ -126,6 +126,41 @@ impl Server {
         let status = answer.status().as_u16();
         (status, answer.json().await.unwrap_or(Value::Null))
     }
+
+    /// GET a path with the admin token: status, content type and the bytes.
+    pub async fn get_bytes(&self, path: &str) -> (u16, String, Vec<u8>) {
+        let answer = reqwest::Client::new()
+            .get(format!("{}{path}", self.url))
+            .bearer_auth(&self.admin)
+            .send()
+            .await
+            .expect("the registry answers");
+        let status = answer.status().as_u16();
+        let kind = answer
+            .headers()
+            .get(reqwest::header::CONTENT_TYPE)
+            .and_then(|v| v.to_str().ok())
+            .unwrap_or_default()
+            .to_owned();
+        (status, kind, answer.bytes().await.map(|b| b.to_vec()).unwrap_or_default())
+    }
+
+    /// Waits until the trial `id` is stored, and returns it.
+    pub async fn stored_trial(&self, id: &str, node: &RosNode) -> Value {
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
+        loop {
+            let (status, body) = self.get(&format!("/api/v1/trials/{id}")).await;
+            if status == 200 {
+                return body;
+            }
+            assert!(
+                std::time::Instant::now() < deadline,
+                "trial {id} not stored; node log:\n{}",
+                node.log()
+            );
+            tokio::time::sleep(std::time::Duration::from_millis(50)).await;
+        }
+    }
 }
 
 impl Drop for Server {
@@ -143,9 +178,15 @@ pub struct RosNode {
 
 impl RosNode {
     pub fn start(server: &Server, state: &Path) -> Self {
+        Self::start_with(server, state, &[])
+    }
+
+    /// The node with more command-line arguments.
+    pub fn start_with(server: &Server, state: &Path, args: &[&str]) -> Self {
         let mut child = Command::new(env!("CARGO_BIN_EXE_pps-ros2"))
             .args(["--server", &server.url, "--robot", "el-e-1", "--state"])
             .arg(state)
+            .args(args)
             .env("PPS_TOKEN", &server.robot_token)
             .env("PPS_DDS_INTERFACE", "127.0.0.1")
             .env("RUST_LOG", "info")

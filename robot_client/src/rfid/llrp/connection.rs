@@ -5,7 +5,7 @@ use std::io::{ErrorKind, Read, Write};
 use std::net::{Shutdown, TcpStream, ToSocketAddrs};
 use std::time::{Duration, Instant};
 
-use super::messages::{Message, kind_name};
+use super::messages::{Message, kind, kind_name};
 use super::wire::{DecodeError, MESSAGE_HEADER_LEN, MessageHeader};
 
 /// The port IANA assigned to LLRP.
@@ -36,6 +36,11 @@ pub enum Received {
         id: u32,
         message: Message,
     },
+    /// An RO_ACCESS_REPORT, whole but still as bytes: whoever keeps its reads decodes them one
+    /// at a time ([`super::params::report::for_each_tag_report`]).
+    Reports {
+        bytes: Vec<u8>,
+    },
     /// A whole message that did not decode; its length was sound, so the next one can be read.
     Undecodable {
         kind: String,
@@ -50,6 +55,10 @@ pub struct Connection {
     pending: Vec<u8>,
     next_id: u32,
     pub peer: String,
+    /// How long one message may take to go out: a reader that stops reading must not stall us.
+    write_timeout: Duration,
+    /// Why sending stopped: a message that went out in part has broken the stream's framing.
+    stalled: Option<String>,
 }
 
 /// `HOST`, `HOST:PORT`, `[V6]:PORT`: the reader's address, port 5084 unless given.
@@ -70,8 +79,9 @@ pub fn with_default_port(address: &str) -> String {
 }
 
 impl Connection {
-    /// Connects to `address` (`HOST[:PORT]`) within `timeout`.
-    pub fn open(address: &str, timeout: Duration) -> Result<Self, String> {
+    /// Connects to `address` (`HOST[:PORT]`) within `timeout`; each message sent afterwards
+    /// must go out within `write_timeout`.
+    pub fn open(address: &str, timeout: Duration, write_timeout: Duration) -> Result<Self, String> {
         let peer = with_default_port(address);
         let addrs = peer
             .to_socket_addrs()
@@ -88,6 +98,8 @@ impl Connection {
                         pending: Vec::with_capacity(4096),
                         next_id: 1,
                         peer,
+                        write_timeout,
+                        stalled: None,
                     });
                 }
                 Err(e) if e.kind() == ErrorKind::TimedOut => {
@@ -109,9 +121,50 @@ impl Connection {
 
     /// Sends `message` under message id `id` (a KEEPALIVE_ACK echoes its KEEPALIVE's id).
     pub fn send_as(&mut self, message: &Message, id: u32) -> Result<(), Broken> {
-        self.stream.write_all(&message.encode(id)).map_err(|e| {
-            Broken::Io(format!("sending {} to {} failed: {e}", message.name(), self.peer))
-        })
+        if let Some(why) = &self.stalled {
+            return Err(Broken::Io(why.clone()));
+        }
+        let deadline = Instant::now() + self.write_timeout;
+        let mut rest = &message.encode(id)[..];
+        while !rest.is_empty() {
+            let now = Instant::now();
+            let failure = if now >= deadline {
+                format!(
+                    "{} stopped reading: {} did not go out within {:.1} s",
+                    self.peer,
+                    message.name(),
+                    self.write_timeout.as_secs_f64()
+                )
+            } else {
+                // A zero timeout means "block forever" to the OS: never pass one.
+                let wait = (deadline - now).max(Duration::from_millis(1));
+                self.stream.set_write_timeout(Some(wait)).map_err(|e| Broken::Io(e.to_string()))?;
+                match self.stream.write(rest) {
+                    Ok(0) => format!("{} closed the connection", self.peer),
+                    Ok(n) => {
+                        rest = &rest[n..];
+                        continue;
+                    }
+                    Err(e)
+                        if matches!(
+                            e.kind(),
+                            ErrorKind::WouldBlock | ErrorKind::TimedOut | ErrorKind::Interrupted
+                        ) =>
+                    {
+                        continue;
+                    }
+                    Err(e) => format!("sending {} to {} failed: {e}", message.name(), self.peer),
+                }
+            };
+            self.stalled = Some(failure.clone());
+            return Err(Broken::Io(failure));
+        }
+        Ok(())
+    }
+
+    /// Shortens (or lengthens) how long each message may take to go out.
+    pub fn set_write_timeout(&mut self, timeout: Duration) {
+        self.write_timeout = timeout;
     }
 
     /// The next message, or `None` when `deadline` passes first.
@@ -148,6 +201,12 @@ impl Connection {
         let len = header.length as usize;
         if self.pending.len() < len {
             return Ok(None);
+        }
+        if header.kind == kind::RO_ACCESS_REPORT {
+            // Moved out, not copied: a report may be megabytes.
+            let rest = self.pending.split_off(len);
+            let bytes = std::mem::replace(&mut self.pending, rest);
+            return Ok(Some(Received::Reports { bytes }));
         }
         let received = match Message::decode(&self.pending[..len]) {
             Ok((id, message)) => Received::Message { id, message },

@@ -31,12 +31,14 @@ pub mod kind {
     pub const START_ROSPEC: u16 = 22;
     pub const STOP_ROSPEC: u16 = 23;
     pub const ENABLE_ROSPEC: u16 = 24;
+    pub const DISABLE_ROSPEC: u16 = 25;
     pub const GET_ROSPECS: u16 = 26;
     pub const ADD_ROSPEC_RESPONSE: u16 = 30;
     pub const DELETE_ROSPEC_RESPONSE: u16 = 31;
     pub const START_ROSPEC_RESPONSE: u16 = 32;
     pub const STOP_ROSPEC_RESPONSE: u16 = 33;
     pub const ENABLE_ROSPEC_RESPONSE: u16 = 34;
+    pub const DISABLE_ROSPEC_RESPONSE: u16 = 35;
     pub const GET_ROSPECS_RESPONSE: u16 = 36;
     pub const RO_ACCESS_REPORT: u16 = 61;
     pub const KEEPALIVE: u16 = 62;
@@ -83,6 +85,13 @@ pub enum Message {
         rospec_id: u32,
     },
     EnableRoSpecResponse {
+        status: LlrpStatus,
+    },
+    /// Stops and disables a ROSpec; ROSpecID 0 means every ROSpec of the reader.
+    DisableRoSpec {
+        rospec_id: u32,
+    },
+    DisableRoSpecResponse {
         status: LlrpStatus,
     },
     StartRoSpec {
@@ -142,6 +151,8 @@ impl Message {
             Self::DeleteRoSpecResponse { .. } => DELETE_ROSPEC_RESPONSE,
             Self::EnableRoSpec { .. } => ENABLE_ROSPEC,
             Self::EnableRoSpecResponse { .. } => ENABLE_ROSPEC_RESPONSE,
+            Self::DisableRoSpec { .. } => DISABLE_ROSPEC,
+            Self::DisableRoSpecResponse { .. } => DISABLE_ROSPEC_RESPONSE,
             Self::StartRoSpec { .. } => START_ROSPEC,
             Self::StartRoSpecResponse { .. } => START_ROSPEC_RESPONSE,
             Self::StopRoSpec { .. } => STOP_ROSPEC,
@@ -171,6 +182,7 @@ impl Message {
             | Self::AddRoSpecResponse { status }
             | Self::DeleteRoSpecResponse { status }
             | Self::EnableRoSpecResponse { status }
+            | Self::DisableRoSpecResponse { status }
             | Self::StartRoSpecResponse { status }
             | Self::StopRoSpecResponse { status }
             | Self::ErrorMessage { status }
@@ -210,6 +222,7 @@ impl Message {
             Self::AddRoSpec { rospec } => rospec.encode(out),
             Self::DeleteRoSpec { rospec_id }
             | Self::EnableRoSpec { rospec_id }
+            | Self::DisableRoSpec { rospec_id }
             | Self::StartRoSpec { rospec_id }
             | Self::StopRoSpec { rospec_id } => out.extend_from_slice(&rospec_id.to_be_bytes()),
             Self::RoAccessReport { tags } => {
@@ -222,6 +235,7 @@ impl Message {
             | Self::AddRoSpecResponse { status }
             | Self::DeleteRoSpecResponse { status }
             | Self::EnableRoSpecResponse { status }
+            | Self::DisableRoSpecResponse { status }
             | Self::StartRoSpecResponse { status }
             | Self::StopRoSpecResponse { status }
             | Self::ErrorMessage { status }
@@ -311,6 +325,7 @@ impl Message {
             },
             DELETE_ROSPEC => Self::DeleteRoSpec { rospec_id: rospec_id(r)? },
             ENABLE_ROSPEC => Self::EnableRoSpec { rospec_id: rospec_id(r)? },
+            DISABLE_ROSPEC => Self::DisableRoSpec { rospec_id: rospec_id(r)? },
             START_ROSPEC => Self::StartRoSpec { rospec_id: rospec_id(r)? },
             STOP_ROSPEC => Self::StopRoSpec { rospec_id: rospec_id(r)? },
             RO_ACCESS_REPORT => {
@@ -342,6 +357,9 @@ impl Message {
             }
             ENABLE_ROSPEC_RESPONSE => {
                 Self::EnableRoSpecResponse { status: LlrpStatus::first_in(r, &name)? }
+            }
+            DISABLE_ROSPEC_RESPONSE => {
+                Self::DisableRoSpecResponse { status: LlrpStatus::first_in(r, &name)? }
             }
             START_ROSPEC_RESPONSE => {
                 Self::StartRoSpecResponse { status: LlrpStatus::first_in(r, &name)? }
@@ -375,14 +393,14 @@ pub fn kind_name(kind: u16) -> String {
         START_ROSPEC => "START_ROSPEC",
         STOP_ROSPEC => "STOP_ROSPEC",
         ENABLE_ROSPEC => "ENABLE_ROSPEC",
-        25 => "DISABLE_ROSPEC",
+        DISABLE_ROSPEC => "DISABLE_ROSPEC",
         GET_ROSPECS => "GET_ROSPECS",
         ADD_ROSPEC_RESPONSE => "ADD_ROSPEC_RESPONSE",
         DELETE_ROSPEC_RESPONSE => "DELETE_ROSPEC_RESPONSE",
         START_ROSPEC_RESPONSE => "START_ROSPEC_RESPONSE",
         STOP_ROSPEC_RESPONSE => "STOP_ROSPEC_RESPONSE",
         ENABLE_ROSPEC_RESPONSE => "ENABLE_ROSPEC_RESPONSE",
-        35 => "DISABLE_ROSPEC_RESPONSE",
+        DISABLE_ROSPEC_RESPONSE => "DISABLE_ROSPEC_RESPONSE",
         GET_ROSPECS_RESPONSE => "GET_ROSPECS_RESPONSE",
         RO_ACCESS_REPORT => "RO_ACCESS_REPORT",
         KEEPALIVE => "KEEPALIVE",
@@ -479,6 +497,8 @@ mod tests {
             Message::DeleteRoSpecResponse { status: LlrpStatus::success() },
             Message::EnableRoSpec { rospec_id: 14 },
             Message::EnableRoSpecResponse { status: LlrpStatus::success() },
+            Message::DisableRoSpec { rospec_id: 0 },
+            Message::DisableRoSpecResponse { status: LlrpStatus::success() },
             Message::StartRoSpec { rospec_id: 14 },
             Message::StartRoSpecResponse { status: LlrpStatus::success() },
             Message::StopRoSpec { rospec_id: 14 },

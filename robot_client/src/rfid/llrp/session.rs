@@ -15,13 +15,15 @@ use super::params::config::{KeepaliveSpec, ReaderEventNotificationSpec, event_ty
 use super::params::events::{
     ConnectionAttemptStatus, ReaderEventNotificationData, RoSpecEventKind,
 };
-use super::params::report::TagReportData;
+use super::params::report::{TagReportData, for_each_tag_report};
 use super::params::rospec::{
     AiSpec, AiSpecStopTrigger, AntennaConfiguration, EPC_GLOBAL_CLASS1_GEN2,
     InventoryParameterSpec, RfTransmitter, RoBoundarySpec, RoReportSpec, RoReportTrigger, RoSpec,
     RoSpecStartTrigger, RoSpecState, RoSpecStopTrigger, TagReportContentSelector,
 };
 use super::reader::{LlrpSettings, RoundStop};
+use super::round_reads::{MAX_KEPT, RoundReads};
+use super::wire::{FieldReader, MESSAGE_HEADER_LEN};
 
 /// Our ROSpec's id ("PP" for PPS-tags); any stale one is deleted at connection.
 pub const ROSPEC_ID: u32 = 0x5050;
@@ -57,8 +59,14 @@ pub struct Session {
     pub general: Option<GeneralDeviceCapabilities>,
     pub regulatory: Option<RegulatoryCapabilities>,
     response_timeout: Duration,
-    /// Reports and events gathered while waiting; a round takes them.
-    reports: Vec<TagReportData>,
+    /// The round's reads, gathered while waiting for anything; a round takes them.
+    reads: RoundReads,
+    /// Whether a round of ours is running, so its reports are ours to keep.
+    in_round: bool,
+    /// Tag reads that arrived while no round of ours ran: counted, never kept.
+    stray_reads: u64,
+    /// The reader was told to stop every ROSpec (DISABLE_ROSPEC 0), ours included.
+    told_to_stop: bool,
     lost_antennas: BTreeSet<u16>,
     rospec_ended: bool,
     exception: Option<String>,
@@ -75,14 +83,21 @@ impl From<Broken> for SessionError {
 impl Session {
     /// Connects and reads the reader's connection event: it accepts us or says why not.
     pub fn connect(settings: &LlrpSettings) -> Result<Self, SessionError> {
-        let connection = Connection::open(&settings.address, settings.connect_timeout)
-            .map_err(SessionError::Unreachable)?;
+        let connection = Connection::open(
+            &settings.address,
+            settings.connect_timeout,
+            settings.response_timeout,
+        )
+        .map_err(SessionError::Unreachable)?;
         let mut session = Self {
             connection,
             general: None,
             regulatory: None,
             response_timeout: settings.response_timeout,
-            reports: Vec::new(),
+            reads: RoundReads::default(),
+            in_round: false,
+            stray_reads: 0,
+            told_to_stop: false,
             lost_antennas: BTreeSet::new(),
             rospec_ended: false,
             exception: None,
@@ -246,23 +261,47 @@ impl Session {
     /// One inventory round: starts our ROSpec and gathers reports until the reader ends it or
     /// our own clock does.
     pub fn round(&mut self, settings: &LlrpSettings) -> Result<Round, SessionError> {
-        self.reports.clear();
+        if std::mem::take(&mut self.told_to_stop) {
+            // Stopping a flood disabled our ROSpec too.
+            self.ask(Message::EnableRoSpec { rospec_id: ROSPEC_ID })?;
+        }
+        self.reads.take();
+        self.in_round = true;
+        let result = self.gather_round(settings);
+        self.in_round = false;
+        result?;
+        if let Some(exception) = self.exception.take() {
+            return Err(SessionError::Refused(format!(
+                "{} reported a failure during the round: \"{exception}\"",
+                self.connection.peer
+            )));
+        }
+        Ok(Round { reports: self.reads.take(), lost_antennas: self.lost_antennas.clone() })
+    }
+
+    fn gather_round(&mut self, settings: &LlrpSettings) -> Result<(), SessionError> {
         self.rospec_ended = false;
         self.exception = None;
         let started = Instant::now();
         self.ask(Message::StartRoSpec { rospec_id: ROSPEC_ID })?;
         let own_stop = started + settings.round + STOP_GRACE;
         let enough = match settings.stop {
-            RoundStop::Tags(n) => usize::from(n),
-            RoundStop::Duration => usize::MAX,
+            RoundStop::Tags(n) => u64::from(n),
+            RoundStop::Duration => u64::MAX,
         };
-        while !self.rospec_ended && self.reports.len() < enough && self.exception.is_none() {
+        while !self.rospec_ended
+            && self.reads.seen() < enough
+            && self.exception.is_none()
+            && !self.reads.overflowed()
+        {
             match self.connection.receive(own_stop)? {
                 None => break,
                 Some(received) => self.handle_unasked(received)?,
             }
         }
-        if !self.rospec_ended {
+        let flooded = self.reads.overflowed();
+        let stopping = !self.rospec_ended;
+        if stopping {
             // Not every reader ends a ROSpec on its trigger; a refusal here means it just did,
             // and no answer at all still leaves the reads we have (the session then ends).
             match self.ask(Message::StopRoSpec { rospec_id: ROSPEC_ID }) {
@@ -271,21 +310,22 @@ impl Session {
                 Err(broken) => return Err(broken),
             }
         }
-        if let Some(exception) = self.exception.take() {
-            return Err(SessionError::Refused(format!(
-                "{} reported a failure during the round: \"{exception}\"",
-                self.connection.peer
-            )));
+        if flooded {
+            warn!(
+                "{} reported more different tags in one round than the {MAX_KEPT} a round keeps \
+                 ({} reads), {}; the strongest read of each tag that fit is kept",
+                self.connection.peer,
+                self.reads.seen(),
+                if stopping { "so we told it to stop the round" } else { "and it ended the round" }
+            );
         }
-        Ok(Round {
-            reports: std::mem::take(&mut self.reports),
-            lost_antennas: self.lost_antennas.clone(),
-        })
+        Ok(())
     }
 
     /// Deletes our ROSpec and closes the connection, each step bounded by a short timeout.
     pub fn close(mut self) {
         self.response_timeout = self.response_timeout.min(Duration::from_secs(1));
+        self.connection.set_write_timeout(self.response_timeout);
         let _ = self.ask(Message::DeleteRoSpec { rospec_id: ROSPEC_ID });
         if let Err(SessionError::Refused(why)) = self.ask(Message::CloseConnection) {
             debug!("CLOSE_CONNECTION: {why}");
@@ -301,11 +341,18 @@ impl Session {
         loop {
             let Some(received) = self.connection.receive(deadline)? else {
                 self.unanswered = true;
-                return Err(SessionError::Refused(format!(
+                let mut sentence = format!(
                     "{} did not answer {name} within {:.1} s",
                     self.connection.peer,
                     self.response_timeout.as_secs_f64()
-                )));
+                );
+                if self.stray_reads > 0 && !self.in_round {
+                    sentence.push_str(&format!("; it sent {} tag reads instead", self.stray_reads));
+                    if self.told_to_stop {
+                        sentence.push_str(", so we told it to stop reading");
+                    }
+                }
+                return Err(SessionError::Refused(sentence));
             };
             match received {
                 Received::Message { id: got, message }
@@ -329,13 +376,13 @@ impl Session {
     fn handle_unasked(&mut self, received: Received) -> Result<(), SessionError> {
         let (id, message) = match received {
             Received::Message { id, message } => (id, message),
+            Received::Reports { bytes } => return self.note_reports(&bytes),
             Received::Undecodable { kind, error } => {
                 warn!(reader = %self.connection.peer, "skipped a {kind} that did not decode: {error}");
                 return Ok(());
             }
         };
         match message {
-            Message::RoAccessReport { tags } => self.reports.extend(tags),
             Message::Keepalive => self.connection.send_as(&Message::KeepaliveAck, id)?,
             Message::ReaderEventNotification { data } => self.note_event(&data)?,
             Message::ErrorMessage { status } => {
@@ -343,6 +390,43 @@ impl Session {
                 warn!(reader = %self.connection.peer, "the reader sent ERROR_MESSAGE: {status}");
             }
             other => debug!(reader = %self.connection.peer, "ignored {}", other.name()),
+        }
+        Ok(())
+    }
+
+    /// An RO_ACCESS_REPORT's reads: the round's while one runs, else stray.
+    fn note_reports(&mut self, bytes: &[u8]) -> Result<(), SessionError> {
+        let mut body = FieldReader::new(bytes.get(MESSAGE_HEADER_LEN..).unwrap_or_default());
+        let (in_round, reads) = (self.in_round, &mut self.reads);
+        let mut stray = 0;
+        let decoded =
+            for_each_tag_report(
+                &mut body,
+                |tag| {
+                    if in_round { reads.add(tag) } else { stray += 1 }
+                },
+            );
+        if let Err(error) = decoded {
+            warn!(reader = %self.connection.peer, "skipped the rest of an RO_ACCESS_REPORT that did not decode: {error}");
+        }
+        if stray > 0 {
+            self.note_stray_reads(stray)?;
+        }
+        Ok(())
+    }
+
+    /// Reads while no round of ours runs belong to no one: a stale ROSpec, or a reader gone
+    /// wrong. They are counted, and past a round's worth the reader is told to stop them all.
+    fn note_stray_reads(&mut self, n: usize) -> Result<(), SessionError> {
+        self.stray_reads += n as u64;
+        if self.stray_reads > MAX_KEPT as u64 && !self.told_to_stop {
+            warn!(
+                "{} sent {} tag reads while no round of ours was running; telling it to stop \
+                 reading (DISABLE_ROSPEC for all its ROSpecs)",
+                self.connection.peer, self.stray_reads
+            );
+            self.told_to_stop = true;
+            self.connection.send(&Message::DisableRoSpec { rospec_id: 0 })?;
         }
         Ok(())
     }

@@ -23,7 +23,7 @@ const TV_SPEC_INDEX: u8 = 14;
 const TV_ACCESS_SPEC_ID: u8 = 16;
 
 /// A tag's EPC as the reader sent it: `EPC-96` or `EPCData` of any bit length.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct EpcData {
     /// Length in bits; the bytes hold it, padded with zero bits at the end.
     pub bits: u16,
@@ -210,9 +210,18 @@ impl TagReportData {
 /// The tag reports in an RO_ACCESS_REPORT body (RF survey data and vendors' parameters are
 /// skipped).
 pub fn decode_tag_reports(r: &mut FieldReader<'_>, into: &mut Vec<TagReportData>) -> Decoded<()> {
+    for_each_tag_report(r, |report| into.push(report))
+}
+
+/// Each tag report in an RO_ACCESS_REPORT body, handed to `each` as it is decoded, so a report
+/// of a million tags is never held decoded all at once. Reports before a bad one are handed on.
+pub fn for_each_tag_report(
+    r: &mut FieldReader<'_>,
+    mut each: impl FnMut(TagReportData),
+) -> Decoded<()> {
     while let Some(p) = r.param()? {
         if p.kind == TAG_REPORT_DATA && !p.tv {
-            into.push(TagReportData::decode(p)?);
+            each(TagReportData::decode(p)?);
         }
     }
     Ok(())
