@@ -95,6 +95,21 @@ pub(super) fn bound_tags(
     bounded
 }
 
+/// The points of `points` that have the colour of those nearest `anchor` (all of them when
+/// they are one colour): a tag's own pixels, without the wood or the fringe it touches.
+pub(crate) fn of_the_colour_at(
+    points: &[Point3<f32>],
+    image: &ColorImage,
+    calibration: &CameraCalibration,
+    anchor: &Point3<f64>,
+    params: &TagSearchParams,
+) -> Vec<Point3<f32>> {
+    match tag_coloured(points, image, calibration, &core_of(points, anchor, params)) {
+        Some(split) => split.kept,
+        None => points.to_vec(),
+    }
+}
+
 /// Why no component near the target was taken, when the nearest is too large to be a tag.
 pub(super) fn refusal(components: &[Component], params: &TagSearchParams) -> Option<String> {
     let nearest = components

@@ -24,6 +24,7 @@ mod occupancy;
 mod projection;
 mod seeded_segmentation;
 mod tag;
+mod tag_colour_stats;
 mod tag_colours;
 pub(crate) mod voxel_coords;
 
@@ -39,4 +40,5 @@ pub use tag::{
     PerceptionError, TagDetection, TagSearch, TagSearchParams, TagSighting, choose_tag, locate_tag,
     search_tag,
 };
+pub use tag_colour_stats::tag_color;
 pub use tag_colours::{covering_colour, describe_colour};
