@@ -5,8 +5,10 @@
 //! of the class's tags, as it learns `pull_distance`: within bounds, with provenance `learned`.
 //!
 //! A model is the hue arc holding every look's 5th to 95th percentile, widened by how much the
-//! looks' median hues differ from one another, and the saturation and value floors the same
-//! way; above, saturation and value stay open, as a tag seen nearer the flash is more so.
+//! looks' median hues differ from one another. Hue is what the material decides; saturation and
+//! value follow the light and the angle (a tag seen at 68° returns less of the flash, and
+//! paler), so a few looks do not bound them: their floors are learned the same way but only
+//! ever lowered below the factory's, and above they stay open.
 //! Runs inside the transaction that records the trials, like the rest of learning.
 
 use pps_schema::{ColorSegmentation, Epc, LearnedColor, TagColor};
@@ -114,10 +116,11 @@ pub fn learn(looks: &[TagColor]) -> Option<LearnedColor> {
     let widen = spread(&medians);
     let low = looks.iter().map(|l| offset(l.hue_deg[0])).fold(f64::INFINITY, f64::min) - widen;
     let high = looks.iter().map(|l| offset(l.hue_deg[2])).fold(f64::NEG_INFINITY, f64::max) + widen;
-    let floor = |pick: fn(&TagColor) -> [f64; 3]| {
+    let factory = ColorSegmentation::default();
+    let floor = |pick: fn(&TagColor) -> [f64; 3], factory: f64| {
         let lows = looks.iter().map(|l| pick(l)[0]).fold(f64::INFINITY, f64::min);
         let medians: Vec<f64> = looks.iter().map(|l| pick(l)[1]).collect();
-        round((lows - spread(&medians)).clamp(0.0, 1.0))
+        round((lows - spread(&medians)).clamp(0.0, 1.0).min(factory))
     };
     let model = LearnedColor {
         segmentation: ColorSegmentation {
@@ -125,8 +128,8 @@ pub fn learn(looks: &[TagColor]) -> Option<LearnedColor> {
                 round((middle + low).rem_euclid(360.0)),
                 round((middle + high).rem_euclid(360.0)),
             ],
-            saturation: [floor(|l| l.saturation), 1.0],
-            value: [floor(|l| l.value), 1.0],
+            saturation: [floor(|l| l.saturation, factory.saturation[0]), 1.0],
+            value: [floor(|l| l.value, factory.value[0]), 1.0],
         },
         trials: looks.len() as u64,
     };
@@ -226,7 +229,9 @@ mod tests {
         let [from, to] = model.segmentation.hue_deg;
         assert!(from > 350.0 && from < 352.0, "{from}");
         assert!(to > 8.0 && to < 10.0, "{to}");
-        assert!(model.segmentation.saturation[0] > 0.76 && model.segmentation.saturation[0] < 0.78);
+        // Never above the factory's floors: the light, not the tag, decides how pale it looks.
+        assert_eq!(model.segmentation.saturation[0], 0.6);
+        assert_eq!(model.segmentation.value[0], 0.15);
         assert_eq!(model.trials, 3);
         // Plywood's hue, 14–24°, lies outside.
         assert!(to < 14.0);
