@@ -311,3 +311,90 @@ fn without_crossing_strips(
         .map(|(p, _)| *p)
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// A towel 20 × 15 cm on the plane x = 1 (noise 2 mm), and the side of a bin standing
+    /// across that plane along one of its edges: 60 cm deep toward the robot, 45 cm tall.
+    fn towel_and_bin_side(rng: &mut ChaCha8Rng) -> (Vec<Point3<f32>>, Vec<Point3<f32>>) {
+        let mut noise = || rng.random_range(-0.002f32..0.002);
+        let mut towel = Vec::new();
+        for i in 0..40 {
+            for j in 0..30 {
+                let (y, z) = (i as f32 * 0.005 - 0.1, j as f32 * 0.005 - 0.075);
+                towel.push(Point3::new(1.0 + noise(), y, z));
+            }
+        }
+        let mut side = Vec::new();
+        for i in 0..120 {
+            for j in 0..90 {
+                let (x, z) = (1.0 - i as f32 * 0.005, j as f32 * 0.005 - 0.45);
+                side.push(Point3::new(x + noise(), 0.1, z));
+            }
+        }
+        (towel, side)
+    }
+
+    #[test]
+    fn the_surface_nearest_the_target_keeps_the_towel_and_cuts_the_crossing_side() {
+        let params = TagSearchParams::default();
+        let target = Point3::new(1.0, 0.01, 0.02);
+        for seed in 0..20 {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let (towel, side) = towel_and_bin_side(&mut rng);
+            let all: Vec<Point3<f32>> = towel.iter().chain(&side).copied().collect();
+            let part = OccupancyGrid::new(&all, params.voxel_size)
+                .connected_components(&target)
+                .into_iter()
+                .max_by_key(|c| c.points)
+                .unwrap();
+            assert!(
+                part.radius > params.max_tag_radius,
+                "seed {seed}: the two join, and are large"
+            );
+            let cut = on_the_nearest_surface(&part, &target, &params).expect("something is cut");
+            let kept_side = cut.kept.iter().filter(|p| p.x < 0.98).count();
+            assert_eq!(kept_side, 0, "seed {seed}: none of the side away from the surface stays");
+            // The strip of the side within the band, below the towel, is opened away.
+            let strip = cut.kept.iter().filter(|p| p.z < -0.1).count();
+            assert_eq!(strip, 0, "seed {seed}: the side's strip in the band stays");
+            assert!(
+                cut.kept.len() >= towel.len() * 9 / 10,
+                "seed {seed}: {} of the towel's {}",
+                cut.kept.len(),
+                towel.len()
+            );
+            assert!(cut.band < 0.012, "seed {seed}: a band of {:.1} mm", cut.band * 1e3);
+        }
+    }
+
+    #[test]
+    fn a_region_the_size_of_a_tag_is_left_alone() {
+        let params = TagSearchParams::default();
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let (towel, _) = towel_and_bin_side(&mut rng);
+        let target = Point3::new(1.0, 0.0, 0.0);
+        let components = components_of(&towel, &target, &params);
+        let image = ColorImage::new(4, 4);
+        let calibration = CameraCalibration {
+            intrinsics: crate::hal::CameraIntrinsics {
+                width: 4,
+                height: 4,
+                fx: 4.0,
+                fy: 4.0,
+                cx: 2.0,
+                cy: 2.0,
+            },
+            base_from_camera: nalgebra::Isometry3::identity(),
+        };
+        let mut notes = Vec::new();
+        let bounded =
+            bound_tags(components.clone(), &image, &calibration, &target, &params, &mut notes);
+        assert_eq!(bounded, components);
+        assert!(notes.is_empty());
+    }
+}
