@@ -74,6 +74,18 @@ impl Properties {
     pub fn color_segmentation(&self) -> Option<ColorSegmentation> {
         self.other.get("color_segmentation").and_then(|v| ColorSegmentation::deserialize(v).ok())
     }
+
+    /// The colour the registry learned this tag to have in this robot class's camera, from the
+    /// confirmed reads of it; in an effective entry only.
+    pub fn learned_color(&self) -> Option<LearnedColor> {
+        self.other.get(LEARNED_COLOR).and_then(|v| LearnedColor::deserialize(v).ok())
+    }
+
+    /// The colour the registry learned this household's tags to have in this robot class's
+    /// camera, from the confirmed reads of all of them; in an effective entry only.
+    pub fn household_color(&self) -> Option<LearnedColor> {
+        self.other.get(HOUSEHOLD_COLOR).and_then(|v| LearnedColor::deserialize(v).ok())
+    }
 }
 
 /// The compliant, high-friction material of a PPS-tag (paper §III-A).
@@ -125,6 +137,20 @@ pub struct RobotProperties {
     pub color_segmentation: Option<ColorSegmentation>,
     #[serde(flatten)]
     pub other: Map<String, Value>,
+}
+
+/// Where an effective entry's properties carry the tag's learned colour.
+pub const LEARNED_COLOR: &str = "learned_color_segmentation";
+/// Where an effective entry's properties carry the household's learned colour.
+pub const HOUSEHOLD_COLOR: &str = "household_color_segmentation";
+
+/// A colour model learned from confirmed reads: thresholds, and how many reads they rest on.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct LearnedColor {
+    #[serde(flatten)]
+    pub segmentation: ColorSegmentation,
+    /// The confirmed reads (trials) the model was learned from.
+    pub trials: u64,
 }
 
 /// HSV thresholds that segment a PPS-tag in one robot's camera (paper §III-B).

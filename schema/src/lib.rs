@@ -23,8 +23,8 @@ pub use behavior::{
 };
 pub use effective::{EffectiveEntry, Provenance, ProvenanceError, UnavailableAction};
 pub use entry::{
-    ColorSegmentation, Location, LookDirection, PpsTagMaterial, Properties, RobotProperties,
-    StateChange, TagEntry,
+    ColorSegmentation, HOUSEHOLD_COLOR, LEARNED_COLOR, LearnedColor, Location, LookDirection,
+    PpsTagMaterial, Properties, RobotProperties, StateChange, TagEntry,
 };
 pub use epc::{Epc, EpcError};
 pub use link::{Link, LinkRel};
@@ -35,7 +35,9 @@ pub use read_only::{
 pub use robot::{Robot, RobotLimits};
 pub use robot_id::{RobotId, RobotIdError};
 pub use schemas::{SCHEMA_BASE_URI, SCHEMA_NAMES, schema_document};
-pub use trial::{Finger, ForceSample, MAX_FORCE_SAMPLES, Outcome, Purpose, StartPose, Trial};
+pub use trial::{
+    Finger, ForceSample, MAX_FORCE_SAMPLES, Outcome, Purpose, StartPose, TagColor, Trial,
+};
 pub use validate::{
     FieldError, ValidationErrors, Validator, validate_robot, validate_tag, validate_trial,
 };

@@ -45,6 +45,9 @@ pub struct Trial {
     /// a registry that predates the field.
     #[serde(default, skip_serializing_if = "Purpose::is_use")]
     pub purpose: Purpose,
+    /// The detected tag's colour, sent once its EPC was read (so the pixels are that tag).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tag_color: Option<TagColor>,
     /// Read-only: when the registry received the trial.
     #[serde(
         default,
@@ -55,6 +58,23 @@ pub struct Trial {
     /// Read-only: the trial's place in the registry's arrival order.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub seq: Option<u64>,
+}
+
+/// Statistics of the pixels a robot took for a tag whose EPC its fingers then read: what the
+/// registry learns the tag's colour, and the household's, from.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TagColor {
+    /// How many pixels the statistics are over.
+    pub pixels: u64,
+    /// 5th, 50th and 95th percentiles of hue, degrees in 0..360, along the circle from the
+    /// side opposite the median: the 5th is above the 95th when the hues wrap through 0.
+    pub hue_deg: [f64; 3],
+    /// 5th, 50th and 95th percentiles of saturation, 0..=1.
+    pub saturation: [f64; 3],
+    /// 5th, 50th and 95th percentiles of value, 0..=1.
+    pub value: [f64; 3],
+    /// Median value of the whole picture, 0..=1: how brightly the scene was lit.
+    pub light_level: f64,
 }
 
 /// The robot's own verdict on an attempt.

@@ -57,6 +57,10 @@ pub async fn flush(state: &AppState) {
 fn invalidate(state: &AppState, event: &Event) {
     let epc = |key: &str| event.data.get(key).and_then(Value::as_str).map(str::to_owned);
     match event.kind {
+        // A household's learned colour is in every entry of its robot class.
+        EventKind::LearnedChanged if event.data.get("household") == Some(&Value::Bool(true)) => {
+            state.effective.clear()
+        }
         EventKind::TagChanged
         | EventKind::TagArchived
         | EventKind::TagRetagged

@@ -9,7 +9,7 @@
 use std::collections::BTreeMap;
 
 use pps_schema::pointer::{escape, unescape};
-use pps_schema::{BehaviorKind, BehaviorSpec};
+use pps_schema::{BehaviorKind, BehaviorSpec, HOUSEHOLD_COLOR, LEARNED_COLOR, LearnedColor};
 use serde_json::{Map, Value, json};
 
 use crate::store::robots::StoredRobot;
@@ -21,6 +21,14 @@ pub struct Learned {
     pub value: f64,
 }
 
+/// Colour models learned from the robot class's confirmed reads: the tag's own and its
+/// household's.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct LearnedColours {
+    pub tag: Option<LearnedColor>,
+    pub household: Option<LearnedColor>,
+}
+
 /// Merges `entry` for `robot` (which may be unregistered) and checks what it can run.
 pub fn merge(
     epc: &str,
@@ -29,6 +37,7 @@ pub fn merge(
     robot_id: &str,
     robot: Option<&StoredRobot>,
     learned: &[Learned],
+    colours: &LearnedColours,
 ) -> Value {
     let class = robot.and_then(|r| r.class.as_deref());
     let mut provenance = BTreeMap::new();
@@ -49,6 +58,16 @@ pub fn merge(
         for (source, key) in &layers {
             if let Some(layer) = key.and_then(|k| overrides.as_ref()?.get(k)) {
                 apply(properties, layer, "/properties", source, &mut provenance);
+            }
+        }
+    }
+    if let Some(properties) = merged.get_mut("properties").and_then(Value::as_object_mut) {
+        // Beside the entry's own `color_segmentation`, never over it: the robot chooses.
+        for (key, model) in [(LEARNED_COLOR, colours.tag), (HOUSEHOLD_COLOR, colours.household)] {
+            if let Some(model) = model {
+                let value = json!(model);
+                record_leaves(&format!("/properties/{key}"), &value, "learned", &mut provenance);
+                properties.insert(key.to_owned(), value);
             }
         }
     }
@@ -214,7 +233,8 @@ mod tests {
         let learned =
             [Learned { pointer: "/behaviors/pull_open/pull_distance".into(), value: 0.31 }];
         let robot = robot(Some("el-e"), &["pull_back", "push"], 15.0);
-        let out = merge("E", 3, &entry, "el-e-1", Some(&robot), &learned);
+        let out =
+            merge("E", 3, &entry, "el-e-1", Some(&robot), &learned, &LearnedColours::default());
         let pull = &out["entry"]["behaviors"]["pull_open"];
         assert_eq!(pull["pull_distance"], 0.31);
         assert_eq!(pull["grasp_force"], 3.0);
@@ -244,15 +264,43 @@ mod tests {
             "el-e-1",
             Some(&robot(Some("el-e"), &["pull_back"], 15.0)),
             &learned,
+            &LearnedColours::default(),
         );
         assert_eq!(out["entry"]["behaviors"]["pull_open"]["pull_distance"], 0.2);
         assert_eq!(out["provenance"]["/behaviors/pull_open/pull_distance"], "class:el-e");
     }
 
     #[test]
+    fn learned_colours_stand_beside_the_entrys_own() {
+        let model = |from: f64, trials: u64| LearnedColor {
+            segmentation: pps_schema::ColorSegmentation {
+                hue_deg: [from, 9.0],
+                saturation: [0.7, 1.0],
+                value: [0.2, 1.0],
+            },
+            trials,
+        };
+        let colours =
+            LearnedColours { tag: Some(model(352.0, 4)), household: Some(model(350.0, 9)) };
+        let robot = robot(Some("el-e"), &["pull_back", "push"], 15.0);
+        let out = merge("E", 1, &entry(), "el-e-1", Some(&robot), &[], &colours);
+        let properties = &out["entry"]["properties"];
+        assert_eq!(properties["color_segmentation"]["hue_deg"], json!([340, 20]));
+        assert_eq!(properties["learned_color_segmentation"]["hue_deg"], json!([352.0, 9.0]));
+        assert_eq!(properties["household_color_segmentation"]["trials"], 9);
+        let provenance = &out["provenance"];
+        assert_eq!(provenance["/properties/color_segmentation/hue_deg"], "class:el-e");
+        assert_eq!(provenance["/properties/learned_color_segmentation/hue_deg"], "learned");
+        assert_eq!(provenance["/properties/household_color_segmentation/saturation"], "learned");
+        let merged: pps_schema::TagEntry = serde_json::from_value(out["entry"].clone()).unwrap();
+        assert_eq!(merged.properties.household_color(), colours.household);
+        assert_eq!(merged.properties.learned_color(), colours.tag);
+    }
+
+    #[test]
     fn missing_capabilities_limits_and_registration_make_actions_unavailable() {
         let weak = robot(Some("tiny"), &["push"], 5.0);
-        let out = merge("E", 1, &entry(), "el-e-1", Some(&weak), &[]);
+        let out = merge("E", 1, &entry(), "el-e-1", Some(&weak), &[], &LearnedColours::default());
         let reasons: Vec<(String, String)> = out["unavailable_actions"]
             .as_array()
             .unwrap()
@@ -265,7 +313,7 @@ mod tests {
         assert_eq!(reasons[1].0, "open");
         assert!(reasons[1].1.contains("pull_back"), "{reasons:?}");
 
-        let unknown = merge("E", 1, &entry(), "el-e-9", None, &[]);
+        let unknown = merge("E", 1, &entry(), "el-e-9", None, &[], &LearnedColours::default());
         assert_eq!(unknown["unavailable_actions"].as_array().unwrap().len(), 2);
         assert!(
             unknown["unavailable_actions"][0]["reason"]

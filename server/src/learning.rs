@@ -11,6 +11,7 @@ use pps_schema::{BehaviorKind, Epc};
 use serde_json::{Value, json};
 use sqlx::AnyConnection;
 
+use crate::colour_learning;
 use crate::counted_purposes::CountedPurposes;
 use crate::store::events::{self, EventKind};
 use crate::store::trial_counts::{self, GroupKey};
@@ -93,6 +94,18 @@ pub async fn update(
             let data = json!({ "epc": group.epc.as_hex(), "robot_class": class_in_feed(group.robot_class.as_deref()) });
             events::append(conn, EventKind::LearnedChanged, data).await?;
             changed.insert(group.epc.clone());
+        }
+    }
+    // Colour is learned per tag and class, whatever the action.
+    let colour_groups: BTreeSet<(&Epc, Option<&str>)> =
+        groups.iter().filter(|g| g.relearn).map(|g| (&g.epc, g.robot_class.as_deref())).collect();
+    for (epc, robot_class) in colour_groups {
+        let change = colour_learning::update(conn, epc, robot_class).await?;
+        if change.tag || change.household {
+            // A household's model is in every entry of the class: the caches forget them all.
+            let data = json!({ "epc": epc.as_hex(), "robot_class": class_in_feed(robot_class), "household": change.household });
+            events::append(conn, EventKind::LearnedChanged, data).await?;
+            changed.insert(epc.clone());
         }
     }
     update_reliability(conn, groups).await?;

@@ -9,6 +9,7 @@ pub mod background;
 pub mod backup;
 pub mod cli;
 pub mod clock;
+pub mod colour_learning;
 pub mod counted_purposes;
 pub mod db;
 pub mod effective;

@@ -14,6 +14,7 @@ use sqlx::AnyConnection;
 use tokio::sync::{mpsc, oneshot};
 use uuid::Uuid;
 
+use crate::colour_learning;
 use crate::db::{Db, Unwritable};
 use crate::effective_cache::EffectiveCache;
 use crate::feed::ChangeFeed;
@@ -246,7 +247,8 @@ async fn sort_out<'a>(
             action: trial.action.clone(),
             behavior: trial.behavior.clone(),
             robot_class: robot_class.clone(),
-            relearn: learning::teaches(submitted.get("measurements")),
+            relearn: learning::teaches(submitted.get("measurements"))
+                || colour_learning::teaches(submitted),
         });
         sorted.results.push(Ok(Recorded::New(TrialRow {
             seq,

@@ -27,6 +27,7 @@ pub mod materials;
 pub mod noise;
 pub mod rig;
 pub mod scene;
+pub mod touching;
 pub mod truth;
 
 use std::time::Instant;

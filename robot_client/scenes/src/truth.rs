@@ -136,6 +136,7 @@ mod tests {
                 radius: 0.1,
                 members: Vec::new(),
             })),
+            tag_notes: Vec::new(),
             surface_points: Vec::new(),
             voi_points: 0,
             planes: Vec::new(),

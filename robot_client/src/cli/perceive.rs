@@ -84,6 +84,9 @@ fn parse_hsv(text: &str) -> Result<HsvThresholds, String> {
 #[derive(Debug, Serialize)]
 pub struct PerceiveReport {
     pub tag: Option<TagJson>,
+    /// What the tag search has to say in words: red regions divided because no tag is that
+    /// large, or why none near the target was taken.
+    pub tag_notes: Vec<String>,
     pub backing_plane: Option<PlaneJson>,
     pub waypoint: Option<WaypointJson>,
     pub load_ms: f64,
@@ -141,6 +144,7 @@ impl PerceiveReport {
         });
         Self {
             tag,
+            tag_notes: plan.tag_notes.clone(),
             backing_plane: plan.backing_plane.as_ref().map(|p| PlaneJson {
                 normal: p.normal.into(),
                 offset: p.offset,
@@ -238,6 +242,9 @@ fn print_summary(report: &PerceiveReport, plan: &ApproachPlan, cloud_points: usi
             }
         }
         None => println!("tag: none found near the target"),
+    }
+    for note in &report.tag_notes {
+        println!("  {note}");
     }
     match &report.backing_plane {
         Some(p) => println!(

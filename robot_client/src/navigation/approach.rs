@@ -19,7 +19,7 @@ use super::waypoint::{
     ApproachWaypoint, Clearance, RobotFootprint, approach_waypoint, check_clearance,
 };
 use crate::hal::{CameraCalibration, ColorImage, PointCloud};
-use crate::perception::{OccupancyGrid, PerceptionError, TagSearchParams, TagSighting, locate_tag};
+use crate::perception::{OccupancyGrid, PerceptionError, TagSearchParams, TagSighting, search_tag};
 use crate::timings::StepTimings;
 
 /// Everything the approach is tuned by.
@@ -57,6 +57,9 @@ impl Default for ApproachParams {
 #[derive(Debug, Clone, PartialEq)]
 pub struct ApproachPlan {
     pub tag: Option<TagSighting>,
+    /// What the tag search has to say: red regions divided because no tag is that large, or
+    /// why none near the target was taken.
+    pub tag_notes: Vec<String>,
     /// The points in the volume of interest, the tag's own left out: what the planes were
     /// searched in, and what their inlier indices refer to.
     pub surface_points: Vec<Point3<f32>>,
@@ -98,10 +101,11 @@ pub fn plan_approach(
     // The crop needs nothing of the tag, so a second core makes it while the tag is searched
     // for; its time is inside the tag steps' wall time, not under "volume_of_interest".
     let (tag, inside) = rayon::join(
-        || locate_tag(image, cloud, calibration, target, &params.tag, &mut timings),
+        || search_tag(image, cloud, calibration, target, &params.tag, &mut timings),
         || voi.crop(&cloud.points),
     );
-    let mut tag = tag?;
+    let search = tag?;
+    let (mut tag, tag_notes) = (search.sighting, search.notes);
     // The robot's sensors sit near the camera: planes face there, and so must the backing plane.
     let robot = Point3::from(calibration.base_from_camera.translation.vector);
     let (voi_points, surface_points) = timings.time("volume_of_interest", || {
@@ -157,6 +161,7 @@ pub fn plan_approach(
     });
     Ok(ApproachPlan {
         tag,
+        tag_notes,
         surface_points,
         voi_points,
         planes,

@@ -152,6 +152,27 @@ fn hue_deg([r, g, b]: [u8; 3], max: u8, chroma: f32) -> f32 {
     (h * 60.0).rem_euclid(360.0)
 }
 
+/// Hue (degrees, 0..360), saturation and value (0..=1) of an 8-bit sRGB colour.
+pub fn hsv_of([r, g, b]: [u8; 3]) -> [f32; 3] {
+    let max = r.max(g).max(b);
+    let chroma = f32::from(max - r.min(g).min(b));
+    let hue = hue_deg([r, g, b], max, chroma);
+    let saturation = if max == 0 { 0.0 } else { chroma / f32::from(max) };
+    [hue, saturation, f32::from(max) / 255.0]
+}
+
+/// A colour as a point of the chroma disc: saturation as the radius, hue as the angle. Hue
+/// alone wraps at 0° and means nothing for pale pixels; here near colours are near points.
+pub fn chroma_point(rgb: [u8; 3]) -> [f32; 2] {
+    let [hue, saturation, _] = hsv_of(rgb);
+    polar(hue, saturation)
+}
+
+fn polar(hue_deg: f32, saturation: f32) -> [f32; 2] {
+    let (sin, cos) = hue_deg.to_radians().sin_cos();
+    [saturation * cos, saturation * sin]
+}
+
 /// The pixels of `image` whose colour passes `thresholds`: the paper's raw segmented image.
 pub fn segment_color(image: &ColorImage, thresholds: &HsvThresholds) -> Mask {
     let (width, height) = (image.width as usize, image.height as usize);

@@ -14,6 +14,7 @@
 //! never touches the simulator, so recorded data from a real robot runs through the same code.
 
 mod blobs;
+mod bounded_tag;
 mod brightness;
 mod depth_cloud;
 pub(crate) mod flood_fill;
@@ -23,18 +24,21 @@ mod occupancy;
 mod projection;
 mod seeded_segmentation;
 mod tag;
+mod tag_colour_stats;
 mod tag_colours;
 pub(crate) mod voxel_coords;
 
 pub use blobs::Blobs;
 pub use brightness::{BrightnessChange, LightChange, brightness_change};
 pub use depth_cloud::{DepthEncoding, DepthImage, DepthRange, DepthSizeMismatch, cloud_from_depth};
-pub use hsv::{HsvThresholds, ThresholdError, segment_color};
+pub use hsv::{HsvThresholds, ThresholdError, chroma_point, hsv_of, segment_color};
 pub use mask::Mask;
 pub use occupancy::{Component, OccupancyGrid};
 pub use projection::{OcclusionTest, ProjectedCloud, Reach, points_on_mask};
 pub use seeded_segmentation::segment_seeded;
 pub use tag::{
-    PerceptionError, TagDetection, TagSearchParams, TagSighting, choose_tag, locate_tag,
+    PerceptionError, TagDetection, TagSearch, TagSearchParams, TagSighting, choose_tag, locate_tag,
+    search_tag,
 };
+pub use tag_colour_stats::tag_color;
 pub use tag_colours::{covering_colour, describe_colour};

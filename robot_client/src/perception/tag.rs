@@ -5,6 +5,7 @@ use std::collections::{BTreeMap, BTreeSet, HashSet};
 use nalgebra::Point3;
 
 use super::blobs::Blobs;
+use super::bounded_tag::{bound_tags, refusal};
 use super::hsv::HsvThresholds;
 use super::occupancy::{Component, OccupancyGrid};
 use super::projection::{OcclusionTest, ProjectedCloud, Reach};
@@ -38,6 +39,9 @@ pub struct TagSearchParams {
     /// Components in one red region of the image that come this near each other (metres) are
     /// fragments of one tag the laser sampled too sparsely to join in the grid.
     pub fragment_gap: f64,
+    /// How far the largest tag in the home reaches from its middle (half its diagonal),
+    /// metres: a red region reaching further is never a tag as a whole.
+    pub max_tag_radius: f64,
 }
 
 impl Default for TagSearchParams {
@@ -53,6 +57,9 @@ impl Default for TagSearchParams {
             ambiguity_margin: 0.08,
             min_tag_separation: 0.12,
             fragment_gap: 0.03,
+            // The largest tag of the paper's materials: a towel over a wide drawer's handle,
+            // 60 × 35 cm and a fold 3 cm deep.
+            max_tag_radius: 0.35,
         }
     }
 }
@@ -122,6 +129,14 @@ pub enum PerceptionError {
     ImageSizeMismatch { image: (u32, u32), camera: (u32, u32) },
 }
 
+/// What the tag search saw near the target, and what it has to say about it.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct TagSearch {
+    pub sighting: Option<TagSighting>,
+    /// Red regions divided because no tag is that large, or why none was taken, in words.
+    pub notes: Vec<String>,
+}
+
 /// Finds the tag nearest `target` (base frame) in a registered image and cloud, timing each step
 /// into `timings`. `Ok(None)` when nothing red enough lies near the target.
 pub fn locate_tag(
@@ -132,6 +147,18 @@ pub fn locate_tag(
     params: &TagSearchParams,
     timings: &mut StepTimings,
 ) -> Result<Option<TagSighting>, PerceptionError> {
+    Ok(search_tag(image, cloud, calibration, target, params, timings)?.sighting)
+}
+
+/// [`locate_tag`], with the notes on the red regions that were divided or refused.
+pub fn search_tag(
+    image: &ColorImage,
+    cloud: &PointCloud,
+    calibration: &CameraCalibration,
+    target: &Point3<f64>,
+    params: &TagSearchParams,
+    timings: &mut StepTimings,
+) -> Result<TagSearch, PerceptionError> {
     let k = &calibration.intrinsics;
     if (image.width, image.height) != (k.width, k.height) {
         return Err(PerceptionError::ImageSizeMismatch {
@@ -159,12 +186,19 @@ pub fn locate_tag(
     // 4. A 1 cm³ occupancy grid of the red points.
     let grid =
         timings.time("occupancy_grid", || OccupancyGrid::new(&red_points, params.voxel_size));
-    // 5. 3D connected components, the fragments of one red region joined; keep the one
-    //    closest to the target.
+    // 5. 3D connected components, the fragments of one red region joined, each larger than
+    //    any tag divided; keep the one closest to the target.
     Ok(timings.time("components", || {
         let components = grid.connected_components(target);
         let blobs = Blobs::of(&red);
-        choose_tag(join_fragments(components, &blobs, calibration, params), params)
+        let joined = join_fragments(components, &blobs, calibration, params);
+        let mut notes = Vec::new();
+        let bounded = bound_tags(joined, image, calibration, target, params, &mut notes);
+        let sighting = choose_tag(bounded.clone(), params);
+        if sighting.is_none() {
+            notes.extend(refusal(&bounded, params));
+        }
+        TagSearch { sighting, notes }
     }))
 }
 
@@ -244,12 +278,17 @@ fn join_fragments(
     joined.into_values().chain(far).collect()
 }
 
-/// The component closest to the target among those big enough to be a tag and near enough to be
-/// the one meant; ambiguous when another tag, apart from it, is nearly as close.
+/// The component closest to the target among those big enough to be a tag, no larger than any
+/// tag, and near enough to be the one meant; ambiguous when another tag, apart from it, is
+/// nearly as close.
 pub fn choose_tag(components: Vec<Component>, params: &TagSearchParams) -> Option<TagSighting> {
     let mut candidates: Vec<Component> = components
         .into_iter()
-        .filter(|c| c.points >= params.min_points && c.distance_to_target <= params.max_distance)
+        .filter(|c| {
+            c.points >= params.min_points
+                && c.distance_to_target <= params.max_distance
+                && c.radius <= params.max_tag_radius
+        })
         .collect();
     candidates.sort_by(|a, b| a.distance_to_target.total_cmp(&b.distance_to_target));
     let nearest = TagDetection::from(candidates.first()?);

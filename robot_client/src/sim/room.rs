@@ -2,8 +2,8 @@
 //! switches on a wall at about 1.2 m, the lamp, drawer and trash can each next to a wall, plus
 //! reddish-brown wooden furniture to tempt the red segmentation. [`RoomOptions::home`] adds what
 //! homes have and the paper's lab did not: red things that are not tags beside the tagged
-//! devices, the two switches' tags 30 cm apart, lacquered fronts that mirror the flash, and
-//! evening light.
+//! devices, the two switches' tags 30 cm apart, lacquered fronts that mirror the flash, a
+//! plywood drawer cabinet whose grain passes the factory's red, and evening light.
 
 use nalgebra::{Point3, Vector3};
 use pps_schema::Epc;
@@ -85,12 +85,21 @@ pub struct RoomOptions {
     pub clutter: bool,
     /// Evening: little daylight, the rooms lit mainly by their lamps.
     pub evening: bool,
+    /// The drawer cabinet is orange-brown plywood whose grain the factory's red thresholds take
+    /// for red (issue 34), its fronts too unless they are lacquered.
+    pub plywood_cabinet: bool,
 }
 
 impl RoomOptions {
     /// A home rather than a lab: clutter, the two switches' tags 30 cm apart, evening light.
     pub fn home() -> Self {
-        Self { clutter: true, evening: true, switch_spacing: 0.3, ..Self::default() }
+        Self {
+            clutter: true,
+            evening: true,
+            switch_spacing: 0.3,
+            plywood_cabinet: true,
+            ..Self::default()
+        }
     }
 
     /// The room a command line names: `paper` (the lab of the paper's trials) or `home`.
@@ -116,6 +125,7 @@ impl Default for RoomOptions {
             wood_furniture: true,
             clutter: false,
             evening: false,
+            plywood_cabinet: false,
         }
     }
 }
@@ -139,6 +149,7 @@ const WALL: Surface = Surface::Matte([0.70, 0.67, 0.60]);
 const FLOOR: Surface = Surface::Matte([0.30, 0.28, 0.25]);
 const PLASTIC: Surface = Surface::Matte([0.74, 0.73, 0.69]);
 const LAMINATE: Surface = Surface::Matte([0.60, 0.60, 0.57]);
+const PLYWOOD: Surface = Surface::Plywood;
 const METAL: Surface = Surface::Matte([0.35, 0.35, 0.37]);
 const DARK_PLASTIC: Surface = Surface::Matte([0.12, 0.12, 0.13]);
 const BLUE: Surface = Surface::Matte([0.05, 0.09, 0.35]);
@@ -290,8 +301,10 @@ impl Room {
             }
             other => other,
         };
-        parts.push(east.cuboid("cabinet", [a, 0.225, 0.375], [0.225, 0.225, 0.375], LAMINATE));
-        let front = lacquer(PLASTIC);
+        let body = if options.plywood_cabinet { PLYWOOD } else { LAMINATE };
+        parts.push(east.cuboid("cabinet", [a, 0.225, 0.375], [0.225, 0.225, 0.375], body));
+        let front =
+            if options.plywood_cabinet && !options.clutter { PLYWOOD } else { lacquer(PLASTIC) };
         parts.push(east.cuboid("top drawer", [a, 0.4575, 0.56], [0.205, 0.0075, 0.16], front));
         parts.push(east.cuboid("bottom drawer", [a, 0.4575, 0.20], [0.205, 0.0075, 0.17], front));
         parts.push(east.cuboid("drawer handle", [a, 0.477, 0.64], [0.06, 0.012, 0.01], METAL));

@@ -20,6 +20,9 @@ pub enum Surface {
     Matte([f32; 3]),
     /// Reddish-brown wood: hue drifts toward red along dark grain lines.
     Wood,
+    /// Orange-brown plywood as a real capture measured it (issue 34: hue 14–24°, saturation
+    /// 0.45–0.86, value 0.3–0.6): its darker grain passes the factory's red thresholds.
+    Plywood,
     /// A lamp shade or light fixture: matte, and glowing while its light is on.
     Glowing { reflectance: [f32; 3], source: LightSource, radiance: f32 },
     /// Lacquer or glazed tile: a matte colour under a clear coat that mirrors the flash back
@@ -139,6 +142,12 @@ impl Scene {
                 // Defined in the camera's sRGB HSV, where the tag thresholds live: hue 28° down
                 // to 21° on the darkest grain, just above the red bound of 20°.
                 srgb_hsv_to_linear(28.0 - 7.0 * g, 0.62 + 0.06 * g, 0.58 - 0.12 * g)
+            }
+            Surface::Plywood => {
+                let g = wood_grain(hit.point.x, hit.point.y, hit.point.z);
+                // Hue 24° down to 14° and saturation 0.62 up to 0.82 on the darkest grain:
+                // the grain lines lie inside the factory's 340..20°, saturation ≥ 0.6.
+                srgb_hsv_to_linear(24.0 - 10.0 * g, 0.62 + 0.2 * g, 0.55 - 0.2 * g)
             }
         }
     }

@@ -25,6 +25,9 @@ pub(super) struct Acting<'a, R> {
     pub config: &'a TaskConfig,
     /// What the camera saw around the tag (PNG), sent with the trial.
     pub picture: Option<&'a [u8]>,
+    /// The tag's colour in that picture, sent with the trial: the EPC read since says the
+    /// pixels were this tag's.
+    pub tag_color: Option<pps_schema::TagColor>,
 }
 
 /// The tag phase 4 acts on: its EPC, and where it was seen (base frame, metres).
@@ -255,6 +258,7 @@ fn trial_record(
         measurements,
         start_pose: acting.config.start_pose,
         purpose: acting.config.purpose,
+        tag_color: acting.tag_color,
         received_at: None,
         seq: None,
     }

@@ -13,7 +13,7 @@ use crate::hal::{
     BrightnessCamera, Clock, ColorCamera, MobileBase, Operator, RfidReader, TiltSweep, TiltingLaser,
 };
 use crate::navigation::ApproachParams;
-use crate::perception::{HsvThresholds, covering_colour, describe_colour};
+use crate::perception::{HsvThresholds, covering_colour, describe_colour, tag_color};
 use crate::registry::RegistryClient;
 
 /// Everything the task needs of a robot.
@@ -106,6 +106,9 @@ pub async fn run_task(
         return Ok(report);
     };
     let picture = config.picture.then(|| picture_of(robot, &seen, config, phase)).flatten();
+    let tag_color = seen.plan.tag.as_ref().and_then(|t| {
+        tag_color(&seen.image, &robot.calibration(), t.nearest(), &config.approach.tag)
+    });
 
     // Phase 3: fingers to 10 cm, read the RFID.
     let phase = report.phase(3, "servo to the tag and read its RFID");
@@ -118,7 +121,8 @@ pub async fn run_task(
     let at = in_base(robot, &tag)?;
     let epc = settle_epc(identity, &at, registry, phase).await;
     report.epc = Some(epc.clone());
-    let acting = Acting { robot, operator, registry, clock, config, picture: picture.as_deref() };
+    let acting =
+        Acting { robot, operator, registry, clock, config, picture: picture.as_deref(), tag_color };
     act(&acting, &FoundTag { epc, at }, &mut report).await?;
     Ok(report)
 }
@@ -140,14 +144,32 @@ fn picture_of(
     }
 }
 
-/// The task's settings with the tag search looking for the colours this robot's camera sees the
-/// registry's tags in (their entries' `color_segmentation`, merged for this robot).
+/// The task's settings with the tag search looking for the colour this robot's class has learned
+/// its household's tags to have (their confirmed reads' colours, the registry's household model
+/// in any entry, the newest kept also offline), or else for the colours this robot's camera sees
+/// the registry's tags in (their entries' `color_segmentation`, merged for this robot).
 fn with_known_tag_colours(
     config: &TaskConfig,
     registry: &RegistryClient,
     phase: &mut PhaseReport,
 ) -> TaskConfig {
     let known = registry.known_entries();
+    let household = known
+        .iter()
+        .filter_map(|e| e.entry.properties.household_color())
+        .max_by_key(|learned| learned.trials);
+    if let Some(learned) = household
+        && let Ok(thresholds) = HsvThresholds::new(&learned.segmentation)
+    {
+        phase.note(format!(
+            "looking for {} (learned from {} confirmed reads of this household's tags)",
+            describe_colour(&learned.segmentation),
+            learned.trials
+        ));
+        let mut config = config.clone();
+        config.approach.tag.thresholds = thresholds;
+        return config;
+    }
     let colours = known.iter().filter_map(|e| e.entry.properties.color_segmentation());
     let colour = covering_colour(colours.clone());
     let mut config = config.clone();

@@ -13,7 +13,8 @@ use axum::response::{IntoResponse, Response};
 use pps_schema::{Epc, RobotId};
 use sha2::{Digest, Sha256};
 
-use crate::effective::merge;
+use crate::colour_learning;
+use crate::effective::{LearnedColours, merge};
 use crate::effective_cache::CachedEffective;
 use crate::error::ApiError;
 use crate::http::extract::Caller;
@@ -87,8 +88,17 @@ async fn compute(
     let stored_robot = robots::get(pool, robot).await?;
     let class = stored_robot.as_ref().and_then(|r| r.class.as_deref());
     let learned = learning::learned_for(pool, parsed, class).await?;
-    let merged =
-        merge(epc, tag.revision, &tag.entry, robot.as_str(), stored_robot.as_ref(), &learned);
+    let (tag_colour, household) = colour_learning::learned_colours(pool, parsed, class).await?;
+    let colours = LearnedColours { tag: tag_colour, household };
+    let merged = merge(
+        epc,
+        tag.revision,
+        &tag.entry,
+        robot.as_str(),
+        stored_robot.as_ref(),
+        &learned,
+        &colours,
+    );
     let body = serde_json::to_vec(&merged).map_err(anyhow::Error::from)?;
     // The ETag is the content's hash, so it is stable across restarts and changes with it.
     let etag = format!("\"e{}\"", &hex::encode(Sha256::digest(&body))[..20]);

@@ -1,0 +1,400 @@
+//! A tag is a bounded thing (issue 34). A red region far larger than any tag in the home (a
+//! plywood cabinet whose orange-brown passes the thresholds, a red bin touching the towel) is
+//! never the tag as a whole: it is divided, by colour first and then by surface, and what stays
+//! larger than a tag is not taken for one. Every division and every refusal is said in words.
+//!
+//! Both divisions take their limits from the data: the tag's colour is the colour of the part
+//! nearest the pointed location, within that part's own spread, and the tag's surface is the
+//! one that part lies on, within the noise measured on it. Nothing here runs on a region the
+//! size of a tag, so tags found as they were before stay as they were.
+
+use nalgebra::{Matrix3, Point3, Vector3};
+
+use super::hsv::chroma_point;
+use super::mask::Mask;
+use super::occupancy::{Component, OccupancyGrid};
+use super::tag::TagSearchParams;
+use crate::hal::{CameraCalibration, ColorImage};
+
+/// How far a point's colour may lie from the tag's, in standard deviations of the tag's own
+/// colour: three hold all but 0.3 % of its pixels.
+const COLOUR_SPREAD_SIGMAS: f32 = 3.0;
+
+/// Half the width of a surface's band, in standard deviations of the tag's own points about
+/// it: three hold all but 0.3 % of a surface's noise.
+const SURFACE_BAND_SIGMAS: f64 = 3.0;
+
+/// The median distance of two-dimensional normal noise from its middle, over its standard
+/// deviation along each axis (the Rayleigh distribution's median, √(2 ln 2)): a spread that the
+/// few odd points a core may hold do not inflate.
+const MEDIAN_DISTANCE_PER_SIGMA: f32 = 1.1774;
+
+/// The components with each one near the target that is larger than any tag divided into the
+/// parts a tag could be; `notes` says what was divided and why.
+pub(super) fn bound_tags(
+    components: Vec<Component>,
+    image: &ColorImage,
+    calibration: &CameraCalibration,
+    target: &Point3<f64>,
+    params: &TagSearchParams,
+    notes: &mut Vec<String>,
+) -> Vec<Component> {
+    let largest = params.max_tag_radius * 200.0;
+    let mut bounded = Vec::with_capacity(components.len());
+    for component in components {
+        if component.radius <= params.max_tag_radius
+            || component.distance_to_target > params.max_distance
+        {
+            bounded.push(component);
+            continue;
+        }
+        let across = component.radius * 200.0;
+        let mut members = component.members;
+        match tag_coloured(&members, image, calibration, &core_of(&members, target, params)) {
+            Some(split) => {
+                notes.push(format!(
+                    "the red region near the target is {across:.0} cm across, larger than any \
+                     tag ({largest:.0} cm at most): {} of its {} points have the colour of its \
+                     part nearest the target (within three of that part's spreads, {:.3} on \
+                     the chroma disc), the rest another",
+                    split.kept.len(),
+                    members.len(),
+                    split.spread,
+                ));
+                members = split.kept;
+            }
+            None => notes.push(format!(
+                "the red region near the target is {across:.0} cm across, larger than any tag \
+                 ({largest:.0} cm at most), and all of it has the colour of its part nearest \
+                 the target"
+            )),
+        }
+        for part in components_of(&members, target, params) {
+            if part.radius <= params.max_tag_radius || part.distance_to_target > params.max_distance
+            {
+                bounded.push(part);
+                continue;
+            }
+            match on_the_nearest_surface(&part, target, params) {
+                Some(surface) => {
+                    notes.push(format!(
+                        "a part {:.0} cm across was cut to the surface its part nearest the \
+                         target lies on (within {:.1} mm, three times the noise measured \
+                         there): {} of its {} points",
+                        part.radius * 200.0,
+                        surface.band * 1e3,
+                        surface.kept.len(),
+                        part.points,
+                    ));
+                    bounded.extend(components_of(&surface.kept, target, params));
+                }
+                None => bounded.push(part),
+            }
+        }
+    }
+    bounded
+}
+
+/// The points of `points` that have the colour of those nearest `anchor` (all of them when
+/// they are one colour): a tag's own pixels, without the wood or the fringe it touches.
+pub(crate) fn of_the_colour_at(
+    points: &[Point3<f32>],
+    image: &ColorImage,
+    calibration: &CameraCalibration,
+    anchor: &Point3<f64>,
+    params: &TagSearchParams,
+) -> Vec<Point3<f32>> {
+    match tag_coloured(points, image, calibration, &core_of(points, anchor, params)) {
+        Some(split) => split.kept,
+        None => points.to_vec(),
+    }
+}
+
+/// Why no component near the target was taken, when the nearest is too large to be a tag.
+pub(super) fn refusal(components: &[Component], params: &TagSearchParams) -> Option<String> {
+    let nearest = components
+        .iter()
+        .filter(|c| c.points >= params.min_points && c.distance_to_target <= params.max_distance)
+        .min_by(|a, b| a.distance_to_target.total_cmp(&b.distance_to_target))?;
+    (nearest.radius > params.max_tag_radius).then(|| {
+        format!(
+            "the red region nearest the target ({} points, {:.0} cm from it) is {:.0} cm \
+             across, larger than any tag ({:.0} cm at most), and neither its colours nor its \
+             surfaces divide it, so it is not taken for a tag",
+            nearest.points,
+            nearest.distance_to_target * 100.0,
+            nearest.radius * 200.0,
+            params.max_tag_radius * 200.0,
+        )
+    })
+}
+
+/// The points of a part that stand for the tag: those within `fragment_gap` (the reach of one
+/// tag's own fragments) of the part's point nearest the target, and at least as many as a tag
+/// has at the least, three times over, so that their colour and surface are measured through
+/// the noise and span more than one of the laser's scan lines.
+fn core_of(points: &[Point3<f32>], target: &Point3<f64>, params: &TagSearchParams) -> Vec<usize> {
+    let Some(&seed) = nearest(points, target, 1).first() else { return Vec::new() };
+    let seed = points[seed].cast::<f64>();
+    let least = 3 * params.min_points.max(3);
+    let within: Vec<usize> = (0..points.len())
+        .filter(|&i| (points[i].cast::<f64>() - seed).norm() <= params.fragment_gap)
+        .collect();
+    if within.len() >= least { within } else { nearest(points, &seed, least) }
+}
+
+fn components_of(
+    points: &[Point3<f32>],
+    target: &Point3<f64>,
+    params: &TagSearchParams,
+) -> Vec<Component> {
+    OccupancyGrid::new(points, params.voxel_size).connected_components(target)
+}
+
+/// The points of the tag's colour, and that colour's spread.
+struct ColourSplit {
+    kept: Vec<Point3<f32>>,
+    /// The core's standard deviation of colour, a distance on the chroma disc.
+    spread: f32,
+}
+
+/// The points whose colour in the image is the colour of the `core` points: within
+/// `COLOUR_SPREAD_SIGMAS` robust standard deviations of the core's median on the chroma disc.
+/// `None` when that keeps them all, or too few of the core are in the picture.
+fn tag_coloured(
+    points: &[Point3<f32>],
+    image: &ColorImage,
+    calibration: &CameraCalibration,
+    core: &[usize],
+) -> Option<ColourSplit> {
+    let camera_from_base = calibration.base_from_camera.inverse();
+    let k = &calibration.intrinsics;
+    let colours: Vec<Option<[f32; 2]>> = points
+        .iter()
+        .map(|p| {
+            let uv = k.project(&(camera_from_base * p.cast::<f64>()))?;
+            let inside = uv.x >= 0.0
+                && uv.y >= 0.0
+                && uv.x < f64::from(image.width)
+                && uv.y < f64::from(image.height);
+            inside.then(|| chroma_point(image.pixel(uv.x as u32, uv.y as u32)))
+        })
+        .collect();
+    let core_size = core.len();
+    let core: Vec<[f32; 2]> = core.iter().filter_map(|&i| colours[i]).collect();
+    if core.len() < core_size / 2 || core.is_empty() {
+        return None;
+    }
+    let middle = [median(core.iter().map(|c| c[0])), median(core.iter().map(|c| c[1]))];
+    let distance = |c: &[f32; 2]| (c[0] - middle[0]).hypot(c[1] - middle[1]);
+    let spread = median(core.iter().map(distance)) / MEDIAN_DISTANCE_PER_SIGMA;
+    let kept: Vec<Point3<f32>> = points
+        .iter()
+        .zip(&colours)
+        .filter(|(_, c)| c.is_some_and(|c| distance(&c) <= COLOUR_SPREAD_SIGMAS * spread))
+        .map(|(p, _)| *p)
+        .collect();
+    (kept.len() < points.len()).then_some(ColourSplit { kept, spread })
+}
+
+/// Indices of the `n` points nearest `target` (all of them when there are fewer).
+fn nearest(points: &[Point3<f32>], target: &Point3<f64>, n: usize) -> Vec<usize> {
+    let mut by_distance: Vec<(f64, usize)> = points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| ((p.cast::<f64>() - target).norm_squared(), i))
+        .collect();
+    if n < by_distance.len() {
+        by_distance.select_nth_unstable_by(n, |a, b| a.0.total_cmp(&b.0));
+        by_distance.truncate(n);
+    }
+    by_distance.into_iter().map(|(_, i)| i).collect()
+}
+
+fn median(values: impl Iterator<Item = f32>) -> f32 {
+    let mut values: Vec<f32> = values.collect();
+    values.sort_by(f32::total_cmp);
+    values.get(values.len() / 2).copied().unwrap_or(f32::NAN)
+}
+
+/// The points of a part on the surface the part's points nearest the target lie on.
+struct SurfaceCut {
+    kept: Vec<Point3<f32>>,
+    /// Half the band's width, metres.
+    band: f64,
+}
+
+/// Fits a plane to the part's points nearest the target and keeps the part's points within
+/// `SURFACE_BAND_SIGMAS` standard deviations of those points about it; `None` when that keeps
+/// them all.
+fn on_the_nearest_surface(
+    part: &Component,
+    target: &Point3<f64>,
+    params: &TagSearchParams,
+) -> Option<SurfaceCut> {
+    let core: Vec<Point3<f64>> = core_of(&part.members, target, params)
+        .into_iter()
+        .map(|i| part.members[i].cast::<f64>())
+        .collect();
+    if core.len() < 3 {
+        return None;
+    }
+    let centre = core.iter().map(|p| p.coords).sum::<Vector3<f64>>() / core.len() as f64;
+    let scatter = core.iter().fold(Matrix3::zeros(), |m, p| {
+        let d = p.coords - centre;
+        m + d * d.transpose()
+    });
+    let eigen = scatter.symmetric_eigen();
+    let smallest = eigen.eigenvalues.imin();
+    let normal: Vector3<f64> = eigen.eigenvectors.column(smallest).into();
+    let noise = (eigen.eigenvalues[smallest].max(0.0) / core.len() as f64).sqrt();
+    // The band is never thinner than the grid resolves.
+    let band = (SURFACE_BAND_SIGMAS * noise).max(f64::from(params.voxel_size) / 2.0);
+    let in_band: Vec<Point3<f32>> = part
+        .members
+        .iter()
+        .filter(|p| (p.cast::<f64>().coords - centre).dot(&normal).abs() <= band)
+        .copied()
+        .collect();
+    let kept = without_crossing_strips(&in_band, &centre.into(), &normal, band, params);
+    (kept.len() < part.members.len()).then_some(SurfaceCut { kept, band })
+}
+
+/// The band of a surface cuts any surface crossing it (the side of a bin standing on it) to a
+/// strip as wide as the band. Seen along the normal, such a strip is a line `2 band` wide, and
+/// a tag is wider than that both ways: an opening of the points' cells on the surface as wide
+/// as the band removes the strips and keeps the tag. The cells are closed by one first, so the
+/// gaps between the laser's scan lines do not open a tag up.
+fn without_crossing_strips(
+    points: &[Point3<f32>],
+    centre: &Point3<f64>,
+    normal: &Vector3<f64>,
+    band: f64,
+    params: &TagSearchParams,
+) -> Vec<Point3<f32>> {
+    let cell = f64::from(params.voxel_size);
+    let u = normal.cross(&Vector3::z()).try_normalize(1e-9).unwrap_or_else(Vector3::x);
+    let v = normal.cross(&u);
+    let on_surface: Vec<[i64; 2]> = points
+        .iter()
+        .map(|p| {
+            let d = p.cast::<f64>() - centre;
+            [(d.dot(&u) / cell).floor() as i64, (d.dot(&v) / cell).floor() as i64]
+        })
+        .collect();
+    let radius = (band / cell).ceil() as usize;
+    let margin = (radius + 2) as i64;
+    let (Some(lo_u), Some(hi_u), Some(lo_v), Some(hi_v)) = (
+        on_surface.iter().map(|c| c[0]).min(),
+        on_surface.iter().map(|c| c[0]).max(),
+        on_surface.iter().map(|c| c[1]).min(),
+        on_surface.iter().map(|c| c[1]).max(),
+    ) else {
+        return Vec::new();
+    };
+    let (width, height) =
+        ((hi_u - lo_u + 1 + 2 * margin) as usize, (hi_v - lo_v + 1 + 2 * margin) as usize);
+    let at = |c: &[i64; 2]| ((c[0] - lo_u + margin) as usize, (c[1] - lo_v + margin) as usize);
+    let mut occupied = Mask::new(width, height);
+    for c in &on_surface {
+        let (x, y) = at(c);
+        occupied.set(x, y, true);
+    }
+    let opened = occupied.close(1).open(radius);
+    points
+        .iter()
+        .zip(&on_surface)
+        .filter(|(_, c)| {
+            let (x, y) = at(c);
+            opened.get(x, y)
+        })
+        .map(|(p, _)| *p)
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// A towel 20 × 15 cm on the plane x = 1 (noise 2 mm), and the side of a bin standing
+    /// across that plane along one of its edges: 60 cm deep toward the robot, 45 cm tall.
+    fn towel_and_bin_side(rng: &mut ChaCha8Rng) -> (Vec<Point3<f32>>, Vec<Point3<f32>>) {
+        let mut noise = || rng.random_range(-0.002f32..0.002);
+        let mut towel = Vec::new();
+        for i in 0..40 {
+            for j in 0..30 {
+                let (y, z) = (i as f32 * 0.005 - 0.1, j as f32 * 0.005 - 0.075);
+                towel.push(Point3::new(1.0 + noise(), y, z));
+            }
+        }
+        let mut side = Vec::new();
+        for i in 0..120 {
+            for j in 0..90 {
+                let (x, z) = (1.0 - i as f32 * 0.005, j as f32 * 0.005 - 0.45);
+                side.push(Point3::new(x + noise(), 0.1, z));
+            }
+        }
+        (towel, side)
+    }
+
+    #[test]
+    fn the_surface_nearest_the_target_keeps_the_towel_and_cuts_the_crossing_side() {
+        let params = TagSearchParams::default();
+        let target = Point3::new(1.0, 0.01, 0.02);
+        for seed in 0..20 {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let (towel, side) = towel_and_bin_side(&mut rng);
+            let all: Vec<Point3<f32>> = towel.iter().chain(&side).copied().collect();
+            let part = OccupancyGrid::new(&all, params.voxel_size)
+                .connected_components(&target)
+                .into_iter()
+                .max_by_key(|c| c.points)
+                .unwrap();
+            assert!(
+                part.radius > params.max_tag_radius,
+                "seed {seed}: the two join, and are large"
+            );
+            let cut = on_the_nearest_surface(&part, &target, &params).expect("something is cut");
+            let kept_side = cut.kept.iter().filter(|p| p.x < 0.98).count();
+            assert_eq!(kept_side, 0, "seed {seed}: none of the side away from the surface stays");
+            // The strip of the side within the band, below the towel, is opened away.
+            let strip = cut.kept.iter().filter(|p| p.z < -0.1).count();
+            assert_eq!(strip, 0, "seed {seed}: the side's strip in the band stays");
+            assert!(
+                cut.kept.len() >= towel.len() * 9 / 10,
+                "seed {seed}: {} of the towel's {}",
+                cut.kept.len(),
+                towel.len()
+            );
+            assert!(cut.band < 0.012, "seed {seed}: a band of {:.1} mm", cut.band * 1e3);
+        }
+    }
+
+    #[test]
+    fn a_region_the_size_of_a_tag_is_left_alone() {
+        let params = TagSearchParams::default();
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let (towel, _) = towel_and_bin_side(&mut rng);
+        let target = Point3::new(1.0, 0.0, 0.0);
+        let components = components_of(&towel, &target, &params);
+        let image = ColorImage::new(4, 4);
+        let calibration = CameraCalibration {
+            intrinsics: crate::hal::CameraIntrinsics {
+                width: 4,
+                height: 4,
+                fx: 4.0,
+                fy: 4.0,
+                cx: 2.0,
+                cy: 2.0,
+            },
+            base_from_camera: nalgebra::Isometry3::identity(),
+        };
+        let mut notes = Vec::new();
+        let bounded =
+            bound_tags(components.clone(), &image, &calibration, &target, &params, &mut notes);
+        assert_eq!(bounded, components);
+        assert!(notes.is_empty());
+    }
+}
