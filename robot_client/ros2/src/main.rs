@@ -22,8 +22,8 @@ struct Cli {
     /// The robot's base frame: the cloud and clicks are in it, and the goal is given in it.
     #[arg(long, default_value = "base_link")]
     base_frame: String,
-    /// Tag colour HMIN,HMAX,SMIN,SMAX,VMIN,VMAX: hue in degrees (may wrap, 340,20), saturation
-    /// and value 0..1. Default 340,20,0.6,1.0,0.15,1.0.
+    /// Tag colour HMIN,HMAX,SMIN,SMAX,VMIN,VMAX: hue in degrees (may wrap, 340,10), saturation
+    /// and value 0..1. Default 340,10,0.6,1.0,0.15,1.0.
     #[arg(long, value_name = "HMIN,HMAX,SMIN,SMAX,VMIN,VMAX", allow_hyphen_values = true, value_parser = parse_hsv)]
     hsv: Option<HsvThresholds>,
     /// A topic remap FROM:=TO, e.g. /camera/image_raw:=/head_camera/rgb/image_raw; repeatable.

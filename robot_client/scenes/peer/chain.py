@@ -20,7 +20,7 @@ import numpy as np
 import open3d as o3d
 
 # The Rust defaults (perception/tag.rs, navigation/approach.rs, navigation/ransac.rs).
-HUE_DEG = (340.0, 20.0)
+HUE_DEG = (340.0, 10.0)
 SATURATION_MIN = 0.6
 VALUE_MIN = 0.15
 CLOSE_RADIUS_PX = 2

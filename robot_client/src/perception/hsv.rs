@@ -1,7 +1,7 @@
 //! Colour segmentation by minimum and maximum HSV thresholds (paper §III-B, after [7]).
 //!
 //! Thresholds come from the tag entry's robot-specific `color_segmentation`; hue is in degrees
-//! and wraps around 0, because the red of the tags straddles it (340..20).
+//! and wraps around 0, because the red of the tags straddles it (340..10).
 
 use pps_schema::ColorSegmentation;
 
@@ -176,10 +176,10 @@ mod tests {
     #[test]
     fn red_hue_range_wraps_through_zero() {
         let red = HsvThresholds::default();
-        for h in [340.5, 350.0, 359.9, 0.0, 5.0, 19.5] {
+        for h in [340.5, 350.0, 359.9, 0.0, 5.0, 9.5] {
             assert!(red.contains(hsv_to_rgb(h, 0.9, 0.8)), "hue {h} is red");
         }
-        for h in [25.0, 60.0, 120.0, 200.0, 330.0] {
+        for h in [12.5, 25.0, 60.0, 120.0, 200.0, 330.0] {
             assert!(!red.contains(hsv_to_rgb(h, 0.9, 0.8)), "hue {h} is not red");
         }
         let green_to_blue =

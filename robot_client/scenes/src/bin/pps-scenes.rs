@@ -8,8 +8,8 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 use clap::{Parser, Subcommand};
 use pps_robot::navigation::{ApproachParams, plan_approach};
-use pps_robot::recording::{PlyFormat, write_camera_file, write_ply, write_png};
-use pps_scenes::{DeviceKind, GeneratedScene, generate, judge};
+use pps_robot::recording::{PlyFormat, write_camera_file, write_depth_png, write_ply, write_png};
+use pps_scenes::{DeviceKind, GeneratedScene, RgbdVariants, generate, generate_rgbd, judge};
 
 #[derive(Debug, Parser)]
 #[command(name = "pps-scenes", about = "An independent scene source for the robot's perception")]
@@ -27,6 +27,10 @@ enum Command {
         /// flip_switch, rocker, lamp, drawer or trash_can; the seed's own kind when left out.
         #[arg(long, value_parser = parse_kind)]
         kind: Option<DeviceKind>,
+        /// As an RGB-D camera sees it (issue 34's variants, wood and red things touching the
+        /// tag included); depth.png, 16-bit millimetres aligned to image.png, is written too.
+        #[arg(long)]
+        rgbd: bool,
         #[arg(long)]
         out: PathBuf,
     },
@@ -38,6 +42,9 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
     },
+    /// Print the home-materials table: each material's hue and saturation under warm, neutral
+    /// and cool light, with the white balance fixed for daylight or correcting the cast.
+    Materials,
     /// Run the approach over the corpus and print the median and p95 of every step.
     Bench {
         /// Scenes to run, the device kinds in turn (seed i / 5 of kind i % 5, as the corpus test).
@@ -61,18 +68,27 @@ fn main() -> anyhow::Result<()> {
     // The benchmark runs the chain on this thread: it works beside the pool, not waiting on it.
     pps_robot::cores::work_on_this_thread();
     match Cli::parse().command {
-        Command::Write { seed, kind, out } => write(seed, kind, &out),
+        Command::Write { seed, kind, rgbd, out } => write(seed, kind, rgbd, &out),
         Command::WriteCorpus { scenes, out } => (0..scenes).try_for_each(|i| {
             let (seed, kind) = corpus_scene(i);
-            write(seed, Some(kind), &out.join(format!("{i:03}")))
+            write(seed, Some(kind), false, &out.join(format!("{i:03}")))
         }),
         Command::Bench { scenes, per_scene } => bench(scenes, per_scene.as_deref()),
+        Command::Materials => {
+            print_materials();
+            Ok(())
+        }
     }
 }
 
-fn write(seed: u64, kind: Option<DeviceKind>, out: &Path) -> anyhow::Result<()> {
+fn write(seed: u64, kind: Option<DeviceKind>, rgbd: bool, out: &Path) -> anyhow::Result<()> {
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
-    let scene = generate(seed, kind);
+    let scene =
+        if rgbd { generate_rgbd(seed, kind, RgbdVariants::HOMES) } else { generate(seed, kind) };
+    if let Some(mm) = &scene.depth_mm {
+        let size = (scene.image.width, scene.image.height);
+        write_depth_png(&out.join("depth.png"), size, mm)?;
+    }
     let image = out.join("image.png");
     let cloud = out.join("cloud.ply");
     let camera = out.join("camera.json");
@@ -175,4 +191,33 @@ fn bench(scenes: u64, per_scene: Option<&Path>) -> anyhow::Result<()> {
         table.flush()?;
     }
     Ok(())
+}
+
+/// The home-materials table in Markdown, hue° / saturation in each cell.
+fn print_materials() {
+    use pps_scenes::home_materials::{HOME_MATERIALS, Illuminant, WhiteBalance, rendered_hsv};
+    let lightings: Vec<(Illuminant, WhiteBalance)> = Illuminant::ALL
+        .into_iter()
+        .map(|i| (i, WhiteBalance::Daylight))
+        .chain([(Illuminant::Cool6500, WhiteBalance::Corrected)])
+        .collect();
+    let mut header = String::from("| material | group |");
+    for (i, b) in &lightings {
+        match b {
+            WhiteBalance::Daylight => header += &format!(" {} K, daylight balance |", i.kelvin()),
+            WhiteBalance::Corrected => header += " any light, corrected |",
+        }
+    }
+    println!("{header}");
+    println!("|---|---|{}", "---|".repeat(lightings.len()));
+    for m in &HOME_MATERIALS {
+        let cells: Vec<String> = lightings
+            .iter()
+            .map(|&(i, b)| {
+                let [h, s, _] = rendered_hsv(m, i, b, 0.4);
+                format!("{h:.1}° / {s:.2}")
+            })
+            .collect();
+        println!("| {} | {:?} | {} |", m.name, m.group, cells.join(" | "));
+    }
 }
