@@ -30,7 +30,7 @@ async fn each_class_acts_by_its_overrides_in_the_shared_entries() {
     assert_eq!(start_up(&el_e).await.unwrap(), SimBody::ElE);
     assert_eq!(start_up(&stretch).await.unwrap(), SimBody::Stretch);
 
-    for (client, colour) in [(&el_e, "hue 340..10°"), (&stretch, "hue 16..32°")] {
+    for (client, colour) in [(&el_e, "hue 340..20°"), (&stretch, "hue 16..32°")] {
         let result = lamp_on(client).await;
         let report = &result.report;
         assert_eq!(report.outcome, Some(Outcome::Success), "{report}");
