@@ -7,7 +7,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 use clap::{Parser, Subcommand};
-use pps_robot::navigation::{ApproachParams, plan_approach};
+use pps_robot::navigation::{ApproachParams, plan_approach, plan_approach_on_depth};
+use pps_robot::perception::DepthRange;
 use pps_robot::recording::{PlyFormat, write_camera_file, write_depth_png, write_ply, write_png};
 use pps_scenes::{DeviceKind, GeneratedScene, RgbdVariants, generate, generate_rgbd, judge};
 
@@ -27,8 +28,8 @@ enum Command {
         /// flip_switch, rocker, lamp, drawer or trash_can; the seed's own kind when left out.
         #[arg(long, value_parser = parse_kind)]
         kind: Option<DeviceKind>,
-        /// As an RGB-D camera sees it (issue 34's variants, wood and red things touching the
-        /// tag included); depth.png, 16-bit millimetres aligned to image.png, is written too.
+        /// As an RGB-D camera sees it at 0.5–5 m; depth.png, 16-bit millimetres aligned to
+        /// image.png, is written too.
         #[arg(long)]
         rgbd: bool,
         #[arg(long)]
@@ -39,6 +40,9 @@ enum Command {
     WriteCorpus {
         #[arg(long, default_value_t = 100)]
         scenes: u64,
+        /// The RGB-D scenes `bench --rgbd` runs, each with its depth.png.
+        #[arg(long)]
+        rgbd: bool,
         #[arg(long)]
         out: PathBuf,
     },
@@ -54,6 +58,9 @@ enum Command {
         /// chain_ms), for comparing scene by scene with a peer.
         #[arg(long)]
         per_scene: Option<PathBuf>,
+        /// On the RGB-D scenes (dense depth frames at 0.5–5 m), through the organised path.
+        #[arg(long)]
+        rgbd: bool,
     },
 }
 
@@ -69,11 +76,11 @@ fn main() -> anyhow::Result<()> {
     pps_robot::cores::work_on_this_thread();
     match Cli::parse().command {
         Command::Write { seed, kind, rgbd, out } => write(seed, kind, rgbd, &out),
-        Command::WriteCorpus { scenes, out } => (0..scenes).try_for_each(|i| {
+        Command::WriteCorpus { scenes, rgbd, out } => (0..scenes).try_for_each(|i| {
             let (seed, kind) = corpus_scene(i);
-            write(seed, Some(kind), false, &out.join(format!("{i:03}")))
+            write(seed, Some(kind), rgbd, &out.join(format!("{i:03}")))
         }),
-        Command::Bench { scenes, per_scene } => bench(scenes, per_scene.as_deref()),
+        Command::Bench { scenes, per_scene, rgbd } => bench(scenes, per_scene.as_deref(), rgbd),
         Command::Materials => {
             print_materials();
             Ok(())
@@ -84,7 +91,7 @@ fn main() -> anyhow::Result<()> {
 fn write(seed: u64, kind: Option<DeviceKind>, rgbd: bool, out: &Path) -> anyhow::Result<()> {
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     let scene =
-        if rgbd { generate_rgbd(seed, kind, RgbdVariants::HOMES) } else { generate(seed, kind) };
+        if rgbd { generate_rgbd(seed, kind, RgbdVariants::PLAIN) } else { generate(seed, kind) };
     if let Some(mm) = &scene.depth_mm {
         let size = (scene.image.width, scene.image.height);
         write_depth_png(&out.join("depth.png"), size, mm)?;
@@ -139,7 +146,7 @@ fn quantile(sorted: &[f64], q: f64) -> f64 {
     sorted[((sorted.len() - 1) as f64 * q).round() as usize]
 }
 
-fn bench(scenes: u64, per_scene: Option<&Path>) -> anyhow::Result<()> {
+fn bench(scenes: u64, per_scene: Option<&Path>, rgbd: bool) -> anyhow::Result<()> {
     let params = ApproachParams::default();
     let mut steps: Vec<(&'static str, Vec<f64>)> = Vec::new();
     let (mut totals, mut renders) = (Vec::new(), Vec::new());
@@ -156,13 +163,32 @@ fn bench(scenes: u64, per_scene: Option<&Path>) -> anyhow::Result<()> {
     }
     for i in 0..scenes {
         let (seed, kind) = corpus_scene(i);
-        let scene: GeneratedScene = generate(seed, Some(kind));
-        renders.push(scene.render_ms);
-        let Ok(plan) =
-            plan_approach(&scene.image, &scene.cloud, &scene.calibration, &scene.target, &params)
-        else {
-            continue;
+        let scene: GeneratedScene = if rgbd {
+            generate_rgbd(seed, Some(kind), RgbdVariants::PLAIN)
+        } else {
+            generate(seed, Some(kind))
         };
+        renders.push(scene.render_ms);
+        let plan = match scene.depth_image() {
+            Some(depth) => plan_approach_on_depth(
+                &scene.image,
+                &depth,
+                &scene.calibration,
+                &scene.target,
+                &DepthRange::default(),
+                &params,
+            )
+            .ok(),
+            None => plan_approach(
+                &scene.image,
+                &scene.cloud,
+                &scene.calibration,
+                &scene.target,
+                &params,
+            )
+            .ok(),
+        };
+        let Some(plan) = plan else { continue };
         right += usize::from(judge(scene.truth(), &plan).is_right());
         let total = plan.timings.total_ms();
         totals.push(total);
