@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 use clap::{Parser, Subcommand};
 use pps_robot::navigation::{ApproachParams, plan_approach, plan_approach_on_depth};
-use pps_robot::perception::DepthRange;
+use pps_robot::perception::{DepthRange, cloud_from_depth};
 use pps_robot::recording::{PlyFormat, write_camera_file, write_depth_png, write_ply, write_png};
 use pps_scenes::{DeviceKind, GeneratedScene, RgbdVariants, generate, generate_rgbd, judge};
 
@@ -61,6 +61,10 @@ enum Command {
         /// On the RGB-D scenes (dense depth frames at 0.5–5 m), through the organised path.
         #[arg(long)]
         rgbd: bool,
+        /// With --rgbd: turn the whole frame into a cloud and run the laser's path on it, for
+        /// comparing with the organised path.
+        #[arg(long, requires = "rgbd")]
+        whole_frame: bool,
     },
 }
 
@@ -80,7 +84,9 @@ fn main() -> anyhow::Result<()> {
             let (seed, kind) = corpus_scene(i);
             write(seed, Some(kind), rgbd, &out.join(format!("{i:03}")))
         }),
-        Command::Bench { scenes, per_scene, rgbd } => bench(scenes, per_scene.as_deref(), rgbd),
+        Command::Bench { scenes, per_scene, rgbd, whole_frame } => {
+            bench(scenes, per_scene.as_deref(), rgbd, whole_frame)
+        }
         Command::Materials => {
             print_materials();
             Ok(())
@@ -146,7 +152,12 @@ fn quantile(sorted: &[f64], q: f64) -> f64 {
     sorted[((sorted.len() - 1) as f64 * q).round() as usize]
 }
 
-fn bench(scenes: u64, per_scene: Option<&Path>, rgbd: bool) -> anyhow::Result<()> {
+fn bench(
+    scenes: u64,
+    per_scene: Option<&Path>,
+    rgbd: bool,
+    whole_frame: bool,
+) -> anyhow::Result<()> {
     let params = ApproachParams::default();
     let mut steps: Vec<(&'static str, Vec<f64>)> = Vec::new();
     let (mut totals, mut renders) = (Vec::new(), Vec::new());
@@ -170,6 +181,18 @@ fn bench(scenes: u64, per_scene: Option<&Path>, rgbd: bool) -> anyhow::Result<()
         };
         renders.push(scene.render_ms);
         let plan = match scene.depth_image() {
+            Some(depth) if whole_frame => {
+                let start = std::time::Instant::now();
+                let range = DepthRange::default();
+                let cloud = cloud_from_depth(&depth, &scene.calibration, &range)?;
+                let ms = start.elapsed().as_secs_f64() * 1e3;
+                plan_approach(&scene.image, &cloud, &scene.calibration, &scene.target, &params)
+                    .ok()
+                    .map(|mut plan| {
+                        plan.timings.add("depth_to_cloud", ms);
+                        plan
+                    })
+            }
             Some(depth) => plan_approach_on_depth(
                 &scene.image,
                 &depth,
