@@ -54,10 +54,13 @@ fn the_design_example_validates_and_reads() {
     validate_tag(&example).unwrap();
     let entry: TagEntry = serde_json::from_value(example).unwrap();
     assert_eq!(entry.links[0].note.as_deref(), Some("ceiling light"));
-    assert_eq!(
-        entry.properties.robots["el-e"].color_segmentation,
-        Some(pps_schema::ColorSegmentation::default())
-    );
+    // The example's own colour, wider than today's default (which stops at 10° of hue).
+    let example_colour = pps_schema::ColorSegmentation {
+        hue_deg: [340.0, 20.0],
+        saturation: [0.6, 1.0],
+        value: [0.15, 1.0],
+    };
+    assert_eq!(entry.properties.robots["el-e"].color_segmentation, Some(example_colour));
 }
 
 #[test]
