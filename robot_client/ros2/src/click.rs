@@ -7,7 +7,10 @@ use std::sync::Arc;
 
 use nalgebra::{Point3, Rotation3, UnitQuaternion, Vector3};
 use pps_robot::hal::{CameraCalibration, ColorImage, PointCloud};
-use pps_robot::navigation::{ApproachParams, ApproachPlan, BackingPlane, plan_approach};
+use pps_robot::navigation::{
+    ApproachParams, ApproachPlan, BackingPlane, plan_approach, plan_approach_on_depth,
+};
+use pps_robot::perception::DepthRange;
 
 use crate::camera::calibration;
 use crate::depth::{DepthFrame, depth_cloud};
@@ -81,8 +84,9 @@ pub fn answer_click(
     })?;
     let colour = color_image(image)?;
     let calibration = calibration(info, base_from_camera, (colour.width, colour.height))?;
-    let cloud = match range {
-        RangeInput::Cloud(cloud) => cloud.clone(),
+    let plan = match range {
+        RangeInput::Cloud(cloud) => plan_approach(&colour, cloud, &calibration, &target, params)
+            .map_err(|e| InputError::Perception(e.to_string()))?,
         RangeInput::Depth(depth) => {
             let info = state.depth_info.as_ref().ok_or(InputError::Missing("depth camera info"))?;
             let base_from_depth =
@@ -92,11 +96,21 @@ pub fn answer_click(
                         to: depth.frame_id.clone(),
                     }
                 })?;
-            Arc::new(depth_cloud(depth, info, base_from_depth)?)
+            let size = (depth.image.width(), depth.image.height());
+            let depth_calibration = crate::camera::calibration(info, base_from_depth, size)?;
+            if depth_calibration == calibration {
+                // Aligned to the colour image: the organised frame turns only the pixels that
+                // can matter into points, with the whole frame's answer.
+                let range = DepthRange::default();
+                plan_approach_on_depth(&colour, &depth.image, &calibration, &target, &range, params)
+                    .map_err(|e| InputError::Perception(e.to_string()))?
+            } else {
+                let cloud = depth_cloud(depth, info, base_from_depth)?;
+                plan_approach(&colour, &cloud, &calibration, &target, params)
+                    .map_err(|e| InputError::Perception(e.to_string()))?
+            }
         }
     };
-    let plan = plan_approach(&colour, &cloud, &calibration, &target, params)
-        .map_err(|e| InputError::Perception(e.to_string()))?;
     let header = Header { stamp: Time::now(), frame_id: base_frame.to_owned() };
     let tag = plan.tag.as_ref().map(|s| s.nearest());
     let tag_pose = tag.map(|tag| PoseStamped {

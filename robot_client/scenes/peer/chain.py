@@ -5,9 +5,10 @@ DBSCAN for 3D components, RANSAC plane segmentation); the rest is NumPy.
 
     python chain.py SCENE_DIR [SCENE_DIR ...]
 
-reads each directory `pps-scenes write` made (image.png, cloud.ply, camera.json, truth.json) and
-prints the median and p95 of every step in milliseconds, then the whole chain's, and each
-scene's whole chain by its directory's name, as JSON.
+reads each directory `pps-scenes write` made (image.png, cloud.ply, camera.json, truth.json, and
+depth.png for an RGB-D scene, whose cloud it then makes from the depth with Open3D) and prints
+the median and p95 of every step in milliseconds, then the whole chain's, and each scene's whole
+chain by its directory's name, as JSON.
 """
 
 import json
@@ -207,13 +208,36 @@ def collision_check(points, position, heading):
     return int(np.count_nonzero(body & tall))
 
 
+def depth_to_cloud(depth, camera):
+    """An RGB-D frame's aligned 16-bit depth (millimetres) as a base-frame cloud, through
+    Open3D's own back-projection."""
+    intrinsic = o3d.camera.PinholeCameraIntrinsic(
+        camera["width"], camera["height"], camera["fx"], camera["fy"], camera["cx"], camera["cy"]
+    )
+    base_from_camera = np.eye(4)
+    base_from_camera[:3, :3] = quaternion_matrix(*camera["base_from_camera"]["rotation_xyzw"])
+    base_from_camera[:3, 3] = camera["base_from_camera"]["translation"]
+    cloud = o3d.geometry.PointCloud.create_from_depth_image(
+        o3d.geometry.Image(depth),
+        intrinsic,
+        extrinsic=np.linalg.inv(base_from_camera),
+        depth_scale=1000.0,
+        depth_trunc=10.0,
+    )
+    return np.asarray(cloud.points, dtype=np.float32)
+
+
 def chain(scene):
     bgr = cv2.imread(str(scene / "image.png"), cv2.IMREAD_COLOR)
-    points = read_ply(scene / "cloud.ply")
     camera = json.loads((scene / "camera.json").read_text())
     target = np.array(json.loads((scene / "truth.json").read_text())["target"])
     robot = np.array(camera["base_from_camera"]["translation"])
     t = Timings()
+    if (scene / "depth.png").exists():
+        depth = cv2.imread(str(scene / "depth.png"), cv2.IMREAD_UNCHANGED)
+        points = t.time("depth_to_cloud", lambda: depth_to_cloud(depth, camera))
+    else:
+        points = read_ply(scene / "cloud.ply")
     raw = t.time("segment", lambda: segment(bgr))
     red = t.time("morphology", lambda: morphology(raw))
     red_points = t.time("project", lambda: project(points, red, camera))

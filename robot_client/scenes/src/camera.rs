@@ -52,6 +52,19 @@ pub struct Picture {
     pub tag_pixels: usize,
     /// The metered gain that mapped scene radiance to the sensor's full scale.
     pub gain: f64,
+    /// What each pixel's ray met, row by row, when the render was asked for it (an RGB-D
+    /// camera's depth is measured on the very surfaces the colour pixels show).
+    pub surfaces: Vec<Option<PixelSurface>>,
+}
+
+/// The surface a pixel's ray first met.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PixelSurface {
+    /// Depth along the optical axis, metres.
+    pub z: f64,
+    /// Cosine of the angle between the surface's normal and the ray back to the camera.
+    pub facing: f64,
+    pub primitive: u32,
 }
 
 impl CameraModel {
@@ -77,7 +90,28 @@ impl CameraModel {
 
     /// Renders the scene as this camera sees it, drawing the sensor's noise from `noise`.
     pub fn render(&self, scene: &Scene, caster: &RayCaster, noise: &mut NoiseSource) -> Picture {
+        self.render_recording(scene, caster, noise, false)
+    }
+
+    /// Renders as [`Self::render`] does and also keeps what each pixel's ray met.
+    pub fn render_with_surfaces(
+        &self,
+        scene: &Scene,
+        caster: &RayCaster,
+        noise: &mut NoiseSource,
+    ) -> Picture {
+        self.render_recording(scene, caster, noise, true)
+    }
+
+    fn render_recording(
+        &self,
+        scene: &Scene,
+        caster: &RayCaster,
+        noise: &mut NoiseSource,
+        record: bool,
+    ) -> Picture {
         let (w, h) = (self.width as usize, self.height as usize);
+        let mut surfaces = if record { vec![None; w * h] } else { Vec::new() };
         let iso = self.pose.isometry();
         let rotation: Matrix3<f64> = *iso.rotation.to_rotation_matrix().matrix();
         let eye = Point3::from(iso.translation.vector);
@@ -94,9 +128,18 @@ impl CameraModel {
                 }));
                 for y in ty..y1 {
                     for x in tx..x1 {
-                        let ray =
-                            Ray::new(eye, rotation * self.pixel_direction(x as f64, y as f64));
+                        let along = self.pixel_direction(x as f64, y as f64);
+                        let ray = Ray::new(eye, rotation * along);
                         let Some(hit) = caster.cast(&ray, &candidates, FAR) else { continue };
+                        if record {
+                            // The ray's direction has z = 1 in the optical frame before it
+                            // is normalised, so depth is the distance over its length.
+                            surfaces[y * w + x] = Some(PixelSurface {
+                                z: hit.t / along.norm(),
+                                facing: hit.normal.dot(&-ray.direction),
+                                primitive: hit.primitive,
+                            });
+                        }
                         let material = caster.material(hit.primitive);
                         tag_pixels += usize::from(material.is_tag);
                         let rgb =
@@ -108,7 +151,7 @@ impl CameraModel {
         }
         let gain = self.metered_gain(&radiance);
         let image = self.develop(&radiance, gain, noise);
-        Picture { image, tag_pixels, gain }
+        Picture { image, tag_pixels, gain, surfaces }
     }
 
     /// Each primitive's rectangle of pixels `[x0, y0, x1, y1)`, nearest first: where its bounding

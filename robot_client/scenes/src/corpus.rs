@@ -17,8 +17,10 @@ use crate::camera::CameraModel;
 use crate::clutter::{Clutter, Distractor, Room};
 use crate::devices::{self, Device, DeviceKind, DeviceParameters};
 use crate::furnishing::draw_clutter;
+use crate::home_materials::Illuminant;
 use crate::laser::LaserModel;
 use crate::materials;
+use crate::rgbd::{self, RgbdParameters, RgbdVariants};
 use crate::rig::{draw_laser, draw_lights, optical_pose};
 use crate::scene::{Pose, Scene};
 use crate::truth::Truth;
@@ -63,6 +65,9 @@ pub struct SceneParameters {
     pub distractor: Option<Distractor>,
     /// The person's pointing error: target minus the tag's centre, metres.
     pub pointing_error_m: [f64; 3],
+    /// Seen by an RGB-D camera instead of the flash camera and the laser.
+    #[serde(default)]
+    pub rgbd: Option<RgbdParameters>,
 }
 
 impl SceneParameters {
@@ -94,6 +99,27 @@ impl SceneParameters {
             parts.push(
                 format!("red {:?} {:.0} cm from the tag", d.kind, d.gap_m * 100.0).to_lowercase(),
             );
+        }
+        if let Some(r) = &self.rgbd {
+            parts.push(format!(
+                "{:?} depth, {} K light {:.0} % corrected",
+                r.sensor.technique,
+                r.illuminant_k,
+                r.white_balance_correction * 100.0
+            ));
+            if let Some(wood) = &r.wood {
+                let wall = if r.wooden_wall { " and wall" } else { "" };
+                parts.push(format!("furniture{wall} of {wood}"));
+            }
+            if let Some(t) = &r.red_touching {
+                parts.push(format!(
+                    "{} {:.0}×{:.0} cm {} the tag",
+                    t.material,
+                    t.size_m[1] * 100.0,
+                    t.size_m[2] * 100.0,
+                    if t.overlap_m > 0.0 { "overlapping" } else { "touching" }
+                ));
+            }
         }
         let clutter: Vec<&str> = self.clutter.iter().map(Clutter::name).collect();
         if !clutter.is_empty() {
@@ -144,14 +170,35 @@ pub fn kind_of_seed(seed: u64) -> DeviceKind {
 /// Draws scene `seed` of `kind` (of the seed's own kind when `None`); `redraw` counts the draws
 /// of the same seed already discarded.
 pub fn draw(seed: u64, kind: Option<DeviceKind>, redraw: u32) -> DrawnScene {
+    draw_for(seed, kind, redraw, None)
+}
+
+/// Draws scene `seed` of `kind` as an RGB-D camera sees it, with the variants allowed.
+pub fn draw_rgbd(
+    seed: u64,
+    kind: Option<DeviceKind>,
+    redraw: u32,
+    variants: RgbdVariants,
+) -> DrawnScene {
+    draw_for(seed, kind, redraw, Some(variants))
+}
+
+fn draw_for(
+    seed: u64,
+    kind: Option<DeviceKind>,
+    redraw: u32,
+    rgbd: Option<RgbdVariants>,
+) -> DrawnScene {
     let kind = kind.unwrap_or_else(|| kind_of_seed(seed));
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let kind_index = DeviceKind::ALL.iter().position(|k| *k == kind).unwrap_or(0) as u64;
-    rng.set_stream(1 + kind_index + 8 * u64::from(redraw));
+    // RGB-D scenes take streams of their own: seed 3 of the drawers is another drawer there.
+    let apart = if rgbd.is_some() { 1 << 32 } else { 0 };
+    rng.set_stream(apart + 1 + kind_index + 8 * u64::from(redraw));
     let mut d = Draw { rng };
     let parameters = draw_device(kind, &mut d);
     let device = devices::build(&parameters, &mut d.rng);
-    place(seed, redraw, parameters, device, &mut d)
+    place(seed, redraw, parameters, device, &mut d, rgbd)
 }
 
 fn draw_device(kind: DeviceKind, d: &mut Draw) -> DeviceParameters {
@@ -240,18 +287,23 @@ struct View {
     hfov: f64,
 }
 
-fn draw_view(device: &Device, d: &mut Draw) -> View {
+fn draw_view(device: &Device, d: &mut Draw, rgbd: Option<RgbdVariants>) -> View {
     let tag = device.tag_center;
+    let (near, far, sizes, fov): (f64, f64, &[[u32; 2]], [f64; 2]) = match rgbd {
+        // RGB-D colour cameras: 69° (D435) to 90° (Azure Kinect) wide.
+        Some(v) => (0.5, v.farthest_m, &rgbd::IMAGE_SIZES, [64.0, 90.0]),
+        None => (0.8, 1.6, &IMAGE_SIZES, [55.0, 75.0]),
+    };
     loop {
-        let distance = d.u(0.8, 1.6);
+        let distance = d.u(near, far);
         let angle = d.u(-75f64, 75.0).to_radians();
         // The camera stands at least 25 cm before the device and 35 cm before the wall.
         let ahead = tag.x + distance * angle.cos();
         if ahead < device.extent.max.x + 0.25 || ahead < device.wall_x + 0.35 {
             continue;
         }
-        let size = IMAGE_SIZES[d.rng.random_range(0..IMAGE_SIZES.len())];
-        let hfov = d.u(55f64, 75.0).to_radians();
+        let size = sizes[d.rng.random_range(0..sizes.len())];
+        let hfov = d.u(fov[0], fov[1]).to_radians();
         let half_vfov = ((hfov / 2.0).tan() * f64::from(size[1]) / f64::from(size[0])).atan();
         for _ in 0..20 {
             let camera_height = d.u(0.8, 1.4);
@@ -271,8 +323,9 @@ fn place(
     device_parameters: DeviceParameters,
     device: Device,
     d: &mut Draw,
+    rgbd: Option<RgbdVariants>,
 ) -> DrawnScene {
-    let view = draw_view(&device, d);
+    let view = draw_view(&device, d, rgbd);
     let tag_d = device.tag_center;
     // The robot: camera yaw, the tag's bearing off it, and where the camera sits on the base.
     let camera_yaw = d.u(-3f64, 3.0).to_radians();
@@ -299,7 +352,7 @@ fn place(
     let [w, h] = view.size;
     let fx = f64::from(w) / 2.0 / (view.hfov / 2.0).tan();
     let scale = f64::from(w) / 640.0;
-    let camera = CameraModel {
+    let mut camera = CameraModel {
         width: w,
         height: h,
         fx,
@@ -337,8 +390,9 @@ fn place(
     if let Some(x) = &distractor {
         primitives.extend(x.primitives());
     }
-    let primitives = primitives.iter().map(|p| p.transformed(&base_from_device)).collect();
-    let lights = draw_lights(lighting, &room, &base_from_device, &camera_pose, d);
+    let mut primitives: Vec<_> =
+        primitives.iter().map(|p| p.transformed(&base_from_device)).collect();
+    let mut lights = draw_lights(lighting, &room, &base_from_device, &camera_pose, d);
 
     let normal = Vector3::new(normal_h.x, normal_h.y, 0.0);
     // The device frame's x = 0 plane is the backing surface.
@@ -350,6 +404,36 @@ fn place(
             break e * 0.05;
         }
     };
+    // What an RGB-D camera's scene has besides, drawn last so the laser corpus stays as it was.
+    let rgbd = rgbd.map(|variants| {
+        let sensor = rgbd::draw_sensor(d);
+        let illuminant = Illuminant::ALL[d.rng.random_range(0..Illuminant::ALL.len())];
+        let ceiling: Vec<[f64; 3]> = lights.room.iter().map(|l| l.position).collect();
+        lights = rgbd::draw_lights(illuminant, &ceiling, d);
+        let correction = d.u(0.5, 1.0);
+        let balance = rgbd::white_balance(illuminant, correction);
+        camera.white_balance =
+            [0, 1, 2].map(|c| balance[c] * camera.white_balance[c] / camera.white_balance[1]);
+        let (wood, wooden_wall) = if variants.wood && d.chance(0.6) {
+            let (name, wall) = rgbd::make_wooden(&mut primitives, &room.wall, d);
+            (Some(name), wall)
+        } else {
+            (None, false)
+        };
+        let red_touching = (variants.red_touching && d.chance(0.5)).then(|| {
+            let (described, primitive) = rgbd::red_touching(&device, d);
+            primitives.push(primitive.transformed(&base_from_device));
+            described
+        });
+        RgbdParameters {
+            sensor,
+            illuminant_k: illuminant.kelvin(),
+            white_balance_correction: correction,
+            wood,
+            wooden_wall,
+            red_touching,
+        }
+    });
     let parameters = SceneParameters {
         seed,
         kind: device_parameters.kind(),
@@ -369,6 +453,7 @@ fn place(
         clutter,
         distractor,
         pointing_error_m: error.into(),
+        rgbd,
     };
     DrawnScene {
         parameters,

@@ -18,13 +18,16 @@ pub mod camera;
 pub mod caster;
 pub mod clutter;
 pub mod corpus;
+pub mod depth_sensor;
 pub mod devices;
 pub mod furnishing;
 pub mod geometry;
+pub mod home_materials;
 pub mod laser;
 pub mod lighting;
 pub mod materials;
 pub mod noise;
+pub mod rgbd;
 pub mod rig;
 pub mod scene;
 pub mod touching;
@@ -34,10 +37,12 @@ use std::time::Instant;
 
 use nalgebra::{Point3, Vector3};
 use pps_robot::hal::{CameraCalibration, ColorImage, PointCloud};
+use pps_robot::perception::{DepthImage, DepthRange, cloud_from_depth};
 use serde::Serialize;
 
-pub use corpus::{DrawnScene, SceneParameters, draw};
+pub use corpus::{DrawnScene, SceneParameters, draw, draw_rgbd};
 pub use devices::DeviceKind;
+pub use rgbd::RgbdVariants;
 pub use truth::{Truth, Verdict, judge};
 
 use caster::RayCaster;
@@ -69,6 +74,9 @@ pub struct GeneratedScene {
     pub drawn: DrawnScene,
     pub image: ColorImage,
     pub cloud: PointCloud,
+    /// The RGB-D camera's depth image in millimetres (0: none), aligned to `image`, row by row,
+    /// when an RGB-D camera saw the scene; `cloud` is then this depth's dense cloud.
+    pub depth_mm: Option<Vec<u16>>,
     /// Exactly the calibration the image was rendered with.
     pub calibration: CameraCalibration,
     pub target: Point3<f64>,
@@ -85,6 +93,12 @@ impl GeneratedScene {
     pub fn parameters(&self) -> &SceneParameters {
         &self.drawn.parameters
     }
+
+    /// The depth image as perception reads it, when an RGB-D camera saw the scene.
+    pub fn depth_image(&self) -> Option<DepthImage> {
+        let mm = self.depth_mm.as_ref()?;
+        Some(depth_sensor::depth_image(self.image.width, self.image.height, mm))
+    }
 }
 
 /// Scene `seed` of the corpus, of the device kind the seed gives.
@@ -94,9 +108,29 @@ pub fn corpus(seed: u64) -> GeneratedScene {
 
 /// Scene `seed` of `kind` (the seed's own kind when `None`), rendered.
 pub fn generate(seed: u64, kind: Option<DeviceKind>) -> GeneratedScene {
+    generate_with(seed, kind, None)
+}
+
+/// Scene `seed` of `kind` as an RGB-D camera sees it, with the variants allowed, rendered.
+pub fn generate_rgbd(
+    seed: u64,
+    kind: Option<DeviceKind>,
+    variants: RgbdVariants,
+) -> GeneratedScene {
+    generate_with(seed, kind, Some(variants))
+}
+
+fn generate_with(
+    seed: u64,
+    kind: Option<DeviceKind>,
+    rgbd: Option<RgbdVariants>,
+) -> GeneratedScene {
     let mut redraw = 0;
     loop {
-        let drawn = draw(seed, kind, redraw);
+        let drawn = match rgbd {
+            None => draw(seed, kind, redraw),
+            Some(variants) => draw_rgbd(seed, kind, redraw, variants),
+        };
         let scene = render(drawn);
         let v = scene.visibility;
         let in_sight = v.tag_points >= MIN_TAG_POINTS && v.tag_pixels >= MIN_TAG_PIXELS;
@@ -107,14 +141,35 @@ pub fn generate(seed: u64, kind: Option<DeviceKind>) -> GeneratedScene {
     }
 }
 
-/// Renders a drawn scene: the camera's picture with the flash and the laser's sweep.
+/// A cloud and, point by point, the primitive each came from.
+struct Sensed {
+    cloud: PointCloud,
+    sources: Vec<u32>,
+    depth_mm: Option<Vec<u16>>,
+}
+
+/// Renders a drawn scene: the camera's picture with the flash and the laser's sweep, or the
+/// RGB-D camera's picture and depth.
 pub fn render(drawn: DrawnScene) -> GeneratedScene {
     let start = Instant::now();
     let caster = RayCaster::new(&drawn.scene);
     let seed = drawn.parameters.seed ^ (u64::from(drawn.parameters.redraws) << 40);
-    let picture = drawn.camera.render(&drawn.scene, &caster, &mut NoiseSource::new(seed, 11));
-    let sweep = drawn.laser.scan(&caster, &mut NoiseSource::new(seed, 12));
+    let mut camera_noise = NoiseSource::new(seed, 11);
+    let (picture, sensed) = match &drawn.parameters.rgbd {
+        None => {
+            let picture = drawn.camera.render(&drawn.scene, &caster, &mut camera_noise);
+            let sweep = drawn.laser.scan(&caster, &mut NoiseSource::new(seed, 12));
+            (picture, Sensed { cloud: sweep.cloud, sources: sweep.sources, depth_mm: None })
+        }
+        Some(rgbd) => {
+            let picture =
+                drawn.camera.render_with_surfaces(&drawn.scene, &caster, &mut camera_noise);
+            let sensed = sense_depth(&drawn, &rgbd.sensor, &picture.surfaces, &caster, seed);
+            (picture, sensed)
+        }
+    };
     let render_ms = start.elapsed().as_secs_f64() * 1e3;
+    let sweep = sensed;
     let on_tag: Vec<Point3<f64>> = sweep
         .cloud
         .points
@@ -154,7 +209,43 @@ pub fn render(drawn: DrawnScene) -> GeneratedScene {
             tag_points_centroid,
         },
         cloud: sweep.cloud,
+        depth_mm: sweep.depth_mm,
         drawn,
         render_ms,
     }
+}
+
+/// The RGB-D camera's depth of the surfaces its colour pixels saw, the dense cloud the robot
+/// makes of it, and each point's primitive.
+fn sense_depth(
+    drawn: &DrawnScene,
+    sensor: &depth_sensor::DepthSensorModel,
+    surfaces: &[Option<camera::PixelSurface>],
+    caster: &RayCaster,
+    seed: u64,
+) -> Sensed {
+    let (w, h) = (drawn.camera.width, drawn.camera.height);
+    let millimetres = sensor.measure(
+        surfaces,
+        w as usize,
+        drawn.camera.fx,
+        caster,
+        &mut NoiseSource::new(seed, 13),
+    );
+    let depth = depth_sensor::depth_image(w, h, &millimetres);
+    let range = DepthRange::default();
+    let cloud = cloud_from_depth(&depth, &drawn.camera.calibration(), &range)
+        .expect("the depth is the colour image's size");
+    // The conversion keeps a pixel exactly when its depth is in range, in pixel order.
+    let sources = millimetres
+        .iter()
+        .zip(surfaces)
+        .filter(|(mm, _)| {
+            let z = f32::from(**mm) * 1e-3;
+            z >= range.near && z <= range.far
+        })
+        .map(|(_, s)| s.map_or(u32::MAX, |s| s.primitive))
+        .collect::<Vec<_>>();
+    debug_assert_eq!(sources.len(), cloud.len());
+    Sensed { cloud, sources, depth_mm: Some(millimetres) }
 }

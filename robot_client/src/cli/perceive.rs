@@ -11,10 +11,10 @@ use pps_schema::ColorSegmentation;
 use serde::Serialize;
 
 use crate::hal::PointCloud;
-use crate::navigation::{ApproachParams, ApproachPlan, Clearance, plan_approach};
-use crate::perception::{
-    DepthImage, DepthRange, HsvThresholds, TagDetection, TagSighting, cloud_from_depth,
+use crate::navigation::{
+    ApproachParams, ApproachPlan, Clearance, plan_approach, plan_approach_on_depth,
 };
+use crate::perception::{DepthImage, DepthRange, HsvThresholds, TagDetection, TagSighting};
 use crate::picture::draw_overlay;
 use crate::recording::{read_camera_file, read_depth, read_ply, read_png_of_size, write_png};
 use crate::timings::StepTimings;
@@ -188,20 +188,23 @@ pub fn run(args: &PerceiveArgs) -> anyhow::Result<()> {
     if let Some(hsv) = args.hsv {
         params.tag.thresholds = hsv;
     }
-    // Turning depth into a cloud is a compute step, and the first.
-    let mut timings = StepTimings::default();
-    let cloud = match range_data {
-        RangeData::Cloud(cloud) => cloud,
-        RangeData::Depth(depth) => timings.time("depth_to_cloud", || {
-            cloud_from_depth(&depth, &calibration, &DepthRange::default())
-        })?,
+    // Turning depth into a cloud is a compute step, and the first; on a depth frame only the
+    // pixels that can matter are turned into points.
+    let (plan, range_summary) = match range_data {
+        RangeData::Cloud(cloud) => {
+            let plan = plan_approach(&image, &cloud, &calibration, &args.target, &params)
+                .context("cannot run perception on these files")?;
+            (plan, format!("cloud: {} points", cloud.len()))
+        }
+        RangeData::Depth(depth) => {
+            let range = DepthRange::default();
+            let plan =
+                plan_approach_on_depth(&image, &depth, &calibration, &args.target, &range, &params)
+                    .context("cannot run perception on these files")?;
+            let frame = format!("depth: {}×{} pixels", depth.width(), depth.height());
+            (plan, frame)
+        }
     };
-    let mut plan = plan_approach(&image, &cloud, &calibration, &args.target, &params)
-        .context("cannot run perception on these files")?;
-    for &(step, ms) in plan.timings.steps() {
-        timings.add(step, ms);
-    }
-    plan.timings = timings;
     let report = PerceiveReport::new(&plan, load_ms);
     if let Some(path) = &args.overlay {
         write_png(path, &draw_overlay(&image, &calibration, &plan, &params.footprint))?;
@@ -210,7 +213,7 @@ pub fn run(args: &PerceiveArgs) -> anyhow::Result<()> {
     if args.json {
         println!("{}", serde_json::to_string(&report)?);
     } else {
-        print_summary(&report, &plan, cloud.len());
+        print_summary(&report, &plan, &range_summary);
     }
     Ok(())
 }
@@ -221,12 +224,12 @@ enum RangeData {
     Depth(DepthImage),
 }
 
-fn print_summary(report: &PerceiveReport, plan: &ApproachPlan, cloud_points: usize) {
+fn print_summary(report: &PerceiveReport, plan: &ApproachPlan, range_summary: &str) {
     let f3 = |v: [f64; 3]| format!("({:.3}, {:.3}, {:.3})", v[0], v[1], v[2]);
     let noise =
         report.laser_noise.map_or("unknown".to_string(), |sigma| format!("{:.1} mm", sigma * 1e3));
     println!(
-        "cloud: {cloud_points} points, {} in the volume of interest, {} planes; laser noise \
+        "{range_summary}, {} points in the volume of interest, {} planes; laser noise \
          across them {noise}",
         plan.voi_points,
         plan.planes.len(),

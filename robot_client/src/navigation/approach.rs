@@ -96,7 +96,23 @@ pub fn plan_approach(
     target: &Point3<f64>,
     params: &ApproachParams,
 ) -> Result<ApproachPlan, PerceptionError> {
-    let mut timings = StepTimings::default();
+    let clearance =
+        |w: &ApproachWaypoint| check_clearance(&cloud.points, w, w.position.z, &params.footprint);
+    plan_approach_with(image, cloud, calibration, target, params, StepTimings::default(), clearance)
+}
+
+/// The approach on `cloud`, which must hold every point of the volume of interest and of the
+/// tag's reach; `clearance` checks the waypoint against whatever the caller holds around it.
+/// Steps already timed come in `timings`.
+pub(crate) fn plan_approach_with(
+    image: &ColorImage,
+    cloud: &PointCloud,
+    calibration: &CameraCalibration,
+    target: &Point3<f64>,
+    params: &ApproachParams,
+    mut timings: StepTimings,
+    clearance: impl FnOnce(&ApproachWaypoint) -> Clearance,
+) -> Result<ApproachPlan, PerceptionError> {
     let voi = VolumeOfInterest::around(*target, params.voi_radius, params.voi_half_height);
     // The crop needs nothing of the tag, so a second core makes it while the tag is searched
     // for; its time is inside the tag steps' wall time, not under "volume_of_interest".
@@ -155,10 +171,7 @@ pub fn plan_approach(
             params.standoff,
         )
     });
-    let clearance = timings.time("collision_check", || {
-        let w = waypoint.as_ref()?;
-        Some(check_clearance(&cloud.points, w, w.position.z, &params.footprint))
-    });
+    let clearance = timings.time("collision_check", || Some(clearance(waypoint.as_ref()?)));
     Ok(ApproachPlan {
         tag,
         tag_notes,

@@ -14,6 +14,7 @@
 mod approach;
 mod backing_plane;
 mod cells;
+mod depth_approach;
 mod plane;
 mod plane_evidence;
 mod ransac;
@@ -30,6 +31,7 @@ pub use approach::{ApproachParams, ApproachPlan, plan_approach};
 pub use backing_plane::{
     BackingChoice, BackingPlane, BackingPlaneRule, choose_backing_plane, nearest_plane_to_target,
 };
+pub use depth_approach::{DepthApproachError, plan_approach_on_depth};
 pub use plane::Plane;
 pub use plane_evidence::{PlanarPatch, PlaneEvidenceRule, assess_plane};
 pub use ransac::{DetectedPlane, PlaneSearch, PlaneSearchParams, find_planes};

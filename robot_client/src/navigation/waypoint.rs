@@ -65,6 +65,17 @@ impl Default for RobotFootprint {
     }
 }
 
+impl RobotFootprint {
+    /// How far any of the boxes reaches from the waypoint, metres, and a centimetre more (far
+    /// beyond rounding).
+    pub fn reach(&self) -> f64 {
+        self.base_half_length
+            .hypot(self.base_half_width)
+            .max(self.arm_reach.max(self.base_half_length).hypot(self.arm_half_width))
+            + 0.01
+    }
+}
+
 /// Whether the robot fits at the waypoint.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Clearance {
@@ -90,9 +101,7 @@ pub fn check_clearance(
     // No box reaches further from the waypoint than this, so the square around it that this
     // spans (a centimetre wider, far beyond rounding) holds every point that can hit: the rest
     // of the room is passed over in single precision, without turning it into the robot's frame.
-    let reach = (f.base_half_length.hypot(f.base_half_width))
-        .max(f.arm_reach.max(f.base_half_length).hypot(f.arm_half_width)) as f32
-        + 0.01;
+    let reach = f.reach() as f32;
     let (cx, cy) = (wx as f32, wy as f32);
     // Each core counts the hits of a block of the cloud; joined left to right, keeping the
     // earlier point on a tie, as one pass in the cloud's order would.

@@ -6,6 +6,8 @@
 //! in the calibration's pixel coordinates, the inverse of the chain's projection, so every point
 //! lands on the very colour pixel it was measured at. Holes are dropped: 0, NaN, infinities
 //! and anything outside [`DepthRange`]. The conversion allocates once per frame, never per point.
+//! [`cloud_from_depth_in`] converts only a window of the frame ([`PixelWindow::of_box`]: the
+//! pixels whose rays can meet a box around the target), in the same order.
 
 use nalgebra::{Point3, Vector3};
 
@@ -98,20 +100,28 @@ impl DepthImage {
         self.encoding
     }
 
-    /// Row `v`'s depths in metres, each handed to `each(u, z)`; holes come as 0 or non-finite.
-    fn for_each_in_row(&self, v: usize, mut each: impl FnMut(usize, f32)) {
-        let start = v * self.row_bytes;
-        let row = &self.data[start..start + self.width as usize * self.encoding.sample_bytes()];
+    /// The depths of row `v`'s `columns` in metres, each handed to `each(u, z)`; holes come as 0
+    /// or non-finite.
+    fn for_each_in_row(
+        &self,
+        v: usize,
+        columns: std::ops::Range<usize>,
+        mut each: impl FnMut(usize, f32),
+    ) {
+        let bytes = self.encoding.sample_bytes();
+        let start = v * self.row_bytes + columns.start * bytes;
+        let row = &self.data[start..start + columns.len() * bytes];
+        let first = columns.start;
         match self.encoding {
             DepthEncoding::Millimetres16 { big_endian } => {
-                for (u, b) in row.chunks_exact(2).enumerate() {
+                for (u, b) in row.chunks_exact(2).enumerate().map(|(i, b)| (first + i, b)) {
                     let b = [b[0], b[1]];
                     let mm = if big_endian { u16::from_be_bytes(b) } else { u16::from_le_bytes(b) };
                     each(u, f32::from(mm) * 1e-3);
                 }
             }
             DepthEncoding::Metres32 { big_endian } => {
-                for (u, b) in row.chunks_exact(4).enumerate() {
+                for (u, b) in row.chunks_exact(4).enumerate().map(|(i, b)| (first + i, b)) {
                     let b = [b[0], b[1], b[2], b[3]];
                     let m = if big_endian { f32::from_be_bytes(b) } else { f32::from_le_bytes(b) };
                     each(u, m);
@@ -158,6 +168,17 @@ pub fn cloud_from_depth(
     calibration: &CameraCalibration,
     range: &DepthRange,
 ) -> Result<PointCloud, DepthSizeMismatch> {
+    cloud_from_depth_in(depth, calibration, range, &PixelWindow::whole(depth.width, depth.height))
+}
+
+/// The cloud of the pixels of `window` alone, in the order [`cloud_from_depth`] gives them: an
+/// organised frame need not turn a pixel into a point before it is known to matter.
+pub fn cloud_from_depth_in(
+    depth: &DepthImage,
+    calibration: &CameraCalibration,
+    range: &DepthRange,
+    window: &PixelWindow,
+) -> Result<PointCloud, DepthSizeMismatch> {
     let k = &calibration.intrinsics;
     if (depth.width, depth.height) != (k.width, k.height) {
         return Err(DepthSizeMismatch {
@@ -169,21 +190,83 @@ pub fn cloud_from_depth(
     let rotation = base_from_camera.rotation.to_rotation_matrix();
     let r = rotation.matrix();
     let origin = base_from_camera.translation.vector;
+    let [u0, v0, u1, v1] = window.clamped(k.width, k.height);
     // p = R (z x_u, z y_v, z) + t = z (R₀ x_u + R₁ y_v + R₂) + t: one vector per column, one per
     // row, and per pixel a sum, a scale and a shift.
     let columns: Vec<Vector3<f32>> =
-        (0..k.width).map(|u| r.column(0) * ((f64::from(u) + 0.5 - k.cx) / k.fx) as f32).collect();
-    let mut points = Vec::with_capacity(k.width as usize * k.height as usize);
-    for v in 0..k.height as usize {
+        (u0..u1).map(|u| r.column(0) * ((f64::from(u) + 0.5 - k.cx) / k.fx) as f32).collect();
+    let mut points = Vec::with_capacity(((u1 - u0) * (v1 - v0)) as usize);
+    for v in v0 as usize..v1 as usize {
         let row = r.column(1) * ((v as f64 + 0.5 - k.cy) / k.fy) as f32 + r.column(2);
-        depth.for_each_in_row(v, |u, z| {
+        depth.for_each_in_row(v, u0 as usize..u1 as usize, |u, z| {
             // NaN fails both comparisons, and so is dropped with 0 and the infinities.
             if z >= range.near && z <= range.far {
-                points.push(Point3::from((columns[u] + row) * z + origin));
+                points.push(Point3::from((columns[u - u0 as usize] + row) * z + origin));
             }
         });
     }
     Ok(PointCloud { points })
+}
+
+/// A rectangle of pixels, `[u0, v0, u1, v1)`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PixelWindow {
+    pub columns: [u32; 2],
+    pub rows: [u32; 2],
+}
+
+impl PixelWindow {
+    pub fn whole(width: u32, height: u32) -> Self {
+        Self { columns: [0, width], rows: [0, height] }
+    }
+
+    /// The pixels whose rays can meet the box from `min` to `max` (base frame, metres), and
+    /// `pad` pixels around: the box's corners projected, the image where a corner lies behind
+    /// the lens (a box around the camera is seen everywhere).
+    pub fn of_box(
+        calibration: &CameraCalibration,
+        min: &Point3<f64>,
+        max: &Point3<f64>,
+        pad: u32,
+    ) -> Self {
+        let k = &calibration.intrinsics;
+        let camera_from_base = calibration.base_from_camera.inverse();
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for corner in 0..8 {
+            let pick = |bit: usize, a: f64, b: f64| if corner & bit == 0 { a } else { b };
+            let p =
+                Point3::new(pick(1, min.x, max.x), pick(2, min.y, max.y), pick(4, min.z, max.z));
+            let c = camera_from_base * p;
+            // Within a millimetre of the lens plane a projection says nothing useful.
+            let Some(pixel) = k.project(&c).filter(|_| c.z > 1e-3) else {
+                return Self::whole(k.width, k.height);
+            };
+            // Pixel u is the ray through u + 0.5.
+            lo = [lo[0].min(pixel.x - 0.5), lo[1].min(pixel.y - 0.5)];
+            hi = [hi[0].max(pixel.x - 0.5), hi[1].max(pixel.y - 0.5)];
+        }
+        let pad = f64::from(pad);
+        let bound = |x: f64, n: u32| x.clamp(0.0, f64::from(n)) as u32;
+        Self {
+            columns: [
+                bound(lo[0].floor() - pad, k.width),
+                bound(hi[0].ceil() + 1.0 + pad, k.width),
+            ],
+            rows: [bound(lo[1].floor() - pad, k.height), bound(hi[1].ceil() + 1.0 + pad, k.height)],
+        }
+    }
+
+    /// Pixels in the window.
+    pub fn area(&self) -> u64 {
+        u64::from(self.columns[1].saturating_sub(self.columns[0]))
+            * u64::from(self.rows[1].saturating_sub(self.rows[0]))
+    }
+
+    fn clamped(&self, width: u32, height: u32) -> [u32; 4] {
+        let u1 = self.columns[1].min(width);
+        let v1 = self.rows[1].min(height);
+        [self.columns[0].min(u1), self.rows[0].min(v1), u1, v1]
+    }
 }
 
 #[cfg(test)]

@@ -30,7 +30,10 @@ pub(crate) mod voxel_coords;
 
 pub use blobs::Blobs;
 pub use brightness::{BrightnessChange, LightChange, brightness_change};
-pub use depth_cloud::{DepthEncoding, DepthImage, DepthRange, DepthSizeMismatch, cloud_from_depth};
+pub use depth_cloud::{
+    DepthEncoding, DepthImage, DepthRange, DepthSizeMismatch, PixelWindow, cloud_from_depth,
+    cloud_from_depth_in,
+};
 pub use hsv::{HsvThresholds, ThresholdError, chroma_point, hsv_of, segment_color};
 pub use mask::Mask;
 pub use occupancy::{Component, OccupancyGrid};

@@ -7,9 +7,10 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 use clap::{Parser, Subcommand};
-use pps_robot::navigation::{ApproachParams, plan_approach};
-use pps_robot::recording::{PlyFormat, write_camera_file, write_ply, write_png};
-use pps_scenes::{DeviceKind, GeneratedScene, generate, judge};
+use pps_robot::navigation::{ApproachParams, plan_approach, plan_approach_on_depth};
+use pps_robot::perception::{DepthRange, cloud_from_depth};
+use pps_robot::recording::{PlyFormat, write_camera_file, write_depth_png, write_ply, write_png};
+use pps_scenes::{DeviceKind, GeneratedScene, RgbdVariants, generate, generate_rgbd, judge};
 
 #[derive(Debug, Parser)]
 #[command(name = "pps-scenes", about = "An independent scene source for the robot's perception")]
@@ -27,6 +28,10 @@ enum Command {
         /// flip_switch, rocker, lamp, drawer or trash_can; the seed's own kind when left out.
         #[arg(long, value_parser = parse_kind)]
         kind: Option<DeviceKind>,
+        /// As an RGB-D camera sees it at 0.5–5 m; depth.png, 16-bit millimetres aligned to
+        /// image.png, is written too.
+        #[arg(long)]
+        rgbd: bool,
         #[arg(long)]
         out: PathBuf,
     },
@@ -35,9 +40,15 @@ enum Command {
     WriteCorpus {
         #[arg(long, default_value_t = 100)]
         scenes: u64,
+        /// The RGB-D scenes `bench --rgbd` runs, each with its depth.png.
+        #[arg(long)]
+        rgbd: bool,
         #[arg(long)]
         out: PathBuf,
     },
+    /// Print the home-materials table: each material's hue and saturation under warm, neutral
+    /// and cool light, with the white balance fixed for daylight or correcting the cast.
+    Materials,
     /// Run the approach over the corpus and print the median and p95 of every step.
     Bench {
         /// Scenes to run, the device kinds in turn (seed i / 5 of kind i % 5, as the corpus test).
@@ -47,6 +58,13 @@ enum Command {
         /// chain_ms), for comparing scene by scene with a peer.
         #[arg(long)]
         per_scene: Option<PathBuf>,
+        /// On the RGB-D scenes (dense depth frames at 0.5–5 m), through the organised path.
+        #[arg(long)]
+        rgbd: bool,
+        /// With --rgbd: turn the whole frame into a cloud and run the laser's path on it, for
+        /// comparing with the organised path.
+        #[arg(long, requires = "rgbd")]
+        whole_frame: bool,
     },
 }
 
@@ -61,18 +79,29 @@ fn main() -> anyhow::Result<()> {
     // The benchmark runs the chain on this thread: it works beside the pool, not waiting on it.
     pps_robot::cores::work_on_this_thread();
     match Cli::parse().command {
-        Command::Write { seed, kind, out } => write(seed, kind, &out),
-        Command::WriteCorpus { scenes, out } => (0..scenes).try_for_each(|i| {
+        Command::Write { seed, kind, rgbd, out } => write(seed, kind, rgbd, &out),
+        Command::WriteCorpus { scenes, rgbd, out } => (0..scenes).try_for_each(|i| {
             let (seed, kind) = corpus_scene(i);
-            write(seed, Some(kind), &out.join(format!("{i:03}")))
+            write(seed, Some(kind), rgbd, &out.join(format!("{i:03}")))
         }),
-        Command::Bench { scenes, per_scene } => bench(scenes, per_scene.as_deref()),
+        Command::Bench { scenes, per_scene, rgbd, whole_frame } => {
+            bench(scenes, per_scene.as_deref(), rgbd, whole_frame)
+        }
+        Command::Materials => {
+            print_materials();
+            Ok(())
+        }
     }
 }
 
-fn write(seed: u64, kind: Option<DeviceKind>, out: &Path) -> anyhow::Result<()> {
+fn write(seed: u64, kind: Option<DeviceKind>, rgbd: bool, out: &Path) -> anyhow::Result<()> {
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
-    let scene = generate(seed, kind);
+    let scene =
+        if rgbd { generate_rgbd(seed, kind, RgbdVariants::PLAIN) } else { generate(seed, kind) };
+    if let Some(mm) = &scene.depth_mm {
+        let size = (scene.image.width, scene.image.height);
+        write_depth_png(&out.join("depth.png"), size, mm)?;
+    }
     let image = out.join("image.png");
     let cloud = out.join("cloud.ply");
     let camera = out.join("camera.json");
@@ -123,7 +152,12 @@ fn quantile(sorted: &[f64], q: f64) -> f64 {
     sorted[((sorted.len() - 1) as f64 * q).round() as usize]
 }
 
-fn bench(scenes: u64, per_scene: Option<&Path>) -> anyhow::Result<()> {
+fn bench(
+    scenes: u64,
+    per_scene: Option<&Path>,
+    rgbd: bool,
+    whole_frame: bool,
+) -> anyhow::Result<()> {
     let params = ApproachParams::default();
     let mut steps: Vec<(&'static str, Vec<f64>)> = Vec::new();
     let (mut totals, mut renders) = (Vec::new(), Vec::new());
@@ -140,13 +174,44 @@ fn bench(scenes: u64, per_scene: Option<&Path>) -> anyhow::Result<()> {
     }
     for i in 0..scenes {
         let (seed, kind) = corpus_scene(i);
-        let scene: GeneratedScene = generate(seed, Some(kind));
-        renders.push(scene.render_ms);
-        let Ok(plan) =
-            plan_approach(&scene.image, &scene.cloud, &scene.calibration, &scene.target, &params)
-        else {
-            continue;
+        let scene: GeneratedScene = if rgbd {
+            generate_rgbd(seed, Some(kind), RgbdVariants::PLAIN)
+        } else {
+            generate(seed, Some(kind))
         };
+        renders.push(scene.render_ms);
+        let plan = match scene.depth_image() {
+            Some(depth) if whole_frame => {
+                let start = std::time::Instant::now();
+                let range = DepthRange::default();
+                let cloud = cloud_from_depth(&depth, &scene.calibration, &range)?;
+                let ms = start.elapsed().as_secs_f64() * 1e3;
+                plan_approach(&scene.image, &cloud, &scene.calibration, &scene.target, &params)
+                    .ok()
+                    .map(|mut plan| {
+                        plan.timings.add("depth_to_cloud", ms);
+                        plan
+                    })
+            }
+            Some(depth) => plan_approach_on_depth(
+                &scene.image,
+                &depth,
+                &scene.calibration,
+                &scene.target,
+                &DepthRange::default(),
+                &params,
+            )
+            .ok(),
+            None => plan_approach(
+                &scene.image,
+                &scene.cloud,
+                &scene.calibration,
+                &scene.target,
+                &params,
+            )
+            .ok(),
+        };
+        let Some(plan) = plan else { continue };
         right += usize::from(judge(scene.truth(), &plan).is_right());
         let total = plan.timings.total_ms();
         totals.push(total);
@@ -175,4 +240,33 @@ fn bench(scenes: u64, per_scene: Option<&Path>) -> anyhow::Result<()> {
         table.flush()?;
     }
     Ok(())
+}
+
+/// The home-materials table in Markdown, hue° / saturation in each cell.
+fn print_materials() {
+    use pps_scenes::home_materials::{HOME_MATERIALS, Illuminant, WhiteBalance, rendered_hsv};
+    let lightings: Vec<(Illuminant, WhiteBalance)> = Illuminant::ALL
+        .into_iter()
+        .map(|i| (i, WhiteBalance::Daylight))
+        .chain([(Illuminant::Cool6500, WhiteBalance::Corrected)])
+        .collect();
+    let mut header = String::from("| material | group |");
+    for (i, b) in &lightings {
+        match b {
+            WhiteBalance::Daylight => header += &format!(" {} K, daylight balance |", i.kelvin()),
+            WhiteBalance::Corrected => header += " any light, corrected |",
+        }
+    }
+    println!("{header}");
+    println!("|---|---|{}", "---|".repeat(lightings.len()));
+    for m in &HOME_MATERIALS {
+        let cells: Vec<String> = lightings
+            .iter()
+            .map(|&(i, b)| {
+                let [h, s, _] = rendered_hsv(m, i, b, 0.4);
+                format!("{h:.1}° / {s:.2}")
+            })
+            .collect();
+        println!("| {} | {:?} | {} |", m.name, m.group, cells.join(" | "));
+    }
 }
