@@ -9,14 +9,14 @@
 //! value follow the light and the angle (a tag seen at 68° returns less of the flash, and
 //! paler), so a few looks do not bound them: their floors are learned the same way but only
 //! ever lowered below the factory's, and above they stay open.
-//! Runs inside the transaction that records the trials, like the rest of learning.
+//! Runs inside the transaction that records the trials, like the rest of learning; the looks and
+//! the models are kept by `store::learned_colours`.
 
 use pps_schema::{ColorSegmentation, Epc, LearnedColor, TagColor};
 use serde_json::Value;
 use sqlx::AnyConnection;
 
-use crate::clock;
-use crate::db::Dialect;
+use crate::store::learned_colours;
 
 /// Looks a model is learned from (the most recent ones), like the other learned values.
 const LEARNING_WINDOW: i64 = 100;
@@ -46,58 +46,11 @@ pub async fn update(
     epc: &Epc,
     robot_class: Option<&str>,
 ) -> sqlx::Result<ColourChange> {
-    let own = looks(conn, Some(epc), robot_class).await?;
-    let tag = store(conn, epc.as_hex(), robot_class, learn(&own)).await?;
-    let all = looks(conn, None, robot_class).await?;
-    let household = store(conn, "", robot_class, learn(&all)).await?;
+    let own = learned_colours::looks(conn, Some(epc), robot_class, LEARNING_WINDOW).await?;
+    let tag = learned_colours::store(conn, epc.as_hex(), robot_class, learn(&own)).await?;
+    let all = learned_colours::looks(conn, None, robot_class, LEARNING_WINDOW).await?;
+    let household = learned_colours::store(conn, "", robot_class, learn(&all)).await?;
     Ok(ColourChange { tag, household })
-}
-
-/// The learned colour of a tag and of its household for a robot class, as stored.
-pub async fn learned_colours(
-    pool: &sqlx::AnyPool,
-    epc: &Epc,
-    robot_class: Option<&str>,
-) -> sqlx::Result<(Option<LearnedColor>, Option<LearnedColor>)> {
-    let rows: Vec<(String, String)> = sqlx::query_as(
-        "select epc, model from learned_colours where epc in ($1, '') and robot_class = $2",
-    )
-    .bind(epc.as_hex())
-    .bind(robot_class.unwrap_or(""))
-    .fetch_all(pool)
-    .await?;
-    let model = |key: &str| {
-        rows.iter()
-            .find(|(epc, _)| epc == key)
-            .and_then(|(_, model)| serde_json::from_str::<LearnedColor>(model).ok())
-    };
-    Ok((model(epc.as_hex()), model("")))
-}
-
-/// The colour statistics of the latest real-use trials of `epc` (of every tag when `None`) by
-/// robots of `robot_class`.
-async fn looks(
-    conn: &mut AnyConnection,
-    epc: Option<&Epc>,
-    robot_class: Option<&str>,
-) -> sqlx::Result<Vec<TagColor>> {
-    let dialect = Dialect::of(conn);
-    let rows: Vec<Option<String>> = sqlx::query_scalar(dialect.pick(
-        "select json_extract(body, '$.tag_color') from trials
-         where ($1 is null or epc = $1) and coalesce(robot_class, '') = coalesce($2, '')
-           and purpose = 'use' and json_type(body, '$.tag_color') = 'object'
-         order by seq desc limit $3",
-        "select (body::jsonb -> 'tag_color')::text from trials
-         where ($1::text is null or epc = $1) and coalesce(robot_class, '') = coalesce($2, '')
-           and purpose = 'use' and jsonb_typeof(body::jsonb -> 'tag_color') = 'object'
-         order by seq desc limit $3",
-    ))
-    .bind(epc.map(Epc::as_hex))
-    .bind(robot_class)
-    .bind(LEARNING_WINDOW)
-    .fetch_all(conn)
-    .await?;
-    Ok(rows.into_iter().flatten().filter_map(|text| serde_json::from_str(&text).ok()).collect())
 }
 
 /// The model `looks` teach, `None` when they are too few or it would be out of bounds.
@@ -162,51 +115,6 @@ fn within_bounds(model: &LearnedColor, arc_deg: f64) -> bool {
         tracing::warn!(?model, arc_deg, "a learned colour is outside its bounds; not learned");
     }
     fits
-}
-
-/// Stores (or, with `None`, forgets) the model of `epc` (`""` for the household); true when it
-/// changed.
-async fn store(
-    conn: &mut AnyConnection,
-    epc: &str,
-    robot_class: Option<&str>,
-    model: Option<LearnedColor>,
-) -> sqlx::Result<bool> {
-    let class = robot_class.unwrap_or("");
-    let previous: Option<String> =
-        sqlx::query_scalar("select model from learned_colours where epc = $1 and robot_class = $2")
-            .bind(epc)
-            .bind(class)
-            .fetch_optional(&mut *conn)
-            .await?;
-    let Some(model) = model else {
-        if previous.is_some() {
-            sqlx::query("delete from learned_colours where epc = $1 and robot_class = $2")
-                .bind(epc)
-                .bind(class)
-                .execute(conn)
-                .await?;
-        }
-        return Ok(previous.is_some());
-    };
-    let text = serde_json::to_string(&model).map_err(|e| sqlx::Error::Encode(e.into()))?;
-    if previous.as_deref() == Some(text.as_str()) {
-        return Ok(false);
-    }
-    sqlx::query(
-        "insert into learned_colours (epc, robot_class, model, trials, updated_at)
-         values ($1, $2, $3, $4, $5)
-         on conflict (epc, robot_class) do update set model = excluded.model,
-             trials = excluded.trials, updated_at = excluded.updated_at",
-    )
-    .bind(epc)
-    .bind(class)
-    .bind(text)
-    .bind(model.trials as i64)
-    .bind(clock::now())
-    .execute(conn)
-    .await?;
-    Ok(true)
 }
 
 #[cfg(test)]

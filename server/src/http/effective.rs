@@ -13,7 +13,6 @@ use axum::response::{IntoResponse, Response};
 use pps_schema::{Epc, RobotId};
 use sha2::{Digest, Sha256};
 
-use crate::colour_learning;
 use crate::effective::{LearnedColours, merge};
 use crate::effective_cache::CachedEffective;
 use crate::error::ApiError;
@@ -22,6 +21,7 @@ use crate::http::ids::InPath;
 use crate::http::openapi::{Doc, Header, Param, Reply};
 use crate::http::precondition;
 use crate::state::AppState;
+use crate::store::learned_colours;
 use crate::store::{learning, retired, robots, tags};
 
 pub const GET: Doc = Doc::new("getEffectiveEntry", "The entry as this robot should use it")
@@ -88,7 +88,7 @@ async fn compute(
     let stored_robot = robots::get(pool, robot).await?;
     let class = stored_robot.as_ref().and_then(|r| r.class.as_deref());
     let learned = learning::learned_for(pool, parsed, class).await?;
-    let (tag_colour, household) = colour_learning::learned_colours(pool, parsed, class).await?;
+    let (tag_colour, household) = learned_colours::learned(pool, parsed, class).await?;
     let colours = LearnedColours { tag: tag_colour, household };
     let merged = merge(
         epc,

@@ -4,6 +4,7 @@ pub mod columns;
 pub mod events;
 pub mod home_assistant;
 pub mod inbox;
+pub mod learned_colours;
 pub mod learning;
 pub mod pictures;
 pub mod placeholders;
