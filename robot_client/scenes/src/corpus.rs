@@ -7,6 +7,10 @@
 //! Sampling happens in the device frame of [`crate::devices`]; one rigid motion then puts the
 //! device, its room and the clutter in front of the robot, whose base frame is the scene's.
 //! [`crate::rig`] draws the sensors and lights, [`crate::furnishing`] the clutter.
+//!
+//! Longer than most files because a scene is drawn in one order, each draw from the one seeded
+//! stream: split, the order (and with it every scene of the corpus) would be easy to change by
+//! accident.
 
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector2, Vector3};
 use rand::{Rng, SeedableRng};

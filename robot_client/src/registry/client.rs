@@ -1,4 +1,8 @@
 //! Typed calls to the registry for everything a robot does with it.
+//!
+//! Longer than most files because it is the robot's whole vocabulary with the registry, one
+//! method per call, each a few lines over the shared request helpers at the bottom; the task
+//! calls live in `tasks.rs`, the cache, feed and outbox in their own files.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;

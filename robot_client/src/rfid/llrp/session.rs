@@ -2,6 +2,9 @@
 //! configuration, stale ROSpecs deleted, ours added and enabled), inventory rounds, and the
 //! goodbye. Everything the reader sends unasked — keepalives, events, reports — is handled
 //! while waiting for whatever was asked.
+//!
+//! Longer than most files because the set-up is one conversation the standard orders (LLRP
+//! 1.0.1 §17.1); read top to bottom it is that order.
 
 use std::collections::BTreeSet;
 use std::time::{Duration, Instant};
