@@ -106,3 +106,23 @@ async fn with_a_registry_the_chosen_tags_actions_are_printed() {
     let error = doc["registry"]["error"].as_str().expect("an unknown tag is a sentence");
     assert!(error.starts_with("the registry refused") && error.contains("404"), "{error}");
 }
+
+#[test]
+fn durations_out_of_range_are_refused_with_their_range() {
+    for (args, said) in [
+        (&["rfid", "--llrp", "127.0.0.1:9", "--round-ms", "0"][..], "10 to 60000 milliseconds"),
+        (
+            &["rfid", "--llrp", "127.0.0.1:9", "--round-ms", "18446744073709551615"][..],
+            "10 to 60000",
+        ),
+        (&["bench-llrp", "--seconds=-1"][..], "0.1 to 3600 seconds"),
+        (&["bench-llrp", "--seconds", "1e300"][..], "0.1 to 3600 seconds"),
+        (&["bench-llrp", "--seconds", "NaN"][..], "0.1 to 3600 seconds"),
+    ] {
+        let output = pps_robot(args);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(!output.status.success(), "{args:?}: {stderr}");
+        assert!(stderr.contains(said), "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    }
+}

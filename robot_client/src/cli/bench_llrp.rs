@@ -17,8 +17,8 @@ pub struct BenchLlrpArgs {
     /// Tag reports per RO_ACCESS_REPORT message.
     #[arg(long, default_value_t = 100)]
     pub per_message: usize,
-    /// How long to decode, seconds.
-    #[arg(long, default_value_t = 2.0)]
+    /// How long to decode, seconds (0.1 to 3600).
+    #[arg(long, default_value_t = 2.0, value_parser = seconds)]
     pub seconds: f64,
     /// Also time inventory rounds on this reader.
     #[arg(long)]
@@ -26,8 +26,8 @@ pub struct BenchLlrpArgs {
     /// Rounds to time on --llrp.
     #[arg(long, default_value_t = 50)]
     pub rounds: usize,
-    /// Each round's duration, milliseconds.
-    #[arg(long, default_value_t = 100)]
+    /// Each round's duration, milliseconds (10 to 60000).
+    #[arg(long, default_value_t = 100, value_parser = super::rfid::round_ms)]
     pub round_ms: u64,
 }
 
@@ -89,4 +89,12 @@ pub fn run(args: &BenchLlrpArgs) -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+/// How long to decode: a tenth of a second to an hour.
+fn seconds(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(s) if (0.1..=3600.0).contains(&s) => Ok(s),
+        _ => Err(format!("{text:?} is not 0.1 to 3600 seconds")),
+    }
 }

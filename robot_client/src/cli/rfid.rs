@@ -29,8 +29,8 @@ pub struct ReadSettings {
     /// for the M5e).
     #[arg(long, value_delimiter = ',')]
     pub antennas: Vec<u16>,
-    /// How long one inventory round lasts, milliseconds.
-    #[arg(long, default_value_t = 200)]
+    /// How long one inventory round lasts, milliseconds (10 to 60000).
+    #[arg(long, default_value_t = 200, value_parser = round_ms)]
     pub round_ms: u64,
     /// Read (transmit) power, dBm; default: the reader's own setting.
     #[arg(long)]
@@ -235,4 +235,13 @@ fn render(
         }
     }
     out
+}
+
+/// A round's length in milliseconds: at least 10 (a reader needs that to inventory anything),
+/// at most a minute (a round holds every read it keeps until it ends).
+pub(super) fn round_ms(text: &str) -> Result<u64, String> {
+    match text.trim().parse::<u64>() {
+        Ok(ms) if (10..=60_000).contains(&ms) => Ok(ms),
+        _ => Err(format!("{text:?} is not a round of 10 to 60000 milliseconds")),
+    }
 }
