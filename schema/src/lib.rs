@@ -14,6 +14,7 @@ mod read_only;
 mod robot;
 mod robot_id;
 mod schemas;
+mod task_state;
 mod trial;
 mod validate;
 
@@ -35,6 +36,7 @@ pub use read_only::{
 pub use robot::{Robot, RobotLimits};
 pub use robot_id::{RobotId, RobotIdError};
 pub use schemas::{SCHEMA_BASE_URI, SCHEMA_NAMES, schema_document};
+pub use task_state::{TaskState, TaskStateError};
 pub use trial::{
     Finger, ForceSample, MAX_FORCE_SAMPLES, Outcome, Purpose, StartPose, TagColor, Trial,
 };

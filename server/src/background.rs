@@ -5,6 +5,7 @@
 
 use std::time::Duration;
 
+use pps_schema::TaskState;
 use serde_json::Value;
 
 use crate::state::AppState;
@@ -82,7 +83,9 @@ fn invalidate(state: &AppState, event: &Event) {
 /// (a tag, a robot, learned values) or to who ranks first for it (reliability). Every other event leaves waiting robots asleep.
 fn could_change_an_offer(event: &Event) -> bool {
     match event.kind {
-        EventKind::TaskChanged => event.data.get("state") == Some(&Value::from("queued")),
+        EventKind::TaskChanged => {
+            event.data.get("state").and_then(Value::as_str) == Some(TaskState::Queued.as_str())
+        }
         EventKind::TagChanged
         | EventKind::TagArchived
         | EventKind::TagRetagged

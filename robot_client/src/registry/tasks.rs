@@ -3,7 +3,7 @@
 
 use std::time::Duration;
 
-use pps_schema::{Epc, Outcome};
+use pps_schema::{Epc, Outcome, TaskState};
 use reqwest::StatusCode;
 use serde::Deserialize;
 use time::OffsetDateTime;
@@ -20,7 +20,7 @@ pub struct Task {
     pub action: String,
     #[serde(default)]
     pub note: Option<String>,
-    pub state: String,
+    pub state: TaskState,
     /// When the lease runs out unless a heartbeat extends it.
     #[serde(default, with = "time::serde::rfc3339::option")]
     pub lease_until: Option<OffsetDateTime>,

@@ -1,5 +1,6 @@
 //! A tag's newest task in the words a caretaker reads on a Home Assistant dashboard.
 
+use pps_schema::TaskState;
 use serde_json::{Value, json};
 
 use crate::store::tasks::TaskRow;
@@ -11,13 +12,16 @@ const MAX_STATE_CHARS: usize = 255;
 pub fn words(task: &TaskRow) -> String {
     let robot = task.claimed_by.as_ref().map(ToString::to_string);
     let reason = task.reason.as_deref().filter(|reason| !reason.is_empty());
-    let mut said = match task.state.as_str() {
-        "queued" => "queued".to_owned(),
-        "claimed" => format!("being done by {}", robot.as_deref().unwrap_or("a robot")),
-        "done" => robot.map_or_else(|| "done".to_owned(), |robot| format!("done by {robot}")),
-        "failed" => format!("failed: {}", reason.unwrap_or("the robot's detector saw no change")),
-        "cancelled" => format!("cancelled: {}", reason.unwrap_or("no reason given")),
-        other => other.to_owned(),
+    let mut said = match task.state {
+        TaskState::Queued => "queued".to_owned(),
+        TaskState::Claimed => format!("being done by {}", robot.as_deref().unwrap_or("a robot")),
+        TaskState::Done => {
+            robot.map_or_else(|| "done".to_owned(), |robot| format!("done by {robot}"))
+        }
+        TaskState::Failed => {
+            format!("failed: {}", reason.unwrap_or("the robot's detector saw no change"))
+        }
+        TaskState::Cancelled => format!("cancelled: {}", reason.unwrap_or("no reason given")),
     };
     if task.is_open() {
         for decline in task.declined() {
@@ -54,7 +58,7 @@ mod tests {
             robot: None,
             class: None,
             note: None,
-            state: state.into(),
+            state: state.parse().unwrap(),
             created_by: "Home Assistant bridge".into(),
             created_at: "2026-12-05T10:00:00.000Z".into(),
             claimed_by: None,
@@ -75,7 +79,7 @@ mod tests {
         let mut claimed = task("claimed");
         claimed.claimed_by = Some(RobotId::parse("el-e-1").unwrap());
         assert_eq!(words(&claimed), "being done by el-e-1");
-        claimed.state = "done".into();
+        claimed.state = TaskState::Done;
         assert_eq!(words(&claimed), "done by el-e-1");
         let mut failed = task("failed");
         failed.reason = Some("the lease ran out 3 times".into());

@@ -4,7 +4,7 @@
 //! never as a boolean, so one schema type keeps one decoding. Rows decode a flag through
 //! [`Flag`] (`#[sqlx(try_from = "Flag")]`); statements bind `i64::from(flag)`. Documents (an
 //! entry, a trial) are JSON text, parsed by [`JsonText`]. Ids (an EPC in hex, a robot id, a
-//! UUID) are text, parsed as they are read through [`Id`] and [`MaybeId`]
+//! UUID, a task's state) are text, parsed as they are read through [`Id`] and [`MaybeId`]
 //! (`#[sqlx(try_from = "Id<Epc>")]`), so a row hands out the same types the API parsed.
 
 use sqlx::any::AnyValueRef;
@@ -137,4 +137,4 @@ macro_rules! id_column {
     )*};
 }
 
-id_column!(pps_schema::Epc, pps_schema::RobotId, uuid::Uuid);
+id_column!(pps_schema::Epc, pps_schema::RobotId, pps_schema::TaskState, uuid::Uuid);

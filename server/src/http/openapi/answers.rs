@@ -239,7 +239,7 @@ pub(super) fn shapes() -> Vec<(&'static str, Value)> {
                     "robot": nullable(component("robot/$defs/robot_id")),
                     "class": nullable(component("robot/$defs/robot_id")),
                     "note": nullable(text()),
-                    "state": { "enum": ["queued", "claimed", "done", "failed", "cancelled"] },
+                    "state": { "enum": pps_schema::TaskState::NAMES },
                     "created_by": text(),
                     "created_at": time(),
                     "claimed_by": {

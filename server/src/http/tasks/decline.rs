@@ -9,7 +9,7 @@
 
 use axum::Json;
 use axum::extract::State;
-use pps_schema::{FieldError, RobotId};
+use pps_schema::{FieldError, RobotId, TaskState};
 use serde_json::Value;
 
 use super::{TASK_ID, find, outlook, targets};
@@ -91,10 +91,10 @@ fn refusal(task: &TaskRow, robot: &RobotId, class: Option<&str>) -> Option<ApiEr
             task.id
         )));
     }
-    match (task.state.as_str(), task.claimed_by.as_ref()) {
-        ("queued", _) => None,
-        ("claimed", Some(holder)) if holder == robot => None,
-        ("claimed", Some(holder)) => Some(ApiError::Conflict(format!(
+    match (task.state, task.claimed_by.as_ref()) {
+        (TaskState::Queued, _) => None,
+        (TaskState::Claimed, Some(holder)) if holder == robot => None,
+        (TaskState::Claimed, Some(holder)) => Some(ApiError::Conflict(format!(
             "robot {holder} holds task {} now; a robot declines a task it holds or one \
              waiting in the queue",
             task.id

@@ -12,7 +12,7 @@ use axum::Json;
 use axum::extract::State;
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
-use pps_schema::{FieldError, RobotId};
+use pps_schema::{FieldError, RobotId, TaskState};
 use serde::Deserialize;
 use serde_json::Value;
 use uuid::Uuid;
@@ -209,7 +209,7 @@ pub async fn finish(
         // A retry whose first answer was lost: it must say what the first finish said.
         return replayed(&state, task, first, trial_id, &outcome).await;
     }
-    if task.state != "claimed" || task.claimed_by.as_ref() != Some(robot) {
+    if task.state != TaskState::Claimed || task.claimed_by.as_ref() != Some(robot) {
         return Err(not_held(&task, robot));
     }
     if let Some(other) = tasks::finished_with(state.db.reader(), &trial_id).await? {
@@ -349,13 +349,13 @@ fn not_held(task: &TaskRow, robot: &RobotId) -> ApiError {
             task.id
         ));
     }
-    let now = match (task.state.as_str(), task.claimed_by.as_ref()) {
-        ("claimed", Some(holder)) if holder == robot => format!(
+    let now = match (task.state, task.claimed_by.as_ref()) {
+        (TaskState::Claimed, Some(holder)) if holder == robot => format!(
             "its lease ran out at {}; it goes back to the queue",
             task.lease_until.as_deref().unwrap_or("?")
         ),
-        ("claimed", Some(other)) => format!("robot {other} holds it now"),
-        ("queued", _) => "it is back in the queue".to_owned(),
+        (TaskState::Claimed, Some(other)) => format!("robot {other} holds it now"),
+        (TaskState::Queued, _) => "it is back in the queue".to_owned(),
         (ended, _) => format!(
             "it is {ended}{}",
             task.reason.as_deref().map(|r| format!(" ({r})")).unwrap_or_default()

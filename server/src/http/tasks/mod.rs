@@ -13,7 +13,7 @@ use axum::extract::State;
 use axum::http::StatusCode;
 use axum::http::header::LOCATION;
 use axum::response::{IntoResponse, Response};
-use pps_schema::{Epc, RobotId};
+use pps_schema::{Epc, RobotId, TaskState};
 use serde::Deserialize;
 use serde_json::Value;
 use uuid::Uuid;
@@ -111,7 +111,7 @@ pub struct ListParams {
     cursor: Option<String>,
 }
 
-const STATES: &[&str] = &["queued", "claimed", "done", "failed", "cancelled"];
+const STATES: &[&str] = &TaskState::NAMES;
 
 pub const LIST: Doc = Doc::new("listTasks", "Tasks, newest first")
     .describe(
@@ -139,14 +139,18 @@ pub async fn list(
 ) -> Result<Json<page::Page<Value>>, ApiError> {
     let limit = page::limit(params.limit)?;
     let before = page::decode_position(params.cursor.as_deref())?;
-    if let Some(asked) = &params.state
-        && !STATES.contains(&asked.as_str())
-    {
-        return Err(ApiError::BadRequest(format!(
-            "state is one of {}, not {asked:?}",
-            STATES.join(", ")
-        )));
-    }
+    let asked_state = params
+        .state
+        .as_deref()
+        .map(|asked| {
+            asked.parse::<TaskState>().map_err(|_| {
+                ApiError::BadRequest(format!(
+                    "state is one of {}, not {asked:?}",
+                    STATES.join(", ")
+                ))
+            })
+        })
+        .transpose()?;
     let epc = params.epc.as_deref().map(Epc::parse_segment).transpose()?;
     let robot = params.robot.as_deref().map(RobotId::parse_segment).transpose()?;
     let visible_to = match (caller.role, &robot) {
@@ -159,7 +163,7 @@ pub async fn list(
         (Role::Robot, _) => Some(robot_and_class(&state, &caller).await?),
         _ => None,
     };
-    let filter = TaskFilter { state: params.state, epc, robot, visible_to };
+    let filter = TaskFilter { state: asked_state, epc, robot, visible_to };
     let rows = tasks::list(state.db.reader(), &filter, before, limit + 1).await?;
     let mut page = page::page(rows, limit, |row| row.seq.to_string());
     if let Some((robot, _)) = &filter.visible_to {
@@ -220,8 +224,8 @@ pub async fn cancel(
         return Ok(Json(row.to_json()));
     }
     let row = find(&state, &id).await?;
-    match row.state.as_str() {
-        "cancelled" => Ok(Json(row.to_json())),
+    match row.state {
+        TaskState::Cancelled => Ok(Json(row.to_json())),
         ended => Err(ApiError::Conflict(format!(
             "task {id} is {ended} already (trial {}); only queued or claimed tasks can be \
              cancelled — ask for a new task to undo it",
@@ -258,7 +262,7 @@ async fn may_see(state: &AppState, robot: &RobotId, row: &TaskRow) -> Result<boo
     if row.claimed_by.as_ref() == Some(robot) || row.holders().iter().any(|h| h == robot) {
         return Ok(true);
     }
-    if row.state != "queued" || row.robot.as_ref().is_some_and(|r| r != robot) {
+    if row.state != TaskState::Queued || row.robot.as_ref().is_some_and(|r| r != robot) {
         return Ok(false);
     }
     let class = robots::get(state.db.reader(), robot).await?.and_then(|r| r.class);

@@ -10,7 +10,7 @@
 use std::collections::HashMap;
 use std::time::Duration;
 
-use pps_schema::{Epc, RobotId};
+use pps_schema::{Epc, RobotId, TaskState};
 use serde_json::Value;
 
 use super::availability::why_not;
@@ -36,7 +36,7 @@ pub async fn shown_all(state: &AppState, tasks: &[TaskRow]) -> Result<Vec<Value>
     let mut shown = Vec::with_capacity(tasks.len());
     for task in tasks {
         let mut json = task.to_json();
-        if task.state == "queued" {
+        if task.state == TaskState::Queued {
             let (waiting_for, stuck) = look.at(task).await?;
             json["waiting_for"] = serde_json::json!(waiting_for);
             json["stuck"] = stuck.map_or(Value::Null, Value::from);
@@ -55,7 +55,7 @@ struct Look<'a> {
 
 impl<'a> Look<'a> {
     async fn new(state: &'a AppState, tasks: &[TaskRow]) -> Result<Self, ApiError> {
-        let robots = if tasks.iter().any(|task| task.state == "queued") {
+        let robots = if tasks.iter().any(|task| task.state == TaskState::Queued) {
             robots::list(state.db.reader(), None, MAX_ROBOTS).await?
         } else {
             Vec::new()

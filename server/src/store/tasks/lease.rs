@@ -3,7 +3,7 @@
 //! guarded `update … where <the state it must be in> … returning`, so two robots racing for one
 //! task cannot both get it, and a lost lease cannot be finished.
 
-use pps_schema::RobotId;
+use pps_schema::{RobotId, TaskState};
 use sqlx::{AnyConnection, AnyPool};
 use uuid::Uuid;
 
@@ -124,7 +124,7 @@ pub async fn finish(
          returning ",
         columns!()
     ))
-    .bind(if succeeded { "done" } else { "failed" })
+    .bind(if succeeded { TaskState::Done } else { TaskState::Failed }.as_str())
     .bind(trial.hyphenated().to_string())
     .bind(reason)
     .bind(&now)

@@ -5,7 +5,7 @@
 //! task, reading and listing tasks, cancelling; the lease (claim, heartbeat, finish, the sweep)
 //! is `lease.rs`, a robot's decline `decline.rs`.
 
-use pps_schema::{Epc, RobotId};
+use pps_schema::{Epc, RobotId, TaskState};
 use serde_json::{Value, json};
 use sqlx::{AnyConnection, AnyPool};
 use uuid::Uuid;
@@ -32,7 +32,8 @@ pub struct TaskRow {
     pub robot: Option<RobotId>,
     pub class: Option<String>,
     pub note: Option<String>,
-    pub state: String,
+    #[sqlx(try_from = "Id<TaskState>")]
+    pub state: TaskState,
     pub created_by: String,
     pub created_at: String,
     #[sqlx(try_from = "MaybeId<RobotId>")]
@@ -105,13 +106,13 @@ impl TaskRow {
 
     /// Whether the task ended because it expired before a robot took it (or finished it).
     pub fn expired(&self) -> bool {
-        self.state == "cancelled"
+        self.state == TaskState::Cancelled
             && self.expires_at.as_ref().is_some_and(|at| *at <= self.updated_at)
     }
 
     /// Whether the task can still change hands or be cancelled.
     pub fn is_open(&self) -> bool {
-        matches!(self.state.as_str(), "queued" | "claimed")
+        self.state.is_open()
     }
 
     /// The event announcing this task as it is now.
@@ -204,7 +205,7 @@ pub async fn get(pool: &AnyPool, id: &Uuid) -> sqlx::Result<Option<TaskRow>> {
 /// Which tasks a list wants.
 #[derive(Debug, Default, Clone)]
 pub struct TaskFilter {
-    pub state: Option<String>,
+    pub state: Option<TaskState>,
     pub epc: Option<Epc>,
     /// Tasks this robot holds, did, or that name it as their target.
     pub robot: Option<RobotId>,
@@ -253,7 +254,7 @@ pub async fn list(
     };
     sqlx::query_as(statement)
         .bind(before)
-        .bind(filter.state.as_deref())
+        .bind(filter.state.map(TaskState::as_str))
         .bind(filter.epc.as_ref().map(Epc::as_hex))
         .bind(filter.robot.as_ref().map(RobotId::as_str))
         .bind(visible_robot)
