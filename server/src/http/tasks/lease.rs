@@ -12,7 +12,7 @@ use axum::Json;
 use axum::extract::State;
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
-use pps_schema::{FieldError, RobotId, TaskState};
+use pps_schema::{FieldError, Outcome, RobotId, TaskState};
 use serde::Deserialize;
 use serde_json::Value;
 use uuid::Uuid;
@@ -194,8 +194,6 @@ pub const FINISH: Doc =
             Reply::problem(422, "No such trial, or it is on another tag or action or outcome"),
         ]);
 
-const OUTCOMES: [&str; 4] = ["success", "failure", "aborted", "error"];
-
 pub async fn finish(
     State(state): State<AppState>,
     Caller(caller): Caller,
@@ -207,7 +205,7 @@ pub async fn finish(
     let task = find(&state, &id).await?;
     if let Some(first) = task.trial.filter(|_| task.claimed_by.as_ref() == Some(robot)) {
         // A retry whose first answer was lost: it must say what the first finish said.
-        return replayed(&state, task, first, trial_id, &outcome).await;
+        return replayed(&state, task, first, trial_id, outcome).await;
     }
     if task.state != TaskState::Claimed || task.claimed_by.as_ref() != Some(robot) {
         return Err(not_held(&task, robot));
@@ -243,17 +241,21 @@ pub async fn finish(
             format!("trial {trial_id} did {}, the task asks for {}", trial.action, task.action),
         ));
     }
-    if trial.outcome != outcome {
+    if trial.outcome != outcome.as_str() {
         errors.push(FieldError::new(
             "/outcome",
-            format!("trial {trial_id} records the outcome {}, not {outcome}", trial.outcome),
+            format!(
+                "trial {trial_id} records the outcome {}, not {}",
+                trial.outcome,
+                outcome.as_str()
+            ),
         ));
     }
     if !errors.is_empty() {
         return Err(ApiError::Invalid(errors));
     }
-    let succeeded = outcome == "success";
-    let reason = (!succeeded).then(|| format!("the robot's trial ended in {outcome}"));
+    let succeeded = outcome == Outcome::Success;
+    let reason = (!succeeded).then(|| format!("the robot's trial ended in {}", outcome.as_str()));
     let mut tx = state.db.begin_write().await?;
     let ended = tasks::finish(&mut tx, &id, robot, &trial_id, succeeded, reason.as_deref()).await?;
     tx.commit().await?;
@@ -278,10 +280,10 @@ async fn replayed(
     task: TaskRow,
     first: Uuid,
     trial_id: Uuid,
-    outcome: &str,
+    outcome: Outcome,
 ) -> Result<Json<Value>, ApiError> {
     let recorded = trials::get(state.db.reader(), &first).await?.map(|trial| trial.outcome);
-    if trial_id == first && recorded.as_deref() == Some(outcome) {
+    if trial_id == first && recorded.as_deref() == Some(outcome.as_str()) {
         return Ok(Json(task.to_json()));
     }
     Err(ApiError::Conflict(format!(
@@ -302,7 +304,7 @@ fn trial_used(trial: &Uuid, task: &Uuid) -> ApiError {
 }
 
 /// The finish body: `{"trial": UUID, "outcome"}`, every problem reported at once.
-fn parse_finish(body: &Value) -> Result<(Uuid, String), ApiError> {
+fn parse_finish(body: &Value) -> Result<(Uuid, Outcome), ApiError> {
     let Some(object) = body.as_object() else {
         return Err(ApiError::invalid_at(
             "",
@@ -323,12 +325,14 @@ fn parse_finish(body: &Value) -> Result<(Uuid, String), ApiError> {
             None
         }
     };
-    let outcome = match object.get("outcome").and_then(Value::as_str) {
-        Some(outcome) if OUTCOMES.contains(&outcome) => Some(outcome.to_owned()),
-        _ => {
+    let asked = object.get("outcome").and_then(Value::as_str);
+    let outcome = match Outcome::ALL.into_iter().find(|o| Some(o.as_str()) == asked) {
+        Some(outcome) => Some(outcome),
+        None => {
+            let names: Vec<&str> = Outcome::ALL.iter().map(|o| o.as_str()).collect();
             errors.push(FieldError::new(
                 "/outcome",
-                format!("outcome is one of {}", OUTCOMES.join(", ")),
+                format!("outcome is one of {}", names.join(", ")),
             ));
             None
         }
