@@ -9,16 +9,12 @@
 
 use nalgebra::{Point3, Vector2};
 use pps_schema::DropParams;
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
 
 use super::force::ForceRecorder;
 use super::motion::{Hand, RobotBody, move_arm_by, set_gripper_deg};
 use super::{BehaviorReport, Evidence, milli};
 use crate::hal::{HalError, MobileBase, TiltSweep, TiltingLaser};
-use crate::navigation::{
-    BackingPlaneRule, PlaneSearchParams, VolumeOfInterest, choose_backing_plane, find_planes,
-};
+use crate::navigation::find_container_opening;
 
 /// What the drop needs besides the entry: where the tag was seen and how to scan for the
 /// container.
@@ -44,53 +40,21 @@ pub fn drop_object(
     let held_before = forces.sample()?;
     evidence.detector("force_before", milli(held_before.max()));
 
-    // Scan, find the planes around the tag, and the container's front among them.
+    // Scan, and find the container's front and a point over its opening.
     let cloud = robot.scan(&geometry.sweep)?;
-    let voi = VolumeOfInterest::around(geometry.tag, 0.4, 0.5);
-    let points = voi.crop(&cloud.points);
-    let sensor = geometry.body.laser;
-    let mut rng = ChaCha8Rng::seed_from_u64(geometry.seed);
-    let planes = find_planes(&points, &sensor, &PlaneSearchParams::default(), &mut rng).planes;
-    // The tag on a trash can is a patch: 5 cm of reach is plenty for the foot-gap rule.
-    let Some(front) = choose_backing_plane(
-        &planes,
-        &points,
-        &geometry.tag,
-        0.05,
-        &[],
-        &sensor,
-        &BackingPlaneRule::default(),
-    )
-    .plane
-    else {
+    let search =
+        find_container_opening(&cloud.points, &geometry.tag, &geometry.body.laser, geometry.seed);
+    let Some(opening) = search.opening else {
         evidence.detector("container_found", false);
-        evidence.step(format!("no container front among {} planes", planes.len()));
+        evidence.step(format!("no container front among {} planes", search.planes));
         return Ok(evidence.finish(false, forces));
     };
-    // The opening: the level surface behind the front and above the tag, nearest the tag (the
-    // container's top, not the floor below it or a table beyond it).
-    let top = planes
-        .iter()
-        .filter(|p| p.plane.normal.z.abs() > 20f64.to_radians().cos())
-        .filter(|p| p.centroid.z > geometry.tag.z)
-        .filter(|p| front.normal.dot(&p.centroid.coords) + front.offset < 0.0)
-        .min_by(|a, b| {
-            let d = |p: &&crate::navigation::DetectedPlane| (p.centroid - geometry.tag).norm();
-            d(a).total_cmp(&d(b))
-        });
-    let drop_point = match top {
-        Some(top) => top.centroid,
-        // No top seen: a hand's width behind the front, at the tag's height.
-        None => geometry.tag - front.normal * 0.1,
-    };
+    let drop_point = opening.drop_point;
     evidence.detector("container_found", true);
     evidence.measure("rim_height", milli(drop_point.z));
     evidence.step(format!(
         "scanned {} points, {} planes; drop point {:.2} m ahead, rim at {:.2} m",
-        points.len(),
-        planes.len(),
-        drop_point.x,
-        drop_point.z
+        search.points, search.planes, drop_point.x, drop_point.z
     ));
 
     // Hand up above the rim and in, then drive to the standoff, facing the drop point.

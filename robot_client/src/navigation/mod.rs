@@ -7,13 +7,15 @@
 //! [`choose_backing_plane`] (the surface behind the tag; the paper's nearest-plane rule
 //! is kept as [`nearest_plane_to_target`]), [`approach_waypoint`] (50 cm out along its normal,
 //! facing the tag), [`check_clearance`] (the robot with its arm extended against the cloud);
-//! [`plan_approach`] runs them all. [`identify_tag`] picks the strongest RFID read.
+//! [`plan_approach`] runs them all. [`identify_tag`] picks the strongest RFID read, and
+//! [`find_container_opening`] where the drop behaviour lets go.
 //!
 //! Like perception, navigation geometry works on data and never on devices or the simulator.
 
 mod approach;
 mod backing_plane;
 mod cells;
+mod container;
 mod depth_approach;
 mod plane;
 mod plane_evidence;
@@ -31,6 +33,7 @@ pub use approach::{ApproachParams, ApproachPlan, plan_approach};
 pub use backing_plane::{
     BackingChoice, BackingPlane, BackingPlaneRule, choose_backing_plane, nearest_plane_to_target,
 };
+pub use container::{ContainerOpening, ContainerSearch, find_container_opening};
 pub use depth_approach::{DepthApproachError, plan_approach_on_depth};
 pub use plane::Plane;
 pub use plane_evidence::{PlanarPatch, PlaneEvidenceRule, assess_plane};
