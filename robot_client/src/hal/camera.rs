@@ -54,8 +54,9 @@ impl GrayImage {
     }
 }
 
-/// Pinhole intrinsics in pixels, no distortion (images are rectified).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Pinhole intrinsics in pixels, no distortion (images are rectified). Serialised as the
+/// top-level fields of a camera file (DESIGN §6).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CameraIntrinsics {
     pub width: u32,
     pub height: u32,
@@ -66,6 +67,18 @@ pub struct CameraIntrinsics {
 }
 
 impl CameraIntrinsics {
+    /// Checks that the numbers make a camera; the reason names the bad field.
+    pub fn check(&self) -> Result<(), String> {
+        if self.width == 0 || self.height == 0 {
+            return Err("width and height must be positive".into());
+        }
+        let finite = [self.fx, self.fy, self.cx, self.cy].iter().all(|v| v.is_finite());
+        if !finite || self.fx <= 0.0 || self.fy <= 0.0 {
+            return Err("fx and fy must be positive numbers, cx and cy finite".into());
+        }
+        Ok(())
+    }
+
     /// The pixel a point in the optical frame (z out of the lens, x right, y down) falls on, or
     /// `None` when it is behind the camera.
     pub fn project(&self, p: &Point3<f64>) -> Option<Point2<f64>> {

@@ -8,15 +8,11 @@ use serde::{Deserialize, Serialize};
 use super::{RecordingError, io_error};
 use crate::hal::{CameraCalibration, CameraIntrinsics};
 
-/// The JSON document, field for field.
+/// The JSON document: the intrinsics' own fields at the top level, beside the pose.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CameraFile {
-    pub width: u32,
-    pub height: u32,
-    pub fx: f64,
-    pub fy: f64,
-    pub cx: f64,
-    pub cy: f64,
+    #[serde(flatten)]
+    pub intrinsics: CameraIntrinsics,
     pub base_from_camera: PoseFile,
 }
 
@@ -29,16 +25,10 @@ pub struct PoseFile {
 
 impl From<&CameraCalibration> for CameraFile {
     fn from(c: &CameraCalibration) -> Self {
-        let i = &c.intrinsics;
         let q = c.base_from_camera.rotation.quaternion();
         let t = c.base_from_camera.translation.vector;
         Self {
-            width: i.width,
-            height: i.height,
-            fx: i.fx,
-            fy: i.fy,
-            cx: i.cx,
-            cy: i.cy,
+            intrinsics: c.intrinsics,
             base_from_camera: PoseFile {
                 translation: [t.x, t.y, t.z],
                 rotation_xyzw: [q.i, q.j, q.k, q.w],
@@ -50,13 +40,7 @@ impl From<&CameraCalibration> for CameraFile {
 impl CameraFile {
     /// Checks the numbers and builds the calibration; the reason names the bad field.
     pub fn to_calibration(&self) -> Result<CameraCalibration, String> {
-        if self.width == 0 || self.height == 0 {
-            return Err("width and height must be positive".into());
-        }
-        let finite = [self.fx, self.fy, self.cx, self.cy].iter().all(|v| v.is_finite());
-        if !finite || self.fx <= 0.0 || self.fy <= 0.0 {
-            return Err("fx and fy must be positive numbers, cx and cy finite".into());
-        }
+        self.intrinsics.check()?;
         let [x, y, z] = self.base_from_camera.translation;
         let [qx, qy, qz, qw] = self.base_from_camera.rotation_xyzw;
         let q = Quaternion::new(qw, qx, qy, qz);
@@ -66,14 +50,7 @@ impl CameraFile {
             );
         }
         Ok(CameraCalibration {
-            intrinsics: CameraIntrinsics {
-                width: self.width,
-                height: self.height,
-                fx: self.fx,
-                fy: self.fy,
-                cx: self.cx,
-                cy: self.cy,
-            },
+            intrinsics: self.intrinsics,
             base_from_camera: Isometry3::from_parts(
                 Translation3::new(x, y, z),
                 UnitQuaternion::from_quaternion(q),
@@ -135,7 +112,12 @@ mod tests {
     fn names_what_is_missing() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("camera.json");
-        std::fs::write(&path, r#"{"width": 10, "height": 10, "fx": 1, "fy": 1, "cx": 1}"#).unwrap();
+        std::fs::write(
+            &path,
+            r#"{"width":10,"height":10,"fx":1,"fy":1,"cx":1,
+               "base_from_camera":{"translation":[0,0,0],"rotation_xyzw":[0,0,0,1]}}"#,
+        )
+        .unwrap();
         let message = read_camera_file(&path).unwrap_err().to_string();
         assert!(message.contains("cy"), "{message}");
         std::fs::write(
