@@ -6,7 +6,7 @@
 //! - [`cores`]: the machine's cores the chain's larger steps are split over.
 //! - [`navigation`]: the paper's §IV-B.1 geometry: volume of interest, planes, backing plane,
 //!   waypoint, collision check, and which RFID tag was read.
-//! - [`recording`]: the files recorded sensor data travels in (PNG, PLY, camera JSON).
+//! - [`sensor_files`]: the files recorded sensor data travels in (PNG, PLY, camera JSON).
 //! - [`registry`]: the registry client, its entry cache and the durable trial outbox.
 //! - [`rfid`]: real RFID readers (LLRP over TCP, the ThingMagic M5e over serial).
 //! - [`behaviors`]: the paper's §IV-B.2 manipulation behaviours, each with its detector.
@@ -32,9 +32,9 @@ pub mod hal;
 pub mod navigation;
 pub mod perception;
 pub mod picture;
-pub mod recording;
 pub mod registry;
 pub mod rfid;
+pub mod sensor_files;
 #[cfg(feature = "sim")]
 pub mod sim;
 pub mod task;

@@ -14,7 +14,7 @@ use std::time::{Duration, Instant};
 use pps_schema::Outcome;
 
 use crate::experiment::{SimulatedTrial, flush_until_stored, run_simulated};
-use crate::registry::{RegistryClient, RegistryError, Task, retry};
+use crate::registry::{QueuedTask, RegistryClient, RegistryError, retry};
 use crate::sim::{DeviceKind, RoomOptions, SimBody};
 use crate::task::TaskConfig;
 
@@ -107,7 +107,7 @@ impl Worker {
 /// Runs one claimed task in a fresh simulated room and ends it; returns a line saying how.
 async fn work_on(
     registry: &RegistryClient,
-    task: &Task,
+    task: &QueuedTask,
     body: SimBody,
     room: RoomOptions,
     seed: u64,
@@ -175,7 +175,7 @@ fn outcome_words(outcome: Outcome) -> &'static str {
 }
 
 /// Heartbeats until aborted, or until the registry says the lease was lost.
-async fn keep_lease(registry: RegistryClient, task: Task) {
+async fn keep_lease(registry: RegistryClient, task: QueuedTask) {
     let mut every = task.heartbeat_every();
     loop {
         tokio::time::sleep(every).await;

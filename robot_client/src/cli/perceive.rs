@@ -16,7 +16,7 @@ use crate::navigation::{
 };
 use crate::perception::{DepthImage, DepthRange, HsvThresholds, TagDetection, TagSighting};
 use crate::picture::draw_overlay;
-use crate::recording::{read_camera_file, read_depth, read_ply, read_png_of_size, write_png};
+use crate::sensor_files::{read_camera_file, read_depth, read_ply, read_png_of_size, write_png};
 use crate::timings::StepTimings;
 
 #[derive(Debug, Args)]

@@ -13,7 +13,7 @@ pub use overlay::draw_overlay;
 
 use crate::hal::{CameraCalibration, ColorImage};
 use crate::navigation::{ApproachPlan, RobotFootprint};
-use crate::recording::encode_png;
+use crate::sensor_files::encode_png;
 
 /// The largest picture the robot sends, in bytes (the registry takes up to 256 KiB).
 pub const MAX_PICTURE_BYTES: usize = 200 * 1024;

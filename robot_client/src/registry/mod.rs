@@ -14,11 +14,11 @@ mod flaky_registry;
 mod outbox;
 pub mod retry;
 mod state_file;
-mod tasks;
+mod task_queue;
 
 pub use change_watch::ChangeWatch;
 pub use client::{Fetched, FlushReport, RegistryClient, Source};
 pub use entry_cache::EntryCache;
 pub use error::{Problem, RegistryError};
 pub use outbox::{PendingTrial, TrialOutbox};
-pub use tasks::Task;
+pub use task_queue::QueuedTask;

@@ -16,7 +16,7 @@ use crate::hal::{
     CameraCalibration, ColorCamera, ColorImage, Operator, PlanarPose, PointCloud, TiltSweep,
     TiltingLaser,
 };
-use crate::recording::{PlyFormat, RecordingError, write_camera_file, write_ply, write_png};
+use crate::sensor_files::{PlyFormat, SensorFileError, write_camera_file, write_ply, write_png};
 
 /// Where the robot starts, around the tag at a fixed distance, facing it. Left and right are as
 /// seen by a person standing in front of the device. The paper's four starts are evenly spaced
@@ -182,8 +182,8 @@ pub fn capture_scene(
 impl SceneCapture {
     /// Writes `image.png`, `cloud.ply` (binary little-endian), `camera.json` and `scene.json`
     /// (the target and the truth) into `dir`, creating it.
-    pub fn write(&self, dir: &Path) -> Result<(), RecordingError> {
-        std::fs::create_dir_all(dir).map_err(|e| crate::recording::io_error(dir, e))?;
+    pub fn write(&self, dir: &Path) -> Result<(), SensorFileError> {
+        std::fs::create_dir_all(dir).map_err(|e| crate::sensor_files::io_error(dir, e))?;
         write_png(&dir.join("image.png"), &self.image)?;
         write_ply(&dir.join("cloud.ply"), &self.cloud, PlyFormat::BinaryLittleEndian)?;
         write_camera_file(&dir.join("camera.json"), &self.calibration)?;
@@ -200,7 +200,7 @@ impl SceneCapture {
         });
         let path = dir.join("scene.json");
         std::fs::write(&path, serde_json::to_string_pretty(&scene).unwrap_or_default() + "\n")
-            .map_err(|e| crate::recording::io_error(&path, e))
+            .map_err(|e| crate::sensor_files::io_error(&path, e))
     }
 
     /// The target as `--target` takes it.

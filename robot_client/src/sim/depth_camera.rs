@@ -10,7 +10,9 @@ use nalgebra::{Isometry3, Point3, Vector3};
 use super::capture::SceneCapture;
 use super::room::Room;
 use crate::hal::PointCloud;
-use crate::recording::{PlyFormat, RecordingError, write_depth_pfm, write_depth_png, write_ply};
+use crate::sensor_files::{
+    PlyFormat, SensorFileError, write_depth_pfm, write_depth_png, write_ply,
+};
 
 /// Farthest surface the depth camera sees, metres.
 const FAR: f32 = 50.0;
@@ -72,7 +74,7 @@ impl AlignedDepth {
 
     /// Writes `depth.png` (millimetres), `depth.pfm` (metres) and `depth.ply` (the same rays'
     /// points, base frame) into `dir`.
-    pub fn write(&self, dir: &Path) -> Result<(), RecordingError> {
+    pub fn write(&self, dir: &Path) -> Result<(), SensorFileError> {
         let size = (self.width, self.height);
         write_depth_png(&dir.join("depth.png"), size, &self.millimetres())?;
         write_depth_pfm(&dir.join("depth.pfm"), size, &self.metres)?;

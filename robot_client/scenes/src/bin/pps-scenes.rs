@@ -9,7 +9,9 @@ use anyhow::Context;
 use clap::{Parser, Subcommand};
 use pps_robot::navigation::{ApproachParams, plan_approach, plan_approach_on_depth};
 use pps_robot::perception::{DepthRange, cloud_from_depth};
-use pps_robot::recording::{PlyFormat, write_camera_file, write_depth_png, write_ply, write_png};
+use pps_robot::sensor_files::{
+    PlyFormat, write_camera_file, write_depth_png, write_ply, write_png,
+};
 use pps_scenes::{DeviceKind, GeneratedScene, RgbdVariants, generate, generate_rgbd, judge};
 
 #[derive(Debug, Parser)]

@@ -5,24 +5,24 @@ use std::fs::File;
 use std::io::BufReader;
 use std::path::Path;
 
-use super::{RecordingError, check_declared_size, io_error};
+use super::{SensorFileError, check_declared_size, io_error};
 use crate::hal::ColorImage;
 
 /// Reads a PNG into 8-bit RGB.
-pub fn read_png(path: &Path) -> Result<ColorImage, RecordingError> {
+pub fn read_png(path: &Path) -> Result<ColorImage, SensorFileError> {
     read_colour(path, None)
 }
 
 /// Reads a PNG that a camera of `size` (width, height) took into 8-bit RGB; another size is
 /// refused from the header, before a pixel is decoded.
-pub fn read_png_of_size(path: &Path, size: (u32, u32)) -> Result<ColorImage, RecordingError> {
+pub fn read_png_of_size(path: &Path, size: (u32, u32)) -> Result<ColorImage, SensorFileError> {
     read_colour(path, Some(size))
 }
 
-fn read_colour(path: &Path, expected: Option<(u32, u32)>) -> Result<ColorImage, RecordingError> {
+fn read_colour(path: &Path, expected: Option<(u32, u32)>) -> Result<ColorImage, SensorFileError> {
     let file = File::open(path).map_err(|e| io_error(path, e))?;
     let png_error =
-        |reason: String| RecordingError::Png { path: path.display().to_string(), reason };
+        |reason: String| SensorFileError::Png { path: path.display().to_string(), reason };
     let mut decoder = png::Decoder::new(BufReader::new(file));
     // Palette and low bit depths become 8-bit channels; 16-bit keeps its high byte.
     decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
@@ -61,7 +61,7 @@ fn read_colour(path: &Path, expected: Option<(u32, u32)>) -> Result<ColorImage, 
 }
 
 /// Writes 8-bit RGB PNG.
-pub fn write_png(path: &Path, image: &ColorImage) -> Result<(), RecordingError> {
+pub fn write_png(path: &Path, image: &ColorImage) -> Result<(), SensorFileError> {
     let bytes = encode_png(image).map_err(|e| io_error(path, std::io::Error::other(e)))?;
     std::fs::write(path, bytes).map_err(|e| io_error(path, e))
 }

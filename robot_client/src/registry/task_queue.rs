@@ -1,4 +1,4 @@
-//! The robot's side of the registry's tasks (DESIGN §8): claim the next one under a lease,
+//! The robot's side of the registry's task queue (DESIGN §8): claim the next one under a lease,
 //! keep the lease alive, finish it with the trial it ended in, or decline it with a reason.
 
 use std::time::Duration;
@@ -12,9 +12,10 @@ use uuid::Uuid;
 use super::client::RegistryClient;
 use super::error::RegistryError;
 
-/// A task as the registry hands it out.
+/// A caretaker's request as the registry's task queue hands it out. Doing it runs the
+/// paper's four-phase [`crate::task`], which is a different thing of the same name.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
-pub struct Task {
+pub struct QueuedTask {
     pub id: Uuid,
     pub epc: Epc,
     pub action: String,
@@ -29,7 +30,7 @@ pub struct Task {
     pub trial: Option<Uuid>,
 }
 
-impl Task {
+impl QueuedTask {
     /// How often to heartbeat: a third of the lease left, so two beats may be lost in a row.
     pub fn heartbeat_every(&self) -> Duration {
         let left = self
@@ -45,7 +46,7 @@ const CLAIM_SLACK: Duration = Duration::from_secs(10);
 impl RegistryClient {
     /// Claims the next task this robot should do, waiting up to `wait` (at most 30 s) for one
     /// to be asked for; `None` when none came.
-    pub async fn claim_task(&self, wait: Duration) -> Result<Option<Task>, RegistryError> {
+    pub async fn claim_task(&self, wait: Duration) -> Result<Option<QueuedTask>, RegistryError> {
         let url = format!(
             "{}/api/v1/robots/{}/tasks/claim?wait={}",
             self.base,
@@ -69,7 +70,7 @@ impl RegistryClient {
 
     /// Extends the lease on a task this robot holds; a 409 means the lease was lost (it ran
     /// out, or the task was cancelled): stop working on it.
-    pub async fn heartbeat_task(&self, id: Uuid) -> Result<Task, RegistryError> {
+    pub async fn heartbeat_task(&self, id: Uuid) -> Result<QueuedTask, RegistryError> {
         self.post_task(&format!("/api/v1/tasks/{id}/heartbeat"), None).await
     }
 
@@ -79,14 +80,14 @@ impl RegistryClient {
         id: Uuid,
         trial: Uuid,
         outcome: Outcome,
-    ) -> Result<Task, RegistryError> {
+    ) -> Result<QueuedTask, RegistryError> {
         let body = serde_json::json!({ "trial": trial, "outcome": outcome.as_str() });
         self.post_task(&format!("/api/v1/tasks/{id}/finish"), Some(body)).await
     }
 
     /// Says this robot cannot do the task, and why in words (at most 500 characters, one
     /// line): the registry gives it to the other robots and never offers it to this one again.
-    pub async fn decline_task(&self, id: Uuid, reason: &str) -> Result<Task, RegistryError> {
+    pub async fn decline_task(&self, id: Uuid, reason: &str) -> Result<QueuedTask, RegistryError> {
         let body = serde_json::json!({ "reason": reason });
         self.post_task(&format!("/api/v1/tasks/{id}/decline"), Some(body)).await
     }
@@ -95,7 +96,7 @@ impl RegistryClient {
         &self,
         path: &str,
         body: Option<serde_json::Value>,
-    ) -> Result<Task, RegistryError> {
+    ) -> Result<QueuedTask, RegistryError> {
         let mut request = self.http.post(format!("{}{path}", self.base)).bearer_auth(&self.token);
         if let Some(body) = body {
             request = request.json(&body);
@@ -108,7 +109,7 @@ impl RegistryClient {
     }
 }
 
-async fn task_from(response: reqwest::Response) -> Result<Task, RegistryError> {
+async fn task_from(response: reqwest::Response) -> Result<QueuedTask, RegistryError> {
     response.json().await.map_err(|e| RegistryError::Malformed(format!("a task: {e}")))
 }
 
@@ -118,7 +119,7 @@ mod tests {
 
     #[test]
     fn heartbeats_come_three_times_a_lease() {
-        let task: Task = serde_json::from_value(serde_json::json!({
+        let task: QueuedTask = serde_json::from_value(serde_json::json!({
             "id": Uuid::new_v4(), "epc": "355AB1C60000002000000001", "action": "off",
             "state": "claimed", "attempts": 1, "note": null, "trial": null,
             "lease_until": (OffsetDateTime::now_utc() + time::Duration::seconds(30))
@@ -127,7 +128,7 @@ mod tests {
         .unwrap();
         let every = task.heartbeat_every();
         assert!(every > Duration::from_secs(9) && every <= Duration::from_secs(10), "{every:?}");
-        let ended = Task { lease_until: None, ..task };
+        let ended = QueuedTask { lease_until: None, ..task };
         assert_eq!(ended.heartbeat_every(), Duration::from_millis(100));
     }
 }

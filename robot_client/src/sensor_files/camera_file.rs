@@ -5,7 +5,7 @@ use std::path::Path;
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 use serde::{Deserialize, Serialize};
 
-use super::{RecordingError, io_error};
+use super::{SensorFileError, io_error};
 use crate::hal::{CameraCalibration, CameraIntrinsics};
 
 /// The JSON document: the intrinsics' own fields at the top level, beside the pose.
@@ -60,10 +60,10 @@ impl CameraFile {
 }
 
 /// Reads and checks a camera file.
-pub fn read_camera_file(path: &Path) -> Result<CameraCalibration, RecordingError> {
+pub fn read_camera_file(path: &Path) -> Result<CameraCalibration, SensorFileError> {
     let text = std::fs::read_to_string(path).map_err(|e| io_error(path, e))?;
     let camera_error =
-        |reason: String| RecordingError::Camera { path: path.display().to_string(), reason };
+        |reason: String| SensorFileError::Camera { path: path.display().to_string(), reason };
     let file: CameraFile = serde_json::from_str(&text).map_err(|e| camera_error(e.to_string()))?;
     file.to_calibration().map_err(camera_error)
 }
@@ -72,7 +72,7 @@ pub fn read_camera_file(path: &Path) -> Result<CameraCalibration, RecordingError
 pub fn write_camera_file(
     path: &Path,
     calibration: &CameraCalibration,
-) -> Result<(), RecordingError> {
+) -> Result<(), SensorFileError> {
     let text = serde_json::to_string_pretty(&CameraFile::from(calibration))
         .map_err(|e| io_error(path, std::io::Error::other(e)))?;
     std::fs::write(path, text + "\n").map_err(|e| io_error(path, e))

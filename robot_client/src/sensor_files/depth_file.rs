@@ -11,7 +11,7 @@ use std::fs::File;
 use std::io::{BufRead, BufReader, BufWriter, Read, Write};
 use std::path::Path;
 
-use super::{RecordingError, check_declared_size, io_error};
+use super::{SensorFileError, check_declared_size, io_error};
 use crate::perception::{DepthEncoding, DepthImage};
 
 const PNG_SIGNATURE: &[u8] = b"\x89PNG";
@@ -20,13 +20,13 @@ const PFM_HEADER_MAX: usize = 256;
 
 /// Reads the depth image a camera of `size` (width, height) took; another size, or more than
 /// [`super::MAX_IMAGE_PIXELS`], is refused from the header, before a pixel is read.
-pub fn read_depth(path: &Path, size: (u32, u32)) -> Result<DepthImage, RecordingError> {
+pub fn read_depth(path: &Path, size: (u32, u32)) -> Result<DepthImage, SensorFileError> {
     let file = File::open(path).map_err(|e| io_error(path, e))?;
     let length = file.metadata().map_err(|e| io_error(path, e))?.len();
     let mut reader = BufReader::new(file);
     let start = reader.fill_buf().map_err(|e| io_error(path, e))?;
     let depth_error =
-        |reason: String| RecordingError::Depth { path: path.display().to_string(), reason };
+        |reason: String| SensorFileError::Depth { path: path.display().to_string(), reason };
     if start.starts_with(PNG_SIGNATURE) {
         read_depth_png(path, reader, size, depth_error)
     } else if start.starts_with(b"Pf") {
@@ -42,8 +42,8 @@ fn read_depth_png(
     path: &Path,
     reader: BufReader<File>,
     size: (u32, u32),
-    depth_error: impl Fn(String) -> RecordingError,
-) -> Result<DepthImage, RecordingError> {
+    depth_error: impl Fn(String) -> SensorFileError,
+) -> Result<DepthImage, SensorFileError> {
     let mut decoder = png::Decoder::new(reader);
     decoder.set_transformations(png::Transformations::IDENTITY);
     let mut reader = decoder.read_info().map_err(|e| depth_error(e.to_string()))?;
@@ -90,8 +90,8 @@ fn read_pfm(
     mut reader: BufReader<File>,
     file_length: u64,
     size: (u32, u32),
-    depth_error: impl Fn(String) -> RecordingError,
-) -> Result<DepthImage, RecordingError> {
+    depth_error: impl Fn(String) -> SensorFileError,
+) -> Result<DepthImage, SensorFileError> {
     let ([magic, width, height, scale], header_length) =
         pfm_header(&mut reader).map_err(&depth_error)?;
     if magic != "Pf" {
@@ -135,7 +135,7 @@ pub fn write_depth_png(
     path: &Path,
     (width, height): (u32, u32),
     millimetres: &[u16],
-) -> Result<(), RecordingError> {
+) -> Result<(), SensorFileError> {
     let file = File::create(path).map_err(|e| io_error(path, e))?;
     let to_io = |e: png::EncodingError| io_error(path, std::io::Error::other(e));
     let mut encoder = png::Encoder::new(BufWriter::new(file), width, height);
@@ -152,7 +152,7 @@ pub fn write_depth_pfm(
     path: &Path,
     (width, height): (u32, u32),
     metres: &[f32],
-) -> Result<(), RecordingError> {
+) -> Result<(), SensorFileError> {
     let file = File::create(path).map_err(|e| io_error(path, e))?;
     let mut out = BufWriter::new(file);
     let mut write = || -> std::io::Result<()> {
@@ -237,7 +237,7 @@ mod tests {
         assert!(refused(b"Pf\nx 1\n-1\n", (1, 1)).contains("width `x`"));
         assert!(refused(b"Pf\n1 1", (1, 1)).contains("cut short"));
         let colour = dir.path().join("image.png");
-        crate::recording::write_png(&colour, &crate::hal::ColorImage::new(2, 2)).unwrap();
+        crate::sensor_files::write_png(&colour, &crate::hal::ColorImage::new(2, 2)).unwrap();
         let message = read_depth(&colour, (2, 2)).unwrap_err().to_string();
         assert!(message.contains("8-bit Rgb; depth in millimetres takes 16-bit greyscale"));
     }

@@ -11,7 +11,7 @@ use std::path::Path;
 
 use nalgebra::Point3;
 
-use super::{RecordingError, io_error};
+use super::{SensorFileError, io_error};
 use crate::hal::PointCloud;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -165,10 +165,10 @@ fn read_header(reader: &mut impl BufRead) -> Result<Header, String> {
 }
 
 /// Reads a PLY file into a cloud.
-pub fn read_ply(path: &Path) -> Result<PointCloud, RecordingError> {
+pub fn read_ply(path: &Path) -> Result<PointCloud, SensorFileError> {
     let file = File::open(path).map_err(|e| io_error(path, e))?;
     read_ply_from(BufReader::with_capacity(1 << 16, file))
-        .map_err(|reason| RecordingError::Ply { path: path.display().to_string(), reason })
+        .map_err(|reason| SensorFileError::Ply { path: path.display().to_string(), reason })
 }
 
 /// Reads PLY from any buffered reader; the error is a sentence saying what is wrong.
@@ -386,7 +386,11 @@ pub fn write_ply_to(
 }
 
 /// Writes `cloud` to a PLY file.
-pub fn write_ply(path: &Path, cloud: &PointCloud, format: PlyFormat) -> Result<(), RecordingError> {
+pub fn write_ply(
+    path: &Path,
+    cloud: &PointCloud,
+    format: PlyFormat,
+) -> Result<(), SensorFileError> {
     let file = File::create(path).map_err(|e| io_error(path, e))?;
     write_ply_to(BufWriter::new(file), cloud, format).map_err(|e| io_error(path, e))
 }

@@ -19,7 +19,7 @@ pub use ply::{PlyFormat, read_ply, read_ply_from, write_ply, write_ply_to};
 
 /// Why a recorded file could not be read or written.
 #[derive(Debug, thiserror::Error)]
-pub enum RecordingError {
+pub enum SensorFileError {
     // The reason is in the message, and so not also a `source()`: a caller printing the
     // error's chain would say it twice.
     #[error("{path}: {reason}")]
@@ -50,9 +50,9 @@ pub(crate) fn check_declared_size(
     path: &std::path::Path,
     declared: (u32, u32),
     expected: Option<(u32, u32)>,
-) -> Result<(), RecordingError> {
+) -> Result<(), SensorFileError> {
     let size_error =
-        |reason: String| RecordingError::Size { path: path.display().to_string(), reason };
+        |reason: String| SensorFileError::Size { path: path.display().to_string(), reason };
     let (width, height) = declared;
     if let Some((w, h)) = expected
         && (w, h) != declared
@@ -70,8 +70,8 @@ pub(crate) fn check_declared_size(
     Ok(())
 }
 
-pub(crate) fn io_error(path: &std::path::Path, reason: std::io::Error) -> RecordingError {
-    RecordingError::Io { path: path.display().to_string(), reason }
+pub(crate) fn io_error(path: &std::path::Path, reason: std::io::Error) -> SensorFileError {
+    SensorFileError::Io { path: path.display().to_string(), reason }
 }
 
 #[cfg(test)]
