@@ -74,11 +74,16 @@ impl ModuleGraph {
 
     /// Each module that names what `forbidden` holds and that a module under any of `from`
     /// reaches, once, by the shortest way (breadth first) from the first start that reaches it.
+    /// Panics when one of `from` names no module: a wall around a renamed module would
+    /// otherwise hold nothing up.
     pub fn reach(
         &self,
         from: &[ModulePath],
         forbidden: impl Fn(&Named) -> bool,
     ) -> Vec<(Chain, Named)> {
+        if let Some(missing) = from.iter().find(|f| !self.modules.contains_key(*f)) {
+            panic!("no module {} in this crate: was it renamed?", missing.join("::"));
+        }
         let mut found = Vec::new();
         let mut reported = BTreeSet::new();
         for start in self.modules.keys().filter(|m| from.iter().any(|f| m.starts_with(f))) {

@@ -1,7 +1,7 @@
 //! The walls the code declares, held.
 //!
 //! - What runs on a real robot (the task, the behaviours, perception, navigation, the registry
-//!   client, the hardware traits, the readers, the recording formats) never reaches into the
+//!   client, the hardware traits, the readers, the sensor file formats) never reaches into the
 //!   simulator or the command line: the simulator is one more implementation of `hal`, and the
 //!   command line only parses and prints. A `use` across would make robot code work only inside
 //!   our own world.
@@ -63,7 +63,7 @@ fn robot_code_never_reaches_into_the_simulator_or_the_command_line() {
         "registry",
         "hal",
         "rfid",
-        "recording",
+        "sensor_files",
     ]);
     let found = robot.reach(&code, |n| inside(n, "sim") || inside(n, "cli"));
     assert!(found.is_empty(), "robot code crosses its wall:\n{}", report(found));
