@@ -16,7 +16,7 @@ use std::time::{Duration, Instant};
 
 use pps_server::identity::Role;
 use pps_server::store::{robots, tokens};
-use pps_server::{AppState, Db, seed};
+use pps_server::{AppState, Db, tags::seed};
 use serde_json::{Value, json};
 
 const ADA_SWITCH: &str = "355AB1C60000002000000001";

@@ -187,7 +187,7 @@ impl ApiError {
     /// The 503 for a database error that means "retry later" (full disk, lock held elsewhere,
     /// no free connection), logged for the operator; `None` for any other error.
     pub fn unwritable(error: &sqlx::Error) -> Option<Self> {
-        let reason = crate::db::Unwritable::of(error)?;
+        let reason = crate::store::db::Unwritable::of(error)?;
         reason.log(error);
         Some(Self::Unavailable(reason.advice().into()))
     }

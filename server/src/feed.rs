@@ -10,7 +10,7 @@ use std::time::Duration;
 
 use tokio::sync::{Notify, OwnedSemaphorePermit, Semaphore, broadcast, watch};
 
-use crate::db::Db;
+use crate::store::db::Db;
 use crate::store::events::{self, Event};
 
 /// How often the pump looks for events written by other processes.

@@ -2,46 +2,42 @@
 //! learned values and a change feed, over HTTP/JSON.
 //!
 //! The binary is a thin shell: everything is here, so tests run the real router in-process.
+//!
+//! By what they are for:
+//! - [`http`] answers requests and [`auth`] says who asks; [`transport`] holds the
+//!   connections; [`error`] is the one error they answer with.
+//! - [`store`] is the only SQL, on the database it opens; [`identity`] are the people and
+//!   secrets below it.
+//! - [`tags`], [`trials`], [`learning`] and [`robots`] are the registry's domain between the
+//!   two; [`accept`] takes a client's document in.
+//! - [`feed`] fans out changes, [`background`] does what the hot path only noted, [`clock`]
+//!   says what time it is and how times are written.
+//! - [`home_assistant`] is the smart-home bridge; [`ops`] and [`cli`] are the operator's side.
 
 pub mod accept;
 pub mod auth;
 pub mod background;
-pub mod backup;
 pub mod cli;
 pub mod clock;
-pub mod colour_learning;
-pub mod counted_purposes;
-pub mod db;
-pub mod effective;
-pub mod effective_cache;
-
 pub mod error;
-pub mod export;
 pub mod feed;
 pub mod home_assistant;
 pub mod http;
 pub mod identity;
 pub mod learning;
-pub mod metrics;
-pub mod picture;
-pub mod presence;
-pub mod private_file;
-pub mod retention;
-pub mod seed;
-pub mod sightings;
+pub mod ops;
+pub mod robots;
 pub mod state;
 pub mod store;
-pub mod task_board;
-pub mod telemetry;
+pub mod tags;
 pub mod transport;
-pub mod trial_filter;
-pub mod trial_writer;
+pub mod trials;
 
 use std::future::Future;
 
-pub use db::Db;
 pub use http::{RouteSpec, router, router_with_routes};
 pub use state::AppState;
+pub use store::db::Db;
 use tokio::net::TcpListener;
 
 /// Serves the registry on `listener` until `shutdown` completes, then drains open requests.
@@ -59,7 +55,7 @@ pub struct ServeOptions {
     /// Connection limits and TLS.
     pub transport: transport::Transport,
     /// Thin the force samples of trials received longer ago than this, once a day.
-    pub thin_forces_after: Option<retention::Age>,
+    pub thin_forces_after: Option<trials::retention::Age>,
     /// Show the tags in Home Assistant through this MQTT broker.
     pub home_assistant: Option<home_assistant::Config>,
 }
@@ -72,9 +68,9 @@ pub async fn serve_with(
     shutdown: impl Future<Output = ()> + Send + 'static,
 ) -> std::io::Result<()> {
     background::start(&state).await.map_err(std::io::Error::other)?;
-    retention::start_daily_pictures(state.db.clone(), state.pictures_per_tag);
+    trials::retention::start_daily_pictures(state.db.clone(), state.pictures_per_tag);
     if let Some(age) = options.thin_forces_after {
-        retention::start_daily(state.db.clone(), age);
+        trials::retention::start_daily(state.db.clone(), age);
     }
     let bridge = options.home_assistant.clone().map(|config| home_assistant::start(&state, config));
     let feed = state.feed.clone();

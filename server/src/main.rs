@@ -5,7 +5,7 @@ use clap::Parser;
 #[tokio::main]
 async fn main() -> std::process::ExitCode {
     let cli = pps_server::cli::Cli::parse();
-    pps_server::telemetry::init();
+    pps_server::ops::telemetry::init();
     match cli.run().await {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(error) => {

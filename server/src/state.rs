@@ -4,15 +4,15 @@ use std::sync::Arc;
 
 use crate::auth::TokenCache;
 use crate::auth::login_throttle::LoginThrottle;
-use crate::db::Db;
-use crate::effective_cache::EffectiveCache;
 use crate::feed::ChangeFeed;
 use crate::home_assistant::BridgeStatus;
-use crate::metrics::Metrics;
-use crate::presence::Presence;
-use crate::sightings::Sightings;
-use crate::task_board::TaskBoard;
-use crate::trial_writer::TrialWriter;
+use crate::ops::metrics::Metrics;
+use crate::robots::presence::Presence;
+use crate::robots::sightings::Sightings;
+use crate::robots::waiting_line::WaitingLine;
+use crate::store::db::Db;
+use crate::tags::effective_cache::EffectiveCache;
+use crate::trials::writer::TrialWriter;
 
 /// The shared state, behind one `Arc`: every request clones it (the router hands each handler
 /// and middleware its own copy), and one reference count bumped per clone is far cheaper on
@@ -34,7 +34,7 @@ pub struct Shared {
     pub sightings: Arc<Sightings>,
     pub trials: TrialWriter,
     /// Robots waiting for a task, and the lease a claim gives.
-    pub tasks: Arc<TaskBoard>,
+    pub tasks: Arc<WaitingLine>,
     pub metrics: Arc<Metrics>,
     /// Whether this process runs the Home Assistant bridge and is connected.
     pub home_assistant: Arc<BridgeStatus>,
@@ -68,7 +68,7 @@ impl AppState {
             tasks: Arc::default(),
             metrics: Arc::default(),
             home_assistant: Arc::default(),
-            pictures_per_tag: crate::picture::DEFAULT_PICTURES_PER_TAG,
+            pictures_per_tag: crate::trials::picture::DEFAULT_PICTURES_PER_TAG,
         }))
     }
 
@@ -76,7 +76,7 @@ impl AppState {
     /// registry; tests of dead robots use a short one). Set before the state is shared.
     pub fn with_task_lease(mut self, lease: std::time::Duration) -> Self {
         let shared = Arc::get_mut(&mut self.0).expect("the task lease is set before serving");
-        shared.tasks = Arc::new(TaskBoard::new(lease, shared.tasks.max_held()));
+        shared.tasks = Arc::new(WaitingLine::new(lease, shared.tasks.max_held()));
         self
     }
 
@@ -84,7 +84,7 @@ impl AppState {
     /// shared.
     pub fn with_max_tasks_per_robot(mut self, tasks: usize) -> Self {
         let shared = Arc::get_mut(&mut self.0).expect("the task cap is set before serving");
-        shared.tasks = Arc::new(TaskBoard::new(shared.tasks.lease(), tasks));
+        shared.tasks = Arc::new(WaitingLine::new(shared.tasks.lease(), tasks));
         self
     }
 

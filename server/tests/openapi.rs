@@ -190,7 +190,7 @@ async fn the_contract_schemas_keep_their_rules_inside_the_document() {
         component(&document, name);
     }
     let tag = component(&document, "tag");
-    for seed in pps_server::seed::seed_entries().unwrap() {
+    for seed in pps_server::tags::seed::seed_entries().unwrap() {
         assert_eq!(errors(&tag, &seed), Vec::<String>::new(), "{}", seed["epc"]);
     }
     let mut unsafe_entry = new_entry("E20034120000000000004242", "too strong");

@@ -13,9 +13,9 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use common::{ADA_SWITCH, DRAWER, TestServer, register_robot, trial};
-use pps_server::export::CSV_COLUMNS;
 use pps_server::identity::Role;
-use pps_server::retention::{Age, THINNED_KEY};
+use pps_server::trials::export::CSV_COLUMNS;
+use pps_server::trials::retention::{Age, THINNED_KEY};
 use pps_server::{AppState, Db, ServeOptions};
 use reqwest::StatusCode;
 use serde_json::{Value, json};

@@ -17,7 +17,7 @@ use std::time::{Duration, Instant};
 
 use common::{ADA_SWITCH, SseClient, trial, uuid};
 use pps_server::Db;
-use pps_server::db::Location;
+use pps_server::store::db::Location;
 use reqwest::StatusCode;
 use serde_json::{Value, json};
 

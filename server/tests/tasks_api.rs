@@ -454,7 +454,7 @@ async fn queued_and_claimed_tasks_and_their_leases_survive_a_restart() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("pps.db");
     let db = pps_server::Db::open_file(&path).await.unwrap();
-    pps_server::seed::seed_if_empty(&db).await.unwrap();
+    pps_server::tags::seed::seed_if_empty(&db).await.unwrap();
     let mint = |role, name: &'static str| {
         let db = db.clone();
         async move { pps_server::store::tokens::create(&db, role, name, None).await.unwrap().token }

@@ -113,7 +113,7 @@ async fn pictures_are_small_and_what_they_say_they_are() {
     register_robot(&server, "el-e-1", "el-e", ALL, 15.0).await;
     let robot = server.token(Role::Robot, "el-e-1").await;
     let id = record_trial(&server, &robot, ADA_SWITCH).await;
-    let cap = pps_server::picture::MAX_PICTURE_BYTES;
+    let cap = pps_server::trials::picture::MAX_PICTURE_BYTES;
 
     let header = png(10, 10, 0, 0).len();
     let too_big = send_picture(&server, &id, &robot, "image/png", png(10, 10, 1, cap - header + 1));
@@ -170,7 +170,10 @@ async fn a_tag_keeps_its_newest_pictures_and_every_trial() {
     problem(other, StatusCode::CONFLICT).await;
 
     // A lower limit, as after a restart with fewer pictures per tag, is applied by the pass.
-    assert_eq!(pps_server::retention::keep_newest_pictures(&server.db, 1).await.unwrap(), 1);
+    assert_eq!(
+        pps_server::trials::retention::keep_newest_pictures(&server.db, 1).await.unwrap(),
+        1
+    );
     let second = server.get(&picture_of(&trials[1]), &server.admin).await;
     assert_eq!(second.status(), StatusCode::NOT_FOUND);
     assert_eq!(server.get(&picture_of(&trials[2]), &server.admin).await.status(), StatusCode::OK);

@@ -27,7 +27,7 @@ impl Registry {
     pub async fn start(dir: &Path) -> Self {
         let db_path = dir.join("registry.db");
         let db = Db::open_file(&db_path).await.unwrap();
-        pps_server::seed::seed_if_empty(&db).await.unwrap();
+        pps_server::tags::seed::seed_if_empty(&db).await.unwrap();
         let robot = json!({ "id": "el-e-1", "class": "el-e", "name": "EL-E", "capabilities": ["light_switch", "pull_back", "push", "pull_lamp", "drop"], "limits": { "max_force": 15.0 } });
         robots::put(&db, &pps_schema::RobotId::parse("el-e-1").unwrap(), &robot, "test")
             .await

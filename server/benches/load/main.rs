@@ -25,10 +25,10 @@ use std::process::{Child, Command, Stdio};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use pps_server::db::Location;
 use pps_server::identity::Role;
+use pps_server::store::db::Location;
 use pps_server::store::{robots, tokens};
-use pps_server::{Db, seed};
+use pps_server::{Db, tags::seed};
 use serde_json::{Value, json};
 
 mod nginx;

@@ -2,8 +2,8 @@
 
 use std::path::Path;
 
-use crate::backup;
-use crate::db::Db;
+use crate::ops::backup;
+use crate::store::db::Db;
 
 pub(super) async fn backup(db: &Db, to: &Path, force: bool) -> anyhow::Result<()> {
     let report = backup::backup(db, to, force).await?;

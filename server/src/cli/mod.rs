@@ -15,9 +15,9 @@ use std::path::PathBuf;
 use anyhow::bail;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use crate::db::{Db, Location};
 use crate::identity::Role;
-use crate::{retention, transport};
+use crate::store::db::{Db, Location};
+use crate::{transport, trials::retention};
 
 #[derive(Debug, Parser)]
 #[command(name = "pps-server", version, about = "The PPS-tag registry for mobile robots")]
@@ -124,19 +124,19 @@ struct ServeArgs {
     /// Seconds (0.5 to 3600) a robot's claim on a task lasts without a heartbeat; then the task goes back to
     /// the queue for another robot.
     #[arg(long, env = "PPS_TASK_LEASE", value_name = "SECONDS",
-          default_value_t = crate::task_board::DEFAULT_LEASE.as_secs_f64(),
+          default_value_t = crate::robots::waiting_line::DEFAULT_LEASE.as_secs_f64(),
           value_parser = durations::lease_seconds)]
     task_lease: f64,
     /// Tasks one robot may hold at once; its next claim is refused (409) until it finishes or
     /// declines one.
     #[arg(long, env = "PPS_MAX_TASKS_PER_ROBOT", value_name = "N",
-          default_value_t = crate::task_board::DEFAULT_MAX_TASKS_PER_ROBOT as u32,
+          default_value_t = crate::robots::waiting_line::DEFAULT_MAX_TASKS_PER_ROBOT as u32,
           value_parser = clap::value_parser!(u32).range(1..=1000))]
     max_tasks_per_robot: u32,
     /// Trial pictures kept per tag; a new picture removes the oldest beyond this (the trials
     /// stay).
     #[arg(long, env = "PPS_PICTURES_PER_TAG", value_name = "N",
-          default_value_t = crate::picture::DEFAULT_PICTURES_PER_TAG,
+          default_value_t = crate::trials::picture::DEFAULT_PICTURES_PER_TAG,
           value_parser = clap::value_parser!(u32).range(1..=10_000))]
     pictures_per_tag: u32,
     /// Show the tags in Home Assistant: the MQTT broker its MQTT integration uses,
@@ -256,7 +256,7 @@ impl Cli {
             command => command,
         };
         if matches!(command, Command::Backup { .. }) && self.db.file().is_none() {
-            bail!("{}", crate::backup::NOT_ON_POSTGRES);
+            bail!("{}", crate::ops::backup::NOT_ON_POSTGRES);
         }
         let db = match command {
             Command::Migrate => Db::open(&self.db).await?,

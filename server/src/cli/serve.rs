@@ -4,12 +4,12 @@
 use anyhow::{Context, bail};
 
 use super::ServeArgs;
-use crate::db::{Db, Location};
-use crate::retention::Age;
 use crate::state::AppState;
+use crate::store::db::{Db, Location};
 use crate::store::tokens;
 use crate::transport::{TlsIdentity, Transport};
-use crate::{ServeOptions, home_assistant, seed};
+use crate::trials::retention::Age;
+use crate::{ServeOptions, home_assistant, tags::seed};
 
 /// Connection limits and TLS as the serve flags say; TLS files are checked before anything.
 fn transport(args: &ServeArgs) -> anyhow::Result<Transport> {

@@ -8,8 +8,8 @@ use anyhow::{Context, bail};
 
 use pps_schema::Epc;
 
-use crate::db::Db;
-use crate::seed;
+use crate::store::db::Db;
+use crate::tags::seed;
 
 /// Loads the paper's five devices again.
 pub(super) async fn seed(db: &Db) -> anyhow::Result<()> {
@@ -28,7 +28,7 @@ pub(super) async fn export(db: &Db, out: Option<PathBuf>) -> anyhow::Result<()> 
     let text = serde_json::to_string_pretty(&tags)?;
     match out {
         Some(path) => {
-            crate::private_file::options()
+            crate::ops::private_file::options()
                 .create(true)
                 .truncate(true)
                 .open(&path)

@@ -6,7 +6,7 @@ use anyhow::bail;
 
 use super::TokenCommand;
 use crate::clock;
-use crate::db::Db;
+use crate::store::db::Db;
 use crate::store::tokens;
 
 /// Parses `30d`, `12h`, `90m`, `3600s` or `2w`.

@@ -3,10 +3,10 @@
 use anyhow::Context;
 
 use super::{ExportTrialsArgs, FormatArg};
-use crate::db::Db;
-use crate::export::{self, TrialFormat};
-use crate::retention::{self, Age};
-use crate::trial_filter::{FilterText, TrialFilter};
+use crate::store::db::Db;
+use crate::trials::export::{self, TrialFormat};
+use crate::trials::filter::{FilterText, TrialFilter};
+use crate::trials::retention::{self, Age};
 
 pub(super) async fn export_trials(db: &Db, args: ExportTrialsArgs) -> anyhow::Result<()> {
     let filter = TrialFilter::parse(FilterText {
@@ -24,7 +24,7 @@ pub(super) async fn export_trials(db: &Db, args: ExportTrialsArgs) -> anyhow::Re
     let pictures = args.pictures.as_deref();
     let written = match &args.out {
         Some(path) => {
-            let file = crate::private_file::options()
+            let file = crate::ops::private_file::options()
                 .create(true)
                 .truncate(true)
                 .open(path)

@@ -4,8 +4,8 @@ use anyhow::{Context, bail};
 
 use super::UserCommand;
 use crate::auth::password;
-use crate::db::Db;
 use crate::identity::{Role, UserName};
+use crate::store::db::Db;
 use crate::store::users;
 
 /// A person's role: caretaker or admin; robots use tokens.

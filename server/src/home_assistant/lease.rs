@@ -6,8 +6,8 @@ use std::time::Duration;
 use super::bridge::{self, Ended};
 use super::{Config, Status};
 use crate::clock;
-use crate::db::Db;
 use crate::state::AppState;
+use crate::store::db::Db;
 use crate::store::home_assistant;
 
 /// A lease lasts this long unless renewed. Longer than the broker takes to notice a dead

@@ -13,8 +13,6 @@ use axum::response::{IntoResponse, Response};
 use pps_schema::{Epc, RobotId};
 use sha2::{Digest, Sha256};
 
-use crate::effective::{LearnedColours, merge};
-use crate::effective_cache::CachedEffective;
 use crate::error::ApiError;
 use crate::http::extract::Caller;
 use crate::http::ids::InPath;
@@ -23,6 +21,8 @@ use crate::http::precondition;
 use crate::state::AppState;
 use crate::store::learned_colours;
 use crate::store::{learning, retired, robots, tags};
+use crate::tags::effective::{LearnedColours, merge};
+use crate::tags::effective_cache::CachedEffective;
 
 pub const GET: Doc = Doc::new("getEffectiveEntry", "The entry as this robot should use it")
     .describe(

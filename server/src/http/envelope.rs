@@ -21,7 +21,7 @@ use pin_project_lite::pin_project;
 use tower::{Layer, Service};
 
 use crate::http::{csrf, fallback};
-use crate::metrics::{Metrics, RouteMetrics};
+use crate::ops::metrics::{Metrics, RouteMetrics};
 
 /// Headers every response carries unless it set its own; the UI's Content-Security-Policy
 /// forbids inline script. Values made once: `from_static` checks every byte each time it runs.

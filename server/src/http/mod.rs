@@ -178,7 +178,7 @@ pub fn router_with_routes(state: AppState) -> (Router, Vec<RouteSpec>) {
     openapi.publish(&specs);
     // One `layer` call, so each route is wrapped (and boxed by axum) once, not per layer.
     let every_request = tower::ServiceBuilder::new()
-        .layer(crate::telemetry::http_trace_layer())
+        .layer(crate::ops::telemetry::http_trace_layer())
         .layer(envelope::Envelope::new(state.metrics.clone()))
         .layer(DefaultBodyLimit::max(extract::MAX_BODY_BYTES));
     let router = router

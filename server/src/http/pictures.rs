@@ -16,11 +16,11 @@ use crate::http::extract::{Caller, body_error};
 use crate::http::ids::{InPath, TrialId};
 use crate::http::openapi::{Body, Doc, Header, Param, Reply};
 use crate::http::precondition::IfNoneMatch;
-use crate::picture::{Picture, PictureProblem, PictureType};
 use crate::state::AppState;
 use crate::store::events::{self, EventKind};
 use crate::store::pictures::StoredPicture;
 use crate::store::{pictures, trials};
+use crate::trials::picture::{Picture, PictureProblem, PictureType};
 
 const MEDIA_TYPES: &[&str] = &["image/png", "image/jpeg"];
 /// A stored picture never changes, so a browser may keep it a day; only a private cache, since

@@ -9,7 +9,6 @@ use serde_json::{Map, Value, json};
 use pps_schema::pointer::escape;
 use pps_schema::{Epc, Purpose};
 
-use crate::counted_purposes::CountedPurposes;
 use crate::error::ApiError;
 use crate::http::extract::ApiQuery;
 use crate::http::ids::InPath;
@@ -18,6 +17,7 @@ use crate::learning::{RELIABILITY_WINDOW, is_reliable};
 use crate::state::AppState;
 use crate::store::trial_counts::{self, GroupKey};
 use crate::store::{learning, tags};
+use crate::trials::counted_purposes::CountedPurposes;
 
 /// One action as done by one robot class.
 #[derive(Debug, Serialize)]

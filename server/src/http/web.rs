@@ -111,7 +111,7 @@ static ASSETS: LazyLock<HashMap<&'static str, Asset>> = LazyLock::new(|| {
 
 /// The seed entries without their EPC and name, which a new tag must bring.
 fn templates() -> Vec<u8> {
-    let mut entries = crate::seed::seed_entries().expect("the embedded seeds are JSON");
+    let mut entries = crate::tags::seed::seed_entries().expect("the embedded seeds are JSON");
     for entry in &mut entries {
         if let Some(object) = entry.as_object_mut() {
             object.remove("epc");

@@ -6,7 +6,7 @@ use pps_schema::{Epc, LearnedColor, TagColor};
 use sqlx::AnyConnection;
 
 use crate::clock;
-use crate::db::Dialect;
+use crate::store::db::Dialect;
 
 /// The learned colour of a tag and of its household for a robot class, as stored.
 pub async fn learned(

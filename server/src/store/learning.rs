@@ -4,12 +4,12 @@
 use pps_schema::Epc;
 use sqlx::{AnyConnection, AnyPool};
 
-use crate::db::Dialect;
 use crate::store::columns::MaybeFlag;
+use crate::store::db::Dialect;
 use crate::store::trial_counts::{GroupKey, groups_parameter};
 
 use crate::clock;
-use crate::effective::Learned;
+use crate::tags::effective::Learned;
 
 /// How the learned tables key a robot class: `""` for robots without one (a key column cannot
 /// be null).

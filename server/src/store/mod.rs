@@ -1,6 +1,9 @@
-//! The registry's SQL, one module per resource. Nothing above this layer writes SQL.
+//! The registry's SQL, one module per resource, and the database it runs on (`db`: opening,
+//! migrating, the engines' differences). Nothing above this layer writes SQL.
 
+pub mod backup;
 pub mod columns;
+pub mod db;
 pub mod events;
 pub mod home_assistant;
 pub mod inbox;

@@ -4,8 +4,8 @@
 use sqlx::{AnyConnection, AnyPool};
 use uuid::Uuid;
 
-use crate::db::Dialect;
-use crate::picture::Picture;
+use crate::store::db::Dialect;
+use crate::trials::picture::Picture;
 
 /// A stored picture's description, without its bytes.
 #[derive(Debug, Clone, PartialEq, Eq, sqlx::FromRow)]

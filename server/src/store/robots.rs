@@ -7,7 +7,7 @@ use sqlx::AnyPool;
 use crate::store::columns::{Flag, Id};
 
 use crate::clock;
-use crate::db::Db;
+use crate::store::db::Db;
 use crate::store::events::{self, EventKind};
 
 /// A robot as the registry knows it.

@@ -5,8 +5,8 @@
 use sqlx::AnyPool;
 
 use crate::clock;
-use crate::db::Db;
 use crate::identity::UserName;
+use crate::store::db::Db;
 
 /// A live session's user, as the access check needs it.
 #[derive(Debug, Clone, PartialEq, Eq, sqlx::FromRow)]

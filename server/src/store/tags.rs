@@ -9,8 +9,8 @@ use sqlx::AnyPool;
 
 use super::WriteCondition;
 use crate::clock;
-use crate::db::Db;
 use crate::store::columns::{Flag, Id, JsonText};
+use crate::store::db::Db;
 use crate::store::events::{self, EventKind};
 use crate::store::{inbox, retired};
 

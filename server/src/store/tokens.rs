@@ -6,8 +6,8 @@ use sqlx::AnyPool;
 use crate::store::columns::Flag;
 
 use crate::clock;
-use crate::db::Db;
 use crate::identity::{Role, secret};
+use crate::store::db::Db;
 use crate::store::users;
 
 /// A token as listed: everything but the secret, which is shown once at creation.

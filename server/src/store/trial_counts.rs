@@ -6,8 +6,8 @@ use pps_schema::Epc;
 use serde_json::{Value, json};
 use sqlx::{AnyConnection, AnyPool};
 
-use crate::counted_purposes::CountedPurposes;
-use crate::db::Dialect;
+use crate::store::db::Dialect;
+use crate::trials::counted_purposes::CountedPurposes;
 /// One group of trials: a tag, an action and a robot class (`None` for robots without one).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct GroupKey<'a> {

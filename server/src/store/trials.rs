@@ -6,10 +6,10 @@ use sqlx::{AnyConnection, AnyPool};
 use uuid::Uuid;
 
 use crate::clock;
-use crate::db::Dialect;
 use crate::store::columns::{Flag, Id, MaybeFlag};
+use crate::store::db::Dialect;
 use crate::store::placeholders;
-use crate::trial_filter::TrialFilter;
+use crate::trials::filter::TrialFilter;
 
 /// A stored trial.
 #[derive(Debug, Clone, PartialEq, sqlx::FromRow)]

@@ -6,8 +6,8 @@ use sqlx::AnyPool;
 use crate::store::columns::Flag;
 
 use crate::clock;
-use crate::db::Db;
 use crate::identity::{Role, UserName};
+use crate::store::db::Db;
 
 /// A user as listed: everything but the password hash.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, sqlx::FromRow)]

@@ -10,8 +10,8 @@ pub mod postgres;
 
 use std::path::PathBuf;
 
-use pps_server::db::Location;
 use pps_server::identity::Role;
+use pps_server::store::db::Location;
 use pps_server::store::tokens;
 use pps_server::{AppState, Db};
 use reqwest::{Method, RequestBuilder, Response, StatusCode};
@@ -40,7 +40,7 @@ pub struct TestServer {
 impl TestServer {
     /// A seeded registry with one admin token.
     pub async fn start() -> Self {
-        Self::start_with_lease(pps_server::task_board::DEFAULT_LEASE).await
+        Self::start_with_lease(pps_server::robots::waiting_line::DEFAULT_LEASE).await
     }
 
     /// [`Self::start`] with claims on tasks lasting `lease`.
@@ -50,7 +50,8 @@ impl TestServer {
             Store::Sqlite => Location::File(dir.path().join("pps.db")),
             Store::Postgres => postgres::fresh_database().await,
         };
-        Self::start_on(dir, location, lease, pps_server::picture::DEFAULT_PICTURES_PER_TAG).await
+        Self::start_on(dir, location, lease, pps_server::trials::picture::DEFAULT_PICTURES_PER_TAG)
+            .await
     }
 
     /// [`Self::start`] keeping only the newest `pictures` pictures of each tag.
@@ -60,15 +61,17 @@ impl TestServer {
             Store::Sqlite => Location::File(dir.path().join("pps.db")),
             Store::Postgres => postgres::fresh_database().await,
         };
-        Self::start_on(dir, location, pps_server::task_board::DEFAULT_LEASE, pictures).await
+        Self::start_on(dir, location, pps_server::robots::waiting_line::DEFAULT_LEASE, pictures)
+            .await
     }
 
     /// A seeded registry on a SQLite file, whichever store the suite runs on.
     pub async fn start_sqlite() -> Self {
         let dir = tempfile::tempdir().unwrap();
         let location = Location::File(dir.path().join("pps.db"));
-        let pictures = pps_server::picture::DEFAULT_PICTURES_PER_TAG;
-        Self::start_on(dir, location, pps_server::task_board::DEFAULT_LEASE, pictures).await
+        let pictures = pps_server::trials::picture::DEFAULT_PICTURES_PER_TAG;
+        Self::start_on(dir, location, pps_server::robots::waiting_line::DEFAULT_LEASE, pictures)
+            .await
     }
 
     async fn start_on(
@@ -79,7 +82,7 @@ impl TestServer {
     ) -> Self {
         let db_path = dir.path().join("pps.db");
         let db = Db::open(&location).await.unwrap();
-        pps_server::seed::seed_if_empty(&db).await.unwrap();
+        pps_server::tags::seed::seed_if_empty(&db).await.unwrap();
         let admin = tokens::create(&db, Role::Admin, "test admin", None).await.unwrap().token;
         let (url, shutdown) = Self::serve(db.clone(), lease, pictures_per_tag).await;
         std::mem::forget(shutdown);
@@ -99,7 +102,7 @@ impl TestServer {
         pictures_per_tag: u32,
     ) -> (String, tokio::sync::oneshot::Sender<()>) {
         if std::env::var_os("TEST_LOG").is_some() {
-            pps_server::telemetry::init();
+            pps_server::ops::telemetry::init();
         }
         let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
         let url = format!("http://{}", listener.local_addr().unwrap());

@@ -2,7 +2,7 @@
 //! (`tests/postgres/start`), named by `PPS_TEST_POSTGRES`. The load benchmark uses it too.
 #![allow(dead_code)] // the benchmark names its cluster itself
 
-use pps_server::db::Location;
+use pps_server::store::db::Location;
 use sqlx::Connection;
 
 /// The cluster's URL; the tests that need PostgreSQL cannot run without one.

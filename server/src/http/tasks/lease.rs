@@ -1,10 +1,10 @@
 //! Claim, heartbeat and finish: a robot holds a task under a lease it keeps alive, and ends
 //! it with the trial the task ended in.
 //!
-//! A claim with `wait` long-polls: the robot waits in line on the [`TaskBoard`] and is answered
+//! A claim with `wait` long-polls: the robot waits in line on the [`WaitingLine`] and is answered
 //! as soon as a task it should get appears, not at the end of the wait.
 //!
-//! [`TaskBoard`]: crate::task_board::TaskBoard
+//! [`WaitingLine`]: crate::robots::waiting_line::WaitingLine
 
 use std::time::Duration;
 
@@ -23,10 +23,10 @@ use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, JsonBody};
 use crate::http::ids::{InPath, TaskId};
 use crate::http::openapi::{Body, Doc, Param, ParamType, Reply};
+use crate::robots::waiting_line::MAX_WAITING_PER_ROBOT;
 use crate::state::AppState;
 use crate::store::tasks::{self, TaskRow};
 use crate::store::{robots, trials};
-use crate::task_board::MAX_WAITING_PER_ROBOT;
 
 /// The longest a claim may wait for a task (DESIGN §8).
 pub const MAX_WAIT_SECONDS: u64 = 30;

@@ -18,10 +18,10 @@ use super::availability::why_not;
 use super::targets;
 use crate::clock;
 use crate::error::ApiError;
+use crate::robots::waiting_line::{Place, Waiter};
 use crate::state::AppState;
 use crate::store::learning;
 use crate::store::tasks::{self, TaskRow};
-use crate::task_board::{Place, Waiter};
 
 /// Tasks looked at per attempt: the oldest ones this robot can do. It passes over one only
 /// for a robot waiting in line, so more than there are robots waiting is never needed.

@@ -16,7 +16,7 @@ use serde_json::Value;
 use super::availability::why_not;
 use super::targets;
 use crate::error::ApiError;
-use crate::presence::ONLINE_WITHIN;
+use crate::robots::presence::ONLINE_WITHIN;
 use crate::state::AppState;
 use crate::store::robots::{self, StoredRobot};
 use crate::store::tasks::TaskRow;

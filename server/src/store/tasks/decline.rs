@@ -7,7 +7,7 @@ use uuid::Uuid;
 
 use super::{TaskRow, announced};
 use crate::clock;
-use crate::db::Dialect;
+use crate::store::db::Dialect;
 
 /// Notes that `robot` declined the task for `reason` and puts it back in the queue, if it is
 /// queued or `robot` holds it and `robot` had not declined it yet; `None` otherwise.

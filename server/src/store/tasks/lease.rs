@@ -9,8 +9,8 @@ use uuid::Uuid;
 
 use super::{MAX_ATTEMPTS, TaskRow, announce, announced};
 use crate::clock;
-use crate::db::Dialect;
 use crate::store::columns::Id;
+use crate::store::db::Dialect;
 
 /// The tasks `robot` holds now under a live lease, oldest first.
 #[tracing::instrument(skip_all)]

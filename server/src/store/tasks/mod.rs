@@ -11,8 +11,8 @@ use sqlx::{AnyConnection, AnyPool};
 use uuid::Uuid;
 
 use crate::clock;
-use crate::db::Dialect;
 use crate::store::columns::{Id, MaybeId};
+use crate::store::db::Dialect;
 use crate::store::events::{self, EventKind};
 
 /// A robot's lease running out this many times fails the task: a task that keeps killing (or

@@ -7,8 +7,8 @@ use pps_schema::{Epc, RobotId};
 use sqlx::AnyPool;
 
 use super::{MAX_ATTEMPTS, TaskRow};
-use crate::db::Dialect;
 use crate::store::columns::Id;
+use crate::store::db::Dialect;
 
 /// The tasks open to a robot, as a `where` clause: queued ones, and claimed ones whose lease
 /// ran out but that have attempts left, not expired, that target it (`$3`), its class (`$4`)

@@ -220,7 +220,7 @@ mod tests {
     }
 
     fn entry() -> Value {
-        serde_json::from_str(include_str!("../../seed_tags/drawer.json")).unwrap()
+        serde_json::from_str(include_str!("../../../seed_tags/drawer.json")).unwrap()
     }
 
     #[test]

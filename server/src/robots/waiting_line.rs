@@ -9,7 +9,7 @@
 //! waiting robot, a robot never looks twice at the same generation, and the robot that asked
 //! first looks first: the fairness rule's tie-break. A robot leaving the line passes the turn
 //! on too, and after a robot stepped aside for one ranked before it, its leaving is a change.
-//! The board holds no task state: the database does, so a restart loses nothing but the line.
+//! The line holds no task state: the database does, so a restart loses nothing but the line.
 
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -70,8 +70,10 @@ impl Line {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct TooManyWaiting;
 
+/// The robots waiting for a task, and the queue's rules they wait under: how long a lease lasts
+/// and how many tasks one robot may hold.
 #[derive(Debug)]
-pub struct TaskBoard {
+pub struct WaitingLine {
     lease: Duration,
     max_held: usize,
     line: Mutex<Line>,
@@ -83,13 +85,13 @@ pub struct TaskBoard {
     looks: AtomicU64,
 }
 
-impl Default for TaskBoard {
+impl Default for WaitingLine {
     fn default() -> Self {
         Self::new(DEFAULT_LEASE, DEFAULT_MAX_TASKS_PER_ROBOT)
     }
 }
 
-impl TaskBoard {
+impl WaitingLine {
     pub fn new(lease: Duration, max_held: usize) -> Self {
         Self {
             lease,
@@ -195,7 +197,7 @@ impl TaskBoard {
 /// change when a robot stepped aside for one ranked before it.
 #[derive(Debug)]
 pub struct Place {
-    board: Arc<TaskBoard>,
+    board: Arc<WaitingLine>,
     arrival: u64,
     turn: Arc<Notify>,
 }
@@ -269,7 +271,7 @@ mod tests {
 
     #[test]
     fn a_change_wakes_the_first_in_line_who_passes_the_turn_back() {
-        let board = Arc::new(TaskBoard::default());
+        let board = Arc::new(WaitingLine::default());
         let first = board.join(&robot("a"), Some("el-e"), true).unwrap();
         let second = board.join(&robot("b"), None, true).unwrap();
         let third = board.join(&robot("c"), None, true).unwrap();
@@ -298,7 +300,7 @@ mod tests {
 
     #[test]
     fn a_robot_that_looked_at_the_newest_change_passes_a_late_turn_on() {
-        let board = Arc::new(TaskBoard::default());
+        let board = Arc::new(WaitingLine::default());
         let first = board.join(&robot("a"), None, true).unwrap();
         let second = board.join(&robot("b"), None, true).unwrap();
         board.changed();
@@ -315,7 +317,7 @@ mod tests {
 
     #[test]
     fn one_robot_waits_with_at_most_a_few_claims_at_once() {
-        let board = Arc::new(TaskBoard::default());
+        let board = Arc::new(WaitingLine::default());
         let el_e = robot("el-e-1");
         let places: Vec<Place> =
             (0..MAX_WAITING_PER_ROBOT).map(|_| board.join(&el_e, None, true).unwrap()).collect();
@@ -328,9 +330,9 @@ mod tests {
 
     #[test]
     fn short_leases_are_swept_often_long_ones_every_second() {
-        let board = |lease| TaskBoard::new(lease, DEFAULT_MAX_TASKS_PER_ROBOT);
+        let board = |lease| WaitingLine::new(lease, DEFAULT_MAX_TASKS_PER_ROBOT);
         assert_eq!(board(Duration::from_secs(2)).sweep_every(), Duration::from_millis(500));
-        assert_eq!(TaskBoard::default().sweep_every(), Duration::from_secs(1));
+        assert_eq!(WaitingLine::default().sweep_every(), Duration::from_secs(1));
         assert_eq!(board(Duration::from_millis(100)).sweep_every(), Duration::from_millis(50));
     }
 }

@@ -15,11 +15,11 @@ use std::path::{Path, PathBuf};
 use serde_json::Value;
 use sqlx::AnyPool;
 
-use crate::picture::PictureType;
-use crate::retention::ForceSummary;
 use crate::store::pictures;
 use crate::store::trials::{self, TrialRow};
-use crate::trial_filter::TrialFilter;
+use crate::trials::filter::TrialFilter;
+use crate::trials::picture::PictureType;
+use crate::trials::retention::ForceSummary;
 
 /// Trials read per query.
 const PAGE: u32 = 500;
@@ -130,7 +130,7 @@ async fn write_picture(
         _ => "png",
     };
     let path: PathBuf = dir.join(format!("{}.{extension}", row.id));
-    let mut file = crate::private_file::options()
+    let mut file = crate::ops::private_file::options()
         .create(true)
         .truncate(true)
         .open(&path)

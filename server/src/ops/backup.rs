@@ -7,13 +7,10 @@
 //! This module must never write to the source database.
 
 use std::path::{Path, PathBuf};
-use std::str::FromStr;
 
 use anyhow::{Context, bail};
-use sqlx::sqlite::SqliteConnectOptions;
-use sqlx::{Connection, SqliteConnection};
 
-use crate::db::Db;
+use crate::store::{self, db::Db};
 
 /// What a backup holds.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -54,18 +51,12 @@ pub async fn backup(db: &Db, to: &Path, replace: bool) -> anyhow::Result<BackupR
     let partial = partial_path(to)?;
     let _ = std::fs::remove_file(&partial);
     // SQLite writes into an empty file it is given, keeping its owner-only mode.
-    crate::private_file::options()
+    crate::ops::private_file::options()
         .create_new(true)
         .open(&partial)
         .with_context(|| format!("cannot create the backup {}", partial.display()))?;
     let copied = async {
-        let mut conn = db.reader().acquire().await?;
-        sqlx::query("vacuum into $1")
-            .bind(partial.to_string_lossy().as_ref())
-            .execute(&mut *conn)
-            .await
-            .with_context(|| format!("cannot write the backup {}", partial.display()))?;
-        drop(conn);
+        store::backup::vacuum_into(db, &partial).await?;
         let report = inspect(&partial).await?;
         // On disk before it takes the final name, so a crash never leaves a torn "backup".
         std::fs::File::open(&partial)?.sync_all()?;
@@ -156,23 +147,14 @@ fn partial_path(to: &Path) -> anyhow::Result<PathBuf> {
 
 /// Checks a copy's integrity and counts what it holds.
 async fn inspect(path: &Path) -> anyhow::Result<BackupReport> {
-    let options = SqliteConnectOptions::from_str("sqlite:")?.filename(path);
-    let mut conn = SqliteConnection::connect_with(&options)
-        .await
-        .with_context(|| format!("cannot open the backup {}", path.display()))?;
-    let integrity: String =
-        sqlx::query_scalar("pragma integrity_check").fetch_one(&mut conn).await?;
-    if integrity != "ok" {
-        bail!("the backup {} failed its integrity check: {integrity}", path.display());
-    }
-    let tags = sqlx::query_scalar("select count(*) from tags").fetch_one(&mut conn).await?;
-    let trials = sqlx::query_scalar("select count(*) from trials").fetch_one(&mut conn).await?;
-    let pictures =
-        sqlx::query_scalar("select count(*) from trial_pictures where bytes is not null")
-            .fetch_one(&mut conn)
-            .await?;
-    conn.close().await?;
+    let contents = match store::backup::inspect(path).await? {
+        Ok(contents) => contents,
+        Err(found) => {
+            bail!("the backup {} failed its integrity check: {found}", path.display())
+        }
+    };
     let bytes = std::fs::metadata(path)?.len();
+    let store::backup::Contents { tags, trials, pictures } = contents;
     Ok(BackupReport { path: path.to_owned(), bytes, tags, trials, pictures })
 }
 

@@ -6,18 +6,18 @@ use serde_json::Value;
 use sqlx::AnyConnection;
 
 use crate::accept::accept;
-use crate::db::Db;
 use crate::error::ApiError;
 use crate::store::WriteCondition;
+use crate::store::db::Db;
 use crate::store::tags;
 
 /// `seed_tags/*.json`, compiled in so a bare binary can seed an empty registry.
 const SEEDS: [(&str, &str); 5] = [
-    ("light_switch.json", include_str!("../../seed_tags/light_switch.json")),
-    ("ada_light_switch.json", include_str!("../../seed_tags/ada_light_switch.json")),
-    ("lamp.json", include_str!("../../seed_tags/lamp.json")),
-    ("drawer.json", include_str!("../../seed_tags/drawer.json")),
-    ("trash_can.json", include_str!("../../seed_tags/trash_can.json")),
+    ("light_switch.json", include_str!("../../../seed_tags/light_switch.json")),
+    ("ada_light_switch.json", include_str!("../../../seed_tags/ada_light_switch.json")),
+    ("lamp.json", include_str!("../../../seed_tags/lamp.json")),
+    ("drawer.json", include_str!("../../../seed_tags/drawer.json")),
+    ("trash_can.json", include_str!("../../../seed_tags/trash_can.json")),
 ];
 
 /// Who the history names for seeded entries.

@@ -18,7 +18,7 @@ use serde_json::{Value, json};
 use sha2::{Digest, Sha256};
 
 use crate::clock;
-use crate::db::Db;
+use crate::store::db::Db;
 use crate::store::{pictures, trials};
 
 /// The key in `measurements` that marks a thinned trial and holds its summary.

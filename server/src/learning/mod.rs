@@ -4,6 +4,8 @@
 //! Runs inside the transaction that records or changes trials, so what was learned commits
 //! with the evidence it rests on.
 
+pub mod colour;
+
 use std::collections::BTreeSet;
 
 use pps_schema::pointer::escape;
@@ -11,11 +13,10 @@ use pps_schema::{BehaviorKind, Epc};
 use serde_json::{Value, json};
 use sqlx::AnyConnection;
 
-use crate::colour_learning;
-use crate::counted_purposes::CountedPurposes;
 use crate::store::events::{self, EventKind};
 use crate::store::trial_counts::{self, GroupKey};
 use crate::store::{learning, tags};
+use crate::trials::counted_purposes::CountedPurposes;
 
 /// A parameter a behaviour's trials measure: its learned value is the median of the
 /// measurement over the class's successful trials.
@@ -100,7 +101,7 @@ pub async fn update(
     let colour_groups: BTreeSet<(&Epc, Option<&str>)> =
         groups.iter().filter(|g| g.relearn).map(|g| (&g.epc, g.robot_class.as_deref())).collect();
     for (epc, robot_class) in colour_groups {
-        let change = colour_learning::update(conn, epc, robot_class).await?;
+        let change = colour::update(conn, epc, robot_class).await?;
         if change.tag || change.household {
             // A household's model is in every entry of the class: the caches forget them all.
             let data = json!({ "epc": epc.as_hex(), "robot_class": class_in_feed(robot_class), "household": change.household });

@@ -14,14 +14,14 @@ use sqlx::AnyConnection;
 use tokio::sync::{mpsc, oneshot};
 use uuid::Uuid;
 
-use crate::colour_learning;
-use crate::db::{Db, Unwritable};
-use crate::effective_cache::EffectiveCache;
 use crate::feed::ChangeFeed;
+use crate::learning::colour;
 use crate::learning::{self, TrialGroup};
+use crate::store::db::{Db, Unwritable};
 use crate::store::events::{self, EventKind};
 use crate::store::trials::{self, NewTrial, TrialRow};
-use crate::{clock, retention, store};
+use crate::tags::effective_cache::EffectiveCache;
+use crate::{clock, store, trials::retention};
 
 /// Trials committed together at most.
 const MAX_BATCH: usize = 512;
@@ -247,8 +247,7 @@ async fn sort_out<'a>(
             action: trial.action.clone(),
             behavior: trial.behavior.clone(),
             robot_class: robot_class.clone(),
-            relearn: learning::teaches(submitted.get("measurements"))
-                || colour_learning::teaches(submitted),
+            relearn: learning::teaches(submitted.get("measurements")) || colour::teaches(submitted),
         });
         sorted.results.push(Ok(Recorded::New(TrialRow {
             seq,
