@@ -249,8 +249,7 @@ fn a_broker_url_the_bridge_cannot_use_stops_serve_in_one_sentence() {
     let dir = tempfile::tempdir().unwrap();
     let db = dir.path().join("pps.db");
     for (url, says) in [
-        ("mqtts://broker.lan:8883", "mqtts:// (MQTT over TLS) is not supported yet"),
-        ("http://broker.lan", "a broker URL starts with mqtt://, not http://"),
+        ("http://broker.lan", "a broker URL starts with mqtt:// or mqtts://, not http://"),
         ("mqtt://broker.lan/topic", "has a path or query"),
     ] {
         let output = std::process::Command::new(pps_tests::workspace_bin("pps-server"))

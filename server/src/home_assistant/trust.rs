@@ -130,8 +130,12 @@ impl BrokerTrust {
         let not_tls = match tls {
             Some(rustls::Error::InvalidMessage(_)) => true,
             Some(_) => false,
-            // The broker hung up on the greeting: a plain MQTT broker does, at once.
-            None => error.kind() == io::ErrorKind::UnexpectedEof,
+            // Hung up on the greeting without a TLS alert, as a plain MQTT broker does (with a
+            // reset, when it leaves the rest of the greeting unread).
+            None => matches!(
+                error.kind(),
+                io::ErrorKind::UnexpectedEof | io::ErrorKind::ConnectionReset
+            ),
         };
         if not_tls {
             let plain = Broker { login: None, tls: false, ..broker.clone() };
