@@ -1,7 +1,8 @@
 //! The Home Assistant bridge against a real Mosquitto, seen by a plain MQTT client as Home
 //! Assistant would see it: the seeded tags announced as devices, a press made into one task
 //! that a simulated robot does, the state its detector saw, bad messages ignored, an archived
-//! tag removed, a retagged one kept, the broker killed and back, the bridge's goodbye.
+//! tag removed, a retagged one kept, the broker killed and back, a message over 1 MiB, the
+//! bridge's goodbye.
 
 use std::time::Instant;
 
@@ -273,4 +274,50 @@ async fn a_registry_that_dies_is_marked_offline_by_its_last_will() {
     // Killed outright: no goodbye, so it is the broker that says it.
     drop(registry);
     watch.until_text(BRIDGE, "offline").await;
+}
+
+#[tokio::test]
+async fn a_message_over_a_mebibyte_ends_only_the_bridges_connection_and_it_comes_back() {
+    let broker = Mosquitto::start().await;
+    let registry = Registry::with_flags(&["--mqtt", &broker.url()]);
+    let watch =
+        MqttWatch::connect(broker.port, "watch-oversized", &["homeassistant/#", "pps/#"]).await;
+    announced(&watch, 5).await;
+    watch.until_text(BRIDGE, "online").await;
+
+    // Emptied here, so that only the bridge announcing again (as it does on every reconnect)
+    // fills it.
+    let ada = device(ADA_SWITCH);
+    let ada_off = format!("homeassistant/button/{ada}/off/config");
+    watch.publish(&ada_off, "").await;
+    watch.until_text(&ada_off, "").await;
+
+    let press = format!("pps/{ada}/press/off");
+    let sent = Instant::now();
+    watch.publish(&press, vec![b'P'; 1_100_000]).await;
+    wait::until("the oversized message to be logged", || async {
+        registry
+            .logged(
+                "over the bridge's limit of 1048576: that ends the connection, and the bridge \
+                 reconnects without it",
+            )
+            .then_some(())
+    })
+    .await;
+    // The watch would not see this had its own connection ended: its subscriptions would be
+    // gone with its session.
+    wait::until("the bridge to reconnect and announce again", || async {
+        watch.last(&ada_off).filter(|payload| !payload.is_empty()).map(drop)
+    })
+    .await;
+    eprintln!("oversized message to announced again: {} ms", sent.elapsed().as_millis());
+    assert_eq!(registry.get("/api/v1/tags").await["items"].as_array().map(Vec::len), Some(5));
+
+    // The oversized message asked for nothing; the next press asks once.
+    watch.publish(&press, "PRESS").await;
+    wait::until("the press to become a task", || async {
+        tasks_on(&registry, ADA_SWITCH).await.into_iter().next()
+    })
+    .await;
+    assert_eq!(tasks_on(&registry, ADA_SWITCH).await.len(), 1, "one press, one task");
 }

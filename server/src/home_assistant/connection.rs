@@ -5,7 +5,9 @@
 use std::time::Duration;
 
 use backon::{BackoffBuilder, ExponentialBuilder};
-use rumqttc::{AsyncClient, Event, LastWill, MqttOptions, Packet, QoS, Transport};
+use rumqttc::{
+    AsyncClient, ConnectionError, Event, LastWill, MqttOptions, Packet, QoS, StateError, Transport,
+};
 use tokio::sync::mpsc;
 use tokio::time::Instant;
 
@@ -116,7 +118,7 @@ async fn drive(
                 let error = relay
                     .as_ref()
                     .and_then(TlsRelay::take_failure)
-                    .unwrap_or_else(|| error.to_string());
+                    .unwrap_or_else(|| in_words(&error));
                 if down_since.is_none() {
                     down_since = Some(Instant::now());
                     let _ = links.send(Link::Lost);
@@ -129,6 +131,21 @@ async fn drive(
                 tokio::time::sleep(waits.next().unwrap_or(MAX_BACKOFF)).await;
             }
         }
+    }
+}
+
+/// rumqttc's error, in words where the bridge knows what it means.
+fn in_words(error: &ConnectionError) -> String {
+    use rumqttc::mqttbytes::Error::PayloadSizeLimitExceeded;
+    match error {
+        ConnectionError::MqttState(StateError::Deserialization(PayloadSizeLimitExceeded(size))) => {
+            format!(
+                "the broker sent a message of {size} bytes, over the bridge's limit of \
+             {MAX_INCOMING_PACKET}: that ends the connection, and the bridge reconnects \
+             without it"
+            )
+        }
+        other => other.to_string(),
     }
 }
 
