@@ -321,3 +321,55 @@ async fn a_message_over_a_mebibyte_ends_only_the_bridges_connection_and_it_comes
     .await;
     assert_eq!(tasks_on(&registry, ADA_SWITCH).await.len(), 1, "one press, one task");
 }
+
+/// The bridge's lease in the database runs out now, as it would 20 s after its holder died.
+/// The lease reads the wall clock and has no clock of its own to move, so its end is moved.
+async fn run_the_lease_out(db: &std::path::Path) {
+    let options = sqlx::sqlite::SqliteConnectOptions::new().filename(db);
+    let mut conn = <sqlx::SqliteConnection as sqlx::Connection>::connect_with(&options)
+        .await
+        .expect("the registry's database opens");
+    let ended = sqlx::query("update bridge_lease set until = '2000-01-01T00:00:00.000Z'")
+        .execute(&mut conn)
+        .await
+        .expect("the lease's end is moved");
+    assert_eq!(ended.rows_affected(), 1, "one lease");
+}
+
+#[tokio::test]
+async fn a_registry_started_after_a_crash_runs_the_bridge_once_the_old_lease_ran_out() {
+    let broker = Mosquitto::start().await;
+    let mqtt = ["--mqtt", &broker.url()];
+    let crashed = Registry::with_flags(&mqtt);
+    let watch = MqttWatch::connect(broker.port, "watch-crash", &["homeassistant/#", BRIDGE]).await;
+    announced(&watch, 5).await;
+    watch.until_text(BRIDGE, "online").await;
+
+    // Killed outright: its lease is not given up.
+    let status = std::process::Command::new("kill")
+        .args(["-KILL", &crashed.pid().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(status.success());
+    watch.until_text(BRIDGE, "offline").await;
+
+    // Started again on the same database: the dead process's lease still stands.
+    let restarted = crashed.another_replica(&mqtt);
+    wait::until("the restarted registry to stand by", || async {
+        restarted
+            .logged("another replica runs the Home Assistant bridge; standing by")
+            .then_some(())
+    })
+    .await;
+    assert!(!restarted.logged("running the Home Assistant bridge"));
+
+    run_the_lease_out(crashed.db_path()).await;
+    let ran_out = Instant::now();
+    wait::until("the restarted registry to take the bridge", || async {
+        restarted.logged("running the Home Assistant bridge").then_some(())
+    })
+    .await;
+    watch.until_text(BRIDGE, "online").await;
+    eprintln!("lease run out to the bridge online again: {} ms", ran_out.elapsed().as_millis());
+    assert_eq!(restarted.get("/api/v1/home-assistant").await["bridge"], "connected");
+}
