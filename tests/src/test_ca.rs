@@ -45,10 +45,26 @@ impl TestCa {
 
     /// A server certificate for `names` (DNS names or IP addresses), signed by this CA.
     pub fn server(&self, names: &[&str]) -> ServerIdentity {
-        let names: Vec<String> = names.iter().map(|name| (*name).to_owned()).collect();
-        let params = CertificateParams::new(names).expect("server certificate parameters");
+        self.sign(server_params(names))
+    }
+
+    /// [`TestCa::server`], but it ran out yesterday.
+    pub fn expired_server(&self, names: &[&str]) -> ServerIdentity {
+        let mut params = server_params(names);
+        let now = time::OffsetDateTime::now_utc();
+        params.not_before = now - time::Duration::days(30);
+        params.not_after = now - time::Duration::days(1);
+        self.sign(params)
+    }
+
+    fn sign(&self, params: CertificateParams) -> ServerIdentity {
         let key = KeyPair::generate().expect("a server key");
         let cert = params.signed_by(&key, &self.issuer).expect("the CA signs");
         ServerIdentity { cert_pem: cert.pem(), key_pem: key.serialize_pem() }
     }
+}
+
+fn server_params(names: &[&str]) -> CertificateParams {
+    let names: Vec<String> = names.iter().map(|name| (*name).to_owned()).collect();
+    CertificateParams::new(names).expect("server certificate parameters")
 }

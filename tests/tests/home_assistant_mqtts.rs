@@ -138,15 +138,17 @@ async fn a_broker_signed_by_another_ca_is_refused_in_words_until_it_shows_the_ri
 }
 
 #[tokio::test]
-async fn a_certificate_for_another_name_and_a_plain_port_are_refused_in_words() {
+async fn a_certificate_for_another_name_an_expired_one_and_a_plain_port_are_refused_in_words() {
     let ca = TestCa::new("home broker CA");
     let broker = Mosquitto::start_tls(&ca.server(&["broker.example"])).await;
+    let outdated = Mosquitto::start_tls(&ca.expired_server(&["127.0.0.1"])).await;
     let files = tempfile::tempdir().unwrap();
     let ca_file = ca.write(files.path(), "home-ca.pem");
     let ca_file = ca_file.to_str().unwrap();
     let wrong_name = Registry::with_flags(&["--mqtt", &broker.tls_url(), "--mqtt-ca", ca_file]);
     let plain = format!("mqtts://127.0.0.1:{}", broker.port);
     let not_tls = Registry::with_flags(&["--mqtt", &plain, "--mqtt-ca", ca_file]);
+    let expired = Registry::with_flags(&["--mqtt", &outdated.tls_url(), "--mqtt-ca", ca_file]);
     logged(
         &wrong_name,
         "the MQTT broker's certificate is not for \"127.0.0.1\": connect to a name its \
@@ -160,6 +162,14 @@ async fn a_certificate_for_another_name_and_a_plain_port_are_refused_in_words() 
             "the MQTT broker at {plain} does not speak TLS on port {port}: use \
              mqtt://127.0.0.1:{port} if that port is plain MQTT, or the broker's TLS port \
              (usually 8883)"
+        ),
+    )
+    .await;
+    logged(
+        &expired,
+        &format!(
+            "the MQTT broker at {} shows an expired certificate: renew it on the broker",
+            outdated.tls_url()
         ),
     )
     .await;

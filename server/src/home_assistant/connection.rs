@@ -141,8 +141,8 @@ fn in_words(error: &ConnectionError) -> String {
         ConnectionError::MqttState(StateError::Deserialization(PayloadSizeLimitExceeded(size))) => {
             format!(
                 "the broker sent a message of {size} bytes, over the bridge's limit of \
-             {MAX_INCOMING_PACKET}: that ends the connection, and the bridge reconnects \
-             without it"
+                 {MAX_INCOMING_PACKET}: that ends the connection, and the bridge reconnects \
+                 without it"
             )
         }
         other => other.to_string(),

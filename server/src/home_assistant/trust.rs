@@ -109,9 +109,10 @@ impl BrokerTrust {
         };
         tokio::time::timeout(HANDSHAKE_WITHIN, attempt).await.unwrap_or_else(|_| {
             Err(format!(
-                "the MQTT broker at {broker} did not finish a TLS handshake within {} s: is \
-                 that its TLS port?",
-                HANDSHAKE_WITHIN.as_secs()
+                "the MQTT broker at {broker} did not complete a TLS connection within {} s: \
+                 check its host, and that port {} is its TLS port",
+                HANDSHAKE_WITHIN.as_secs(),
+                broker.port
             ))
         })
     }
