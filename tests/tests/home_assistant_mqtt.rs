@@ -208,7 +208,12 @@ async fn the_bridge_outlives_its_broker_and_says_goodbye() {
     let bridge = registry.get("/api/v1/home-assistant").await;
     assert_eq!(
         bridge,
-        json!({ "bridge": "connected", "broker": broker.url(), "prefix": "homeassistant" })
+        json!({
+            "bridge": "connected",
+            "broker": broker.url(),
+            "prefix": "homeassistant",
+            "problem": null,
+        })
     );
 
     broker.kill();

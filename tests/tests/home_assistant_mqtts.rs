@@ -50,7 +50,12 @@ async fn discovery_and_presses_go_over_tls_to_a_broker_with_its_own_ca() {
     );
     assert_eq!(
         registry.get("/api/v1/home-assistant").await,
-        json!({ "bridge": "connected", "broker": broker.tls_url(), "prefix": "homeassistant" })
+        json!({
+            "bridge": "connected",
+            "broker": broker.tls_url(),
+            "prefix": "homeassistant",
+            "problem": null,
+        })
     );
 
     // A press goes the other way through the same TLS connection.
@@ -113,17 +118,24 @@ async fn a_broker_signed_by_another_ca_is_refused_in_words_until_it_shows_the_ri
         "--mqtt-ca",
         ca_file.to_str().unwrap(),
     ]);
-    logged(
-        &registry,
-        &format!(
-            "the MQTT broker at {} shows a certificate not signed by the CA in {}: give the CA \
-             that signed it with --mqtt-ca (PPS_MQTT_CA)",
-            broker.tls_url(),
-            ca_file.display()
-        ),
-    )
+    let refused = format!(
+        "the MQTT broker at {} shows a certificate not signed by the CA in {}: give the CA that \
+         signed it with --mqtt-ca (PPS_MQTT_CA)",
+        broker.tls_url(),
+        ca_file.display()
+    );
+    logged(&registry, &refused).await;
+    // The admin page says it too.
+    let said = json!({
+        "bridge": "connecting",
+        "broker": broker.tls_url(),
+        "prefix": "homeassistant",
+        "problem": refused,
+    });
+    wait::until("the bridge's status to say why", || async {
+        (registry.get("/api/v1/home-assistant").await == said).then_some(())
+    })
     .await;
-    assert_eq!(registry.get("/api/v1/home-assistant").await["bridge"], "connecting");
     assert_eq!(registry.get("/api/v1/tags").await["items"].as_array().map(Vec::len), Some(5));
 
     // The broker gets the certificate its owner meant; the bridge, still trying, connects.
@@ -135,6 +147,7 @@ async fn a_broker_signed_by_another_ca_is_refused_in_words_until_it_shows_the_ri
     announced(&watch).await;
     watch.until_text(BRIDGE, "online").await;
     eprintln!("right certificate to five tags announced: {} ms", back.elapsed().as_millis());
+    assert_eq!(registry.get("/api/v1/home-assistant").await["problem"], json!(null));
 }
 
 #[tokio::test]

@@ -96,8 +96,8 @@ pub async fn run(state: &AppState, config: &Config, lease: &Lease) -> Ended {
                     bridge.connected = true;
                     bridge.on_connect(&status_topic).await;
                 }
-                Link::Lost => {
-                    state.home_assistant.set(Status::Connecting);
+                Link::Lost { why } => {
+                    state.home_assistant.trouble(why);
                     bridge.connected = false;
                 }
                 Link::Message { topic, payload } if topic == status_topic => {

@@ -31,8 +31,14 @@ const QUEUE: usize = 1024;
 #[derive(Debug)]
 pub enum Link {
     Connected,
-    Lost,
-    Message { topic: String, payload: bytes::Bytes },
+    /// Cannot use the broker now, and why; said again when the reason changes.
+    Lost {
+        why: String,
+    },
+    Message {
+        topic: String,
+        payload: bytes::Bytes,
+    },
 }
 
 /// The client to publish with, what the connection reports, and the task polling it (it ends
@@ -121,11 +127,11 @@ async fn drive(
                     .unwrap_or_else(|| in_words(&error));
                 if down_since.is_none() {
                     down_since = Some(Instant::now());
-                    let _ = links.send(Link::Lost);
                 }
                 // Once per outage and reason; the registry goes on serving meanwhile.
                 if said.as_ref() != Some(&error) {
                     tracing::warn!(%broker, %error, "cannot use the MQTT broker; reconnecting");
+                    let _ = links.send(Link::Lost { why: error.clone() });
                     said = Some(error);
                 }
                 tokio::time::sleep(waits.next().unwrap_or(MAX_BACKOFF)).await;
