@@ -188,6 +188,23 @@ async fn a_certificate_for_another_name_an_expired_one_and_a_plain_port_are_refu
     .await;
 }
 
+#[tokio::test]
+async fn a_plain_url_for_the_tls_port_is_told_to_use_mqtts() {
+    let ca = TestCa::new("home broker CA");
+    let broker = Mosquitto::start_tls(&ca.server(&["127.0.0.1"])).await;
+    let port = broker.tls_port.unwrap();
+    let registry = Registry::with_flags(&["--mqtt", &format!("mqtt://127.0.0.1:{port}")]);
+    logged(
+        &registry,
+        &format!(
+            "the MQTT broker at mqtt://127.0.0.1:{port} hung up before answering the bridge's \
+             CONNECT: if that port speaks TLS, use mqtts://127.0.0.1:{port}; otherwise its log \
+             says why it refused"
+        ),
+    )
+    .await;
+}
+
 #[test]
 fn a_ca_file_the_bridge_cannot_use_stops_serve_in_one_sentence() {
     let dir = tempfile::tempdir().unwrap();

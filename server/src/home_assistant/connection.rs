@@ -13,7 +13,7 @@ use tokio::time::Instant;
 
 use super::discovery;
 use super::tls_relay::TlsRelay;
-use super::{Config, trust};
+use super::{Broker, Config, trust};
 
 /// The broker declares the bridge gone (and sends its last will) after 1.5 of these.
 const KEEP_ALIVE: Duration = Duration::from_secs(10);
@@ -79,7 +79,7 @@ pub fn open(config: &Config) -> std::io::Result<Opened> {
     network.set_connection_timeout(trust::HANDSHAKE_WITHIN.as_secs() + 2);
     eventloop.set_network_options(network);
     let (links, link) = mpsc::unbounded_channel();
-    let connection = tokio::spawn(drive(eventloop, links, config.broker.to_string(), relay));
+    let connection = tokio::spawn(drive(eventloop, links, config.broker.clone(), relay));
     Ok((client, link, connection))
 }
 
@@ -87,10 +87,12 @@ pub fn open(config: &Config) -> std::io::Result<Opened> {
 async fn drive(
     mut eventloop: rumqttc::EventLoop,
     links: mpsc::UnboundedSender<Link>,
-    broker: String,
+    broker: Broker,
     relay: Option<TlsRelay>,
 ) {
     let mut waits = reconnect_waits();
+    // Whether the broker answered the bridge's CONNECT on this connection.
+    let mut answered = false;
     let mut down_since: Option<Instant> = None;
     // What was last said about the outage: said again only when the reason changes.
     let mut said: Option<String> = None;
@@ -105,6 +107,7 @@ async fn drive(
                     None => tracing::info!(%broker, "connected to the MQTT broker"),
                 }
                 waits = reconnect_waits();
+                answered = true;
                 said = None;
                 let _ = links.send(Link::Connected);
             }
@@ -124,7 +127,8 @@ async fn drive(
                 let error = relay
                     .as_ref()
                     .and_then(TlsRelay::take_failure)
-                    .unwrap_or_else(|| in_words(&error));
+                    .unwrap_or_else(|| in_words(&error, &broker, answered));
+                answered = false;
                 if down_since.is_none() {
                     down_since = Some(Instant::now());
                 }
@@ -140,9 +144,30 @@ async fn drive(
     }
 }
 
-/// rumqttc's error, in words where the bridge knows what it means.
-fn in_words(error: &ConnectionError) -> String {
-    use rumqttc::mqttbytes::Error::PayloadSizeLimitExceeded;
+/// rumqttc's error, in words where the bridge knows what it means; `answered` tells whether
+/// the broker had answered the bridge's CONNECT on the connection that ended.
+fn in_words(error: &ConnectionError, broker: &Broker, answered: bool) -> String {
+    use rumqttc::mqttbytes::Error::{Io, PayloadSizeLimitExceeded};
+    let hung_up = |error: &std::io::Error| {
+        use std::io::ErrorKind::{ConnectionAborted, ConnectionReset, UnexpectedEof};
+        matches!(error.kind(), ConnectionReset | ConnectionAborted | UnexpectedEof)
+    };
+    let no_answer = match error {
+        ConnectionError::MqttState(StateError::ConnectionAborted)
+        | ConnectionError::NotConnAck(_) => true,
+        ConnectionError::MqttState(StateError::Deserialization(Io(error)))
+        | ConnectionError::MqttState(StateError::Io(error))
+        | ConnectionError::Io(error) => hung_up(error),
+        _ => false,
+    };
+    // A TLS port hangs up on (or answers with an alert) a plain MQTT greeting.
+    if no_answer && !answered && !broker.tls {
+        let tls = Broker { login: None, tls: true, ..broker.clone() };
+        return format!(
+            "the MQTT broker at {broker} hung up before answering the bridge's CONNECT: if that \
+             port speaks TLS, use {tls}; otherwise its log says why it refused"
+        );
+    }
     match error {
         ConnectionError::MqttState(StateError::Deserialization(PayloadSizeLimitExceeded(size))) => {
             format!(
