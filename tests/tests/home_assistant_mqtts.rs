@@ -29,7 +29,7 @@ async fn logged(registry: &Registry, sentence: &str) {
 }
 
 #[tokio::test]
-async fn discovery_and_presses_go_over_tls_to_a_broker_with_its_own_ca() {
+async fn discovery_presses_and_the_last_will_go_over_tls_to_a_broker_with_its_own_ca() {
     let ca = TestCa::new("home broker CA");
     let broker = Mosquitto::start_tls(&ca.server(&["127.0.0.1"])).await;
     let files = tempfile::tempdir().unwrap();
@@ -72,6 +72,10 @@ async fn discovery_and_presses_go_over_tls_to_a_broker_with_its_own_ca() {
         (task["action"].as_str(), task["created_by"].as_str()),
         (Some("off"), Some("Home Assistant bridge"))
     );
+
+    // Killed outright, the registry leaves its last will to the broker, over TLS as well.
+    drop(registry);
+    watch.until_text(BRIDGE, "offline").await;
 }
 
 #[tokio::test]
