@@ -3,6 +3,7 @@
 //! over TLS, the CA given with `--mqtt-ca` or trusted by the system, and each way a broker can
 //! fail the check said in one sentence while the bridge keeps trying.
 
+use std::path::Path;
 use std::time::Instant;
 
 use pps_tests::fixtures::ADA_SWITCH;
@@ -21,6 +22,14 @@ async fn announced(watch: &MqttWatch) {
     .await;
 }
 
+/// A registry bridging over `mqtts://`: its TLS socket goes into `files`, which the test
+/// removes, since a registry killed outright leaves it behind.
+fn serve_tls(flags: &[&str], files: &Path, env: &[(&str, &str)]) -> Registry {
+    let tmp = files.to_str().expect("a UTF-8 temporary directory");
+    let env: Vec<(&str, &str)> = env.iter().copied().chain([("TMPDIR", tmp)]).collect();
+    Registry::with_flags_and_env(flags, &env)
+}
+
 async fn logged(registry: &Registry, sentence: &str) {
     wait::until(&format!("the log to say {sentence:?}"), || async {
         registry.logged(sentence).then_some(())
@@ -35,12 +44,11 @@ async fn discovery_presses_and_the_last_will_go_over_tls_to_a_broker_with_its_ow
     let files = tempfile::tempdir().unwrap();
     let ca_file = ca.write(files.path(), "home-ca.pem");
     let started = Instant::now();
-    let registry = Registry::with_flags(&[
-        "--mqtt",
-        &broker.tls_url(),
-        "--mqtt-ca",
-        ca_file.to_str().unwrap(),
-    ]);
+    let registry = serve_tls(
+        &["--mqtt", &broker.tls_url(), "--mqtt-ca", ca_file.to_str().unwrap()],
+        files.path(),
+        &[],
+    );
     let watch = MqttWatch::connect(broker.port, "watch-tls", &["homeassistant/#", "pps/#"]).await;
     announced(&watch).await;
     watch.until_text(BRIDGE, "online").await;
@@ -90,9 +98,9 @@ async fn the_systems_cas_are_trusted_unless_a_ca_file_is_given() {
 
     // "The system" is whatever SSL_CERT_FILE names, as with OpenSSL.
     let trusting =
-        Registry::with_flags_and_env(&mqtts, &[("SSL_CERT_FILE", home_file.to_str().unwrap())]);
+        serve_tls(&mqtts, files.path(), &[("SSL_CERT_FILE", home_file.to_str().unwrap())]);
     let refusing =
-        Registry::with_flags_and_env(&mqtts, &[("SSL_CERT_FILE", other_file.to_str().unwrap())]);
+        serve_tls(&mqtts, files.path(), &[("SSL_CERT_FILE", other_file.to_str().unwrap())]);
     wait::until("the bridge trusting the system's CA to connect", || async {
         (trusting.get("/api/v1/home-assistant").await["bridge"] == "connected").then_some(())
     })
@@ -116,12 +124,11 @@ async fn a_broker_signed_by_another_ca_is_refused_in_words_until_it_shows_the_ri
     let mut broker = Mosquitto::start_tls(&other.server(&["127.0.0.1"])).await;
     let files = tempfile::tempdir().unwrap();
     let ca_file = home.write(files.path(), "home-ca.pem");
-    let registry = Registry::with_flags(&[
-        "--mqtt",
-        &broker.tls_url(),
-        "--mqtt-ca",
-        ca_file.to_str().unwrap(),
-    ]);
+    let registry = serve_tls(
+        &["--mqtt", &broker.tls_url(), "--mqtt-ca", ca_file.to_str().unwrap()],
+        files.path(),
+        &[],
+    );
     let refused = format!(
         "the MQTT broker at {} shows a certificate not signed by the CA in {}: give the CA that \
          signed it with --mqtt-ca (PPS_MQTT_CA)",
@@ -162,10 +169,12 @@ async fn a_certificate_for_another_name_an_expired_one_and_a_plain_port_are_refu
     let files = tempfile::tempdir().unwrap();
     let ca_file = ca.write(files.path(), "home-ca.pem");
     let ca_file = ca_file.to_str().unwrap();
-    let wrong_name = Registry::with_flags(&["--mqtt", &broker.tls_url(), "--mqtt-ca", ca_file]);
+    let wrong_name =
+        serve_tls(&["--mqtt", &broker.tls_url(), "--mqtt-ca", ca_file], files.path(), &[]);
     let plain = format!("mqtts://127.0.0.1:{}", broker.port);
-    let not_tls = Registry::with_flags(&["--mqtt", &plain, "--mqtt-ca", ca_file]);
-    let expired = Registry::with_flags(&["--mqtt", &outdated.tls_url(), "--mqtt-ca", ca_file]);
+    let not_tls = serve_tls(&["--mqtt", &plain, "--mqtt-ca", ca_file], files.path(), &[]);
+    let expired =
+        serve_tls(&["--mqtt", &outdated.tls_url(), "--mqtt-ca", ca_file], files.path(), &[]);
     logged(
         &wrong_name,
         "the MQTT broker's certificate is not for \"127.0.0.1\": connect to a name its \
