@@ -12,6 +12,7 @@ pub mod module_graph;
 pub mod mosquitto;
 pub mod mqtt_watch;
 pub mod registry;
+pub mod test_ca;
 pub mod wait;
 pub mod working_robot;
 
@@ -20,6 +21,7 @@ pub use home_assistant::HomeAssistant;
 pub use mosquitto::Mosquitto;
 pub use mqtt_watch::MqttWatch;
 pub use registry::Registry;
+pub use test_ca::{ServerIdentity, TestCa};
 pub use working_robot::WorkingRobot;
 
 use std::path::PathBuf;

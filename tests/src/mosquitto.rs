@@ -1,6 +1,8 @@
 //! A real Mosquitto broker (Debian's `mosquitto`) for the Home Assistant bridge's tests: on
 //! 127.0.0.1 only, its configuration in a temporary directory, retained messages kept in
-//! memory only (so a restart loses them, as a broker's crash can).
+//! memory only (so a restart loses them, as a broker's crash can). It may also speak TLS on a
+//! second port, with a certificate the test made; the plain port stays for the test's own
+//! clients.
 
 use std::net::{Ipv4Addr, TcpListener, TcpStream};
 use std::path::PathBuf;
@@ -8,6 +10,7 @@ use std::process::{Child, Command, Stdio};
 
 use tempfile::TempDir;
 
+use crate::test_ca::ServerIdentity;
 use crate::wait;
 
 /// A running broker; stopped when dropped.
@@ -15,30 +18,62 @@ use crate::wait;
 pub struct Mosquitto {
     child: Option<Child>,
     pub port: u16,
+    /// The TLS listener's port, when the broker has one.
+    pub tls_port: Option<u16>,
     config: PathBuf,
-    _dir: TempDir,
+    dir: TempDir,
 }
 
 impl Mosquitto {
     /// Starts a broker on a free loopback port and waits until it takes connections.
     pub async fn start() -> Self {
+        Self::start_with(None).await
+    }
+
+    /// Starts a broker that also speaks TLS as `identity` on a second loopback port.
+    pub async fn start_tls(identity: &ServerIdentity) -> Self {
+        Self::start_with(Some(identity)).await
+    }
+
+    async fn start_with(identity: Option<&ServerIdentity>) -> Self {
         let dir = tempfile::tempdir().expect("a temporary directory");
-        let port = TcpListener::bind((Ipv4Addr::LOCALHOST, 0))
-            .and_then(|listener| listener.local_addr())
-            .expect("a free loopback port")
-            .port();
+        // Both taken before either is let go, so that they differ.
+        let [port, second_port] = free_ports();
         let config = dir.path().join("mosquitto.conf");
-        std::fs::write(
-            &config,
-            format!(
-                "listener {port} 127.0.0.1\nallow_anonymous true\npersistence false\nsys_interval 1\n\
-                 log_dest none\n"
-            ),
-        )
-        .expect("the broker's configuration is written");
-        let mut broker = Self { child: None, port, config, _dir: dir };
+        let mut text = format!(
+            "listener {port} 127.0.0.1\nallow_anonymous true\npersistence false\nsys_interval 1\n\
+             log_dest none\n"
+        );
+        let mut tls_port = None;
+        if identity.is_some() {
+            let port = second_port;
+            let (cert, key) = (dir.path().join("broker.crt"), dir.path().join("broker.key"));
+            text.push_str(&format!(
+                "listener {port} 127.0.0.1\ncertfile {}\nkeyfile {}\n",
+                cert.display(),
+                key.display()
+            ));
+            tls_port = Some(port);
+        }
+        std::fs::write(&config, text).expect("the broker's configuration is written");
+        let mut broker = Self { child: None, port, tls_port, config, dir };
+        if let Some(identity) = identity {
+            broker.set_identity(identity);
+        }
         broker.restart().await;
         broker
+    }
+
+    /// Gives the TLS listener `identity`, from the next (re)start on.
+    pub fn set_identity(&mut self, identity: &ServerIdentity) {
+        let dir = self.dir.path();
+        std::fs::write(dir.join("broker.crt"), &identity.cert_pem).expect("the certificate");
+        std::fs::write(dir.join("broker.key"), &identity.key_pem).expect("the key");
+    }
+
+    /// The URL `serve --mqtt` takes for the TLS listener.
+    pub fn tls_url(&self) -> String {
+        format!("mqtts://127.0.0.1:{}", self.tls_port.expect("a broker started with TLS"))
     }
 
     /// The URL `serve --mqtt` takes.
@@ -66,11 +101,12 @@ impl Mosquitto {
             .spawn()
             .expect("mosquitto starts");
         self.child = Some(child);
-        let port = self.port;
-        wait::until("mosquitto to take connections", || async move {
-            TcpStream::connect((Ipv4Addr::LOCALHOST, port)).ok().map(drop)
-        })
-        .await;
+        for port in [Some(self.port), self.tls_port].into_iter().flatten() {
+            wait::until("mosquitto to take connections", || async move {
+                TcpStream::connect((Ipv4Addr::LOCALHOST, port)).ok().map(drop)
+            })
+            .await;
+        }
     }
 }
 
@@ -78,6 +114,14 @@ impl Drop for Mosquitto {
     fn drop(&mut self) {
         self.kill();
     }
+}
+
+/// Loopback ports nobody listens on now, all different.
+fn free_ports<const N: usize>() -> [u16; N] {
+    let listeners: Vec<TcpListener> = (0..N)
+        .map(|_| TcpListener::bind((Ipv4Addr::LOCALHOST, 0)).expect("a free loopback port"))
+        .collect();
+    std::array::from_fn(|i| listeners[i].local_addr().expect("a bound port").port())
 }
 
 /// Debian installs the broker in /usr/sbin, which a user's PATH may lack.

@@ -25,7 +25,9 @@ impl MqttWatch {
     /// Connects to the broker on `port` as `id` and subscribes to `filters`.
     pub async fn connect(port: u16, id: &str, filters: &[&str]) -> Self {
         let mut options = MqttOptions::new(id, "127.0.0.1", port);
-        options.set_keep_alive(Duration::from_secs(30)).set_max_packet_size(1 << 20, 1 << 20);
+        // More than the bridge takes (1 MiB) both ways, to see the bridge refuse what this
+        // client sends and takes in itself.
+        options.set_keep_alive(Duration::from_secs(30)).set_max_packet_size(4 << 20, 4 << 20);
         let (client, mut eventloop) = AsyncClient::new(options, 256);
         let seen: Seen = Arc::default();
         let kept = seen.clone();

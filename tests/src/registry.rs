@@ -41,42 +41,51 @@ impl Registry {
     pub fn with_flags(flags: &[&str]) -> Self {
         let dir = tempfile::tempdir().expect("a temporary directory");
         let db = dir.path().join("pps.db");
-        Self::serve(dir, db, flags)
+        Self::serve(dir, db, flags, &[])
+    }
+
+    /// [`Registry::with_flags`] with extra environment variables, such as `SSL_CERT_FILE` for
+    /// the CAs "this system" trusts.
+    pub fn with_flags_and_env(flags: &[&str], env: &[(&str, &str)]) -> Self {
+        let dir = tempfile::tempdir().expect("a temporary directory");
+        let db = dir.path().join("pps.db");
+        Self::serve(dir, db, flags, env)
     }
 
     /// Starts `pps-server serve` on a fresh database at `db`, in a directory the caller
     /// prepared (a small file system, say).
     pub fn on_database(db: &Path) -> Self {
         let dir = tempfile::tempdir().expect("a temporary directory");
-        Self::serve(dir, db.to_owned(), &[])
+        Self::serve(dir, db.to_owned(), &[], &[])
     }
 
     /// Starts the first replica of a registry on a new, empty PostgreSQL database at `url`
     /// (the database is "a path" to the CLI calls as well: `--db` takes either).
     pub fn on_postgres(url: &str, flags: &[&str]) -> Self {
         let dir = tempfile::tempdir().expect("a temporary directory");
-        Self::serve(dir, PathBuf::from(url), flags)
+        Self::serve(dir, PathBuf::from(url), flags, &[])
     }
 
     /// Starts another replica on this registry's (PostgreSQL) database; it finds the admin
     /// credential made already, so it prints no banner, and says where it serves in its log.
     pub fn another_replica(&self, flags: &[&str]) -> Self {
         let dir = tempfile::tempdir().expect("a temporary directory");
-        let mut replica = Self::spawn(&self.db, flags, (REPLICA_LOG, false), |line, url, _| {
-            if let Some((_, at)) = line.split_once("serving the PPS-tag registry") {
-                let at = at.split_once("url=").map_or("", |(_, at)| at);
-                let at = at.split_whitespace().next().unwrap_or_default();
-                *url = Some(at.trim_end_matches('/').to_owned());
-            }
-        });
+        let mut replica =
+            Self::spawn(&self.db, (flags, &[]), (REPLICA_LOG, false), |line, url, _| {
+                if let Some((_, at)) = line.split_once("serving the PPS-tag registry") {
+                    let at = at.split_once("url=").map_or("", |(_, at)| at);
+                    let at = at.split_whitespace().next().unwrap_or_default();
+                    *url = Some(at.trim_end_matches('/').to_owned());
+                }
+            });
         replica.admin_token = self.admin_token.clone();
         replica._dir = dir;
         replica
     }
 
-    fn serve(dir: TempDir, db: PathBuf, flags: &[&str]) -> Self {
+    fn serve(dir: TempDir, db: PathBuf, flags: &[&str], env: &[(&str, &str)]) -> Self {
         let log = if db.to_string_lossy().starts_with("postgres") { REPLICA_LOG } else { "warn" };
-        let mut registry = Self::spawn(&db, flags, (log, true), |line, url, admin_token| {
+        let mut registry = Self::spawn(&db, (flags, env), (log, true), |line, url, admin_token| {
             if let Some(rest) = line.strip_prefix("PPS-tag registry at ") {
                 *url = Some(rest.trim_end_matches('/').to_owned());
             } else if line.starts_with("pps_") {
@@ -91,7 +100,7 @@ impl Registry {
     /// the admin token, when `read` finds one; `another_replica` sets it after).
     fn spawn(
         db: &Path,
-        flags: &[&str],
+        (flags, env): (&[&str], &[(&str, &str)]),
         (log_filter, banner): (&str, bool),
         read: impl Fn(&str, &mut Option<String>, &mut Option<String>),
     ) -> Self {
@@ -101,6 +110,7 @@ impl Registry {
             .args(flags)
             .env("RUST_LOG", log_filter)
             .env("NO_COLOR", "1")
+            .envs(env.iter().copied())
             .stdin(Stdio::null())
             .stderr(Stdio::piped())
             .spawn()

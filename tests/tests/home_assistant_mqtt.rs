@@ -1,7 +1,8 @@
 //! The Home Assistant bridge against a real Mosquitto, seen by a plain MQTT client as Home
 //! Assistant would see it: the seeded tags announced as devices, a press made into one task
 //! that a simulated robot does, the state its detector saw, bad messages ignored, an archived
-//! tag removed, a retagged one kept, the broker killed and back, the bridge's goodbye.
+//! tag removed, a retagged one kept, the broker killed and back, a message over 1 MiB, the
+//! bridge's goodbye.
 
 use std::time::Instant;
 
@@ -207,7 +208,12 @@ async fn the_bridge_outlives_its_broker_and_says_goodbye() {
     let bridge = registry.get("/api/v1/home-assistant").await;
     assert_eq!(
         bridge,
-        json!({ "bridge": "connected", "broker": broker.url(), "prefix": "homeassistant" })
+        json!({
+            "bridge": "connected",
+            "broker": broker.url(),
+            "prefix": "homeassistant",
+            "problem": null,
+        })
     );
 
     broker.kill();
@@ -249,8 +255,7 @@ fn a_broker_url_the_bridge_cannot_use_stops_serve_in_one_sentence() {
     let dir = tempfile::tempdir().unwrap();
     let db = dir.path().join("pps.db");
     for (url, says) in [
-        ("mqtts://broker.lan:8883", "mqtts:// (MQTT over TLS) is not supported yet"),
-        ("http://broker.lan", "a broker URL starts with mqtt://, not http://"),
+        ("http://broker.lan", "a broker URL starts with mqtt:// or mqtts://, not http://"),
         ("mqtt://broker.lan/topic", "has a path or query"),
     ] {
         let output = std::process::Command::new(pps_tests::workspace_bin("pps-server"))
@@ -274,4 +279,102 @@ async fn a_registry_that_dies_is_marked_offline_by_its_last_will() {
     // Killed outright: no goodbye, so it is the broker that says it.
     drop(registry);
     watch.until_text(BRIDGE, "offline").await;
+}
+
+#[tokio::test]
+async fn a_message_over_a_mebibyte_ends_only_the_bridges_connection_and_it_comes_back() {
+    let broker = Mosquitto::start().await;
+    let registry = Registry::with_flags(&["--mqtt", &broker.url()]);
+    let watch =
+        MqttWatch::connect(broker.port, "watch-oversized", &["homeassistant/#", "pps/#"]).await;
+    announced(&watch, 5).await;
+    watch.until_text(BRIDGE, "online").await;
+
+    // Emptied here, so that only the bridge announcing again (as it does on every reconnect)
+    // fills it.
+    let ada = device(ADA_SWITCH);
+    let ada_off = format!("homeassistant/button/{ada}/off/config");
+    watch.publish(&ada_off, "").await;
+    watch.until_text(&ada_off, "").await;
+
+    let press = format!("pps/{ada}/press/off");
+    let sent = Instant::now();
+    watch.publish(&press, vec![b'P'; 1_100_000]).await;
+    wait::until("the oversized message to be logged", || async {
+        registry
+            .logged(
+                "over the bridge's limit of 1048576: that ends the connection, and the bridge \
+                 reconnects without it",
+            )
+            .then_some(())
+    })
+    .await;
+    // The watch would not see this had its own connection ended: its subscriptions would be
+    // gone with its session.
+    wait::until("the bridge to reconnect and announce again", || async {
+        watch.last(&ada_off).filter(|payload| !payload.is_empty()).map(drop)
+    })
+    .await;
+    eprintln!("oversized message to announced again: {} ms", sent.elapsed().as_millis());
+    assert_eq!(registry.get("/api/v1/tags").await["items"].as_array().map(Vec::len), Some(5));
+
+    // The oversized message asked for nothing; the next press asks once.
+    watch.publish(&press, "PRESS").await;
+    wait::until("the press to become a task", || async {
+        tasks_on(&registry, ADA_SWITCH).await.into_iter().next()
+    })
+    .await;
+    assert_eq!(tasks_on(&registry, ADA_SWITCH).await.len(), 1, "one press, one task");
+}
+
+/// The bridge's lease in the database runs out now, as it would 20 s after its holder died.
+/// The lease reads the wall clock and has no clock of its own to move, so its end is moved.
+async fn run_the_lease_out(db: &std::path::Path) {
+    let options = sqlx::sqlite::SqliteConnectOptions::new().filename(db);
+    let mut conn = <sqlx::SqliteConnection as sqlx::Connection>::connect_with(&options)
+        .await
+        .expect("the registry's database opens");
+    let ended = sqlx::query("update bridge_lease set until = '2000-01-01T00:00:00.000Z'")
+        .execute(&mut conn)
+        .await
+        .expect("the lease's end is moved");
+    assert_eq!(ended.rows_affected(), 1, "one lease");
+}
+
+#[tokio::test]
+async fn a_registry_started_after_a_crash_runs_the_bridge_once_the_old_lease_ran_out() {
+    let broker = Mosquitto::start().await;
+    let mqtt = ["--mqtt", &broker.url()];
+    let crashed = Registry::with_flags(&mqtt);
+    let watch = MqttWatch::connect(broker.port, "watch-crash", &["homeassistant/#", BRIDGE]).await;
+    announced(&watch, 5).await;
+    watch.until_text(BRIDGE, "online").await;
+
+    // Killed outright: its lease is not given up.
+    let status = std::process::Command::new("kill")
+        .args(["-KILL", &crashed.pid().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(status.success());
+    watch.until_text(BRIDGE, "offline").await;
+
+    // Started again on the same database: the dead process's lease still stands.
+    let restarted = crashed.another_replica(&mqtt);
+    wait::until("the restarted registry to stand by", || async {
+        restarted
+            .logged("another replica runs the Home Assistant bridge; standing by")
+            .then_some(())
+    })
+    .await;
+    assert!(!restarted.logged("running the Home Assistant bridge"));
+
+    run_the_lease_out(crashed.db_path()).await;
+    let ran_out = Instant::now();
+    wait::until("the restarted registry to take the bridge", || async {
+        restarted.logged("running the Home Assistant bridge").then_some(())
+    })
+    .await;
+    watch.until_text(BRIDGE, "online").await;
+    eprintln!("lease run out to the bridge online again: {} ms", ran_out.elapsed().as_millis());
+    assert_eq!(restarted.get("/api/v1/home-assistant").await["bridge"], "connected");
 }

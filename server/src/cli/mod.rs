@@ -140,9 +140,14 @@ struct ServeArgs {
           value_parser = clap::value_parser!(u32).range(1..=10_000))]
     pictures_per_tag: u32,
     /// Show the tags in Home Assistant: the MQTT broker its MQTT integration uses,
-    /// mqtt://[USER:PASS@]HOST[:PORT]. Off when not given.
+    /// mqtt://[USER:PASS@]HOST[:PORT], or mqtts:// for TLS (port 8883 unless given). Off when
+    /// not given.
     #[arg(long, env = "PPS_MQTT", value_name = "URL")]
     mqtt: Option<crate::home_assistant::Broker>,
+    /// For an mqtts:// broker: trust only the CA certificate(s) in this PEM file, instead of
+    /// the CAs this system trusts (home brokers mostly sign with a CA of their own).
+    #[arg(long, env = "PPS_MQTT_CA", value_name = "PEM")]
+    mqtt_ca: Option<PathBuf>,
     /// Home Assistant's MQTT discovery prefix.
     #[arg(long, env = "PPS_MQTT_PREFIX", value_name = "PREFIX",
           default_value = crate::home_assistant::DEFAULT_PREFIX,

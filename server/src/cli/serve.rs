@@ -32,10 +32,28 @@ fn transport(args: &ServeArgs) -> anyhow::Result<Transport> {
     })
 }
 
-/// Serves the registry at `location`. The TLS files and the port come first: a server that
-/// cannot start must leave no database behind, created or seeded.
+/// The Home Assistant bridge as the flags say, its CA file read; none without `--mqtt`.
+fn home_assistant(args: &ServeArgs) -> anyhow::Result<Option<home_assistant::Config>> {
+    let Some(broker) = args.mqtt.clone() else {
+        if args.mqtt_ca.is_some() {
+            bail!("--mqtt-ca (PPS_MQTT_CA) goes with --mqtt mqtts://HOST: give the broker too");
+        }
+        return Ok(None);
+    };
+    let config = home_assistant::Config::new(
+        broker,
+        args.mqtt_ca.as_deref(),
+        args.mqtt_prefix.clone(),
+        args.mqtt_client_id.clone(),
+    )?;
+    Ok(Some(config))
+}
+
+/// Serves the registry at `location`. The TLS files, the bridge's CA and the port come first:
+/// a server that cannot start must leave no database behind, created or seeded.
 pub(super) async fn serve(location: &Location, args: ServeArgs) -> anyhow::Result<()> {
     let transport = transport(&args)?;
+    let home_assistant = home_assistant(&args)?;
     let listener = tokio::net::TcpListener::bind(args.listen)
         .await
         .with_context(|| format!("cannot listen on {}", args.listen))?;
@@ -53,9 +71,7 @@ pub(super) async fn serve(location: &Location, args: ServeArgs) -> anyhow::Resul
     let options = ServeOptions {
         transport,
         thin_forces_after: args.thin_forces_after.map(|days| Age { days }),
-        home_assistant: args.mqtt.map(|broker| {
-            home_assistant::Config::new(broker, args.mqtt_prefix, args.mqtt_client_id)
-        }),
+        home_assistant,
     };
     let state = AppState::new(db.clone())
         .with_task_lease(std::time::Duration::from_secs_f64(args.task_lease))

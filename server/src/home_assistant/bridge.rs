@@ -40,6 +40,8 @@ const REANNOUNCE_WITHIN: Duration = Duration::from_secs(3);
 pub enum Ended {
     LeaseLost,
     Shutdown,
+    /// The bridge could not start here (said in the log); tried again after a while.
+    Unable,
 }
 
 /// A tag announced to Home Assistant.
@@ -64,7 +66,14 @@ struct Bridge<'a> {
 pub async fn run(state: &AppState, config: &Config, lease: &Lease) -> Ended {
     state.home_assistant.set(Status::Connecting);
     super::press::mint_credential_once(state).await;
-    let (client, mut link, connection) = connection::open(config);
+    let (client, mut link, connection) = match connection::open(config) {
+        Ok(opened) => opened,
+        Err(error) => {
+            tracing::warn!(%error, "cannot make the socket for TLS to the MQTT broker");
+            state.home_assistant.set(Status::Standby);
+            return Ended::Unable;
+        }
+    };
     let mut bridge = Bridge {
         state,
         config,
@@ -87,8 +96,8 @@ pub async fn run(state: &AppState, config: &Config, lease: &Lease) -> Ended {
                     bridge.connected = true;
                     bridge.on_connect(&status_topic).await;
                 }
-                Link::Lost => {
-                    state.home_assistant.set(Status::Connecting);
+                Link::Lost { why } => {
+                    state.home_assistant.trouble(why);
                     bridge.connected = false;
                 }
                 Link::Message { topic, payload } if topic == status_topic => {

@@ -71,6 +71,7 @@ pub async fn run(state: AppState, config: Config) {
                         lease.release(&state.db).await;
                         return;
                     }
+                    Ended::Unable => {}
                 }
             }
             Ok(false) => {

@@ -15,12 +15,16 @@ mod lease;
 mod press;
 mod status;
 mod task_words;
+mod tls_relay;
+mod trust;
 mod two_state;
 
+use std::path::Path;
 use std::time::Duration;
 
 pub use broker::Broker;
 pub use status::{BridgeStatus, Status};
+pub use trust::BrokerTrust;
 
 use crate::state::AppState;
 
@@ -29,9 +33,11 @@ pub const CREDENTIAL: &str = "Home Assistant bridge";
 pub const DEFAULT_PREFIX: &str = "homeassistant";
 
 /// How the bridge reaches Home Assistant.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone)]
 pub struct Config {
     pub broker: Broker,
+    /// The CAs the broker's certificate is checked against, for `mqtts://` only.
+    pub tls: Option<BrokerTrust>,
     /// Home Assistant's discovery prefix.
     pub prefix: String,
     /// The MQTT client id; a random one per process when not given.
@@ -39,13 +45,29 @@ pub struct Config {
 }
 
 impl Config {
-    /// The bridge to `broker` under `prefix`, as `client_id` or a fresh random id.
-    pub fn new(broker: Broker, prefix: String, client_id: Option<String>) -> Self {
+    /// The bridge to `broker` under `prefix`, as `client_id` or a fresh random id. An
+    /// `mqtts://` broker's certificate must chain to the CA in `ca_file`, or without one to a
+    /// CA the system trusts.
+    pub fn new(
+        broker: Broker,
+        ca_file: Option<&Path>,
+        prefix: String,
+        client_id: Option<String>,
+    ) -> anyhow::Result<Self> {
+        let tls = match (broker.tls, ca_file) {
+            (true, Some(file)) => Some(BrokerTrust::ca_file(file)?),
+            (true, None) => Some(BrokerTrust::system()?),
+            (false, None) => None,
+            (false, Some(_)) => anyhow::bail!(
+                "--mqtt-ca (PPS_MQTT_CA) is for a broker spoken to over TLS: give an mqtts:// \
+                 broker URL, or leave the CA out for {broker}"
+            ),
+        };
         let client_id = client_id.unwrap_or_else(|| {
             // MQTT 3.1.1 brokers must accept ids of up to 23 characters; this is 21.
             format!("pps-registry-{:08x}", rand::random::<u32>())
         });
-        Self { broker, prefix, client_id }
+        Ok(Self { broker, tls, prefix, client_id })
     }
 }
 
@@ -104,7 +126,8 @@ mod tests {
         assert!(parse_client_id("registry-1").is_ok());
         assert!(parse_client_id("").is_err());
         assert!(parse_client_id(&"x".repeat(65)).is_err());
-        let random = Config::new("mqtt://h".parse().unwrap(), DEFAULT_PREFIX.into(), None);
+        let random =
+            Config::new("mqtt://h".parse().unwrap(), None, DEFAULT_PREFIX.into(), None).unwrap();
         assert!(random.client_id.len() <= 23, "{}", random.client_id);
     }
 }

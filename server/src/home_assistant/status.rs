@@ -1,7 +1,7 @@
-//! Whether this process's bridge is connected, for the admin page.
+//! Whether this process's bridge is connected, and if not why, for the admin page.
 
-use std::sync::OnceLock;
 use std::sync::atomic::{AtomicU8, Ordering};
+use std::sync::{Mutex, OnceLock};
 
 /// The bridge as this process sees it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -32,11 +32,32 @@ pub struct BridgeStatus {
     status: AtomicU8,
     /// The broker (without its password) and the discovery prefix, once the bridge started.
     broker: OnceLock<(String, String)>,
+    /// Why the bridge cannot use the broker now, in words; none while connected.
+    problem: Mutex<Option<String>>,
 }
 
 impl BridgeStatus {
+    /// The bridge is now `status`; only [`Status::Connecting`] keeps the problem said last.
     pub fn set(&self, status: Status) {
         self.status.store(status as u8, Ordering::Relaxed);
+        if status != Status::Connecting {
+            *self.problem_slot() = None;
+        }
+    }
+
+    /// The bridge is (re)connecting because of `problem`.
+    pub fn trouble(&self, problem: String) {
+        self.set(Status::Connecting);
+        *self.problem_slot() = Some(problem);
+    }
+
+    /// Why the bridge cannot use the broker now.
+    pub fn problem(&self) -> Option<String> {
+        self.problem_slot().clone()
+    }
+
+    fn problem_slot(&self) -> std::sync::MutexGuard<'_, Option<String>> {
+        self.problem.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
     }
 
     /// Notes where the bridge announces (once: the flags do not change while serving).

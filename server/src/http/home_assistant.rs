@@ -12,7 +12,8 @@ pub const GET: Doc =
     Doc::new("getHomeAssistantBridge", "The Home Assistant bridge, as this replica sees it")
         .describe(
             "`bridge` is `off` (no `--mqtt`), `standby` (another replica runs it), `connecting` \
-         (this replica runs it and the broker does not answer now) or `connected`.",
+         (this replica runs it and cannot use the broker now; `problem` says why) or \
+         `connected`.",
         )
         .replies(&[Reply::json(200, "The bridge's status", "home_assistant_bridge")]);
 
@@ -22,5 +23,6 @@ pub async fn get(State(state): State<AppState>) -> Json<Value> {
         "bridge": state.home_assistant.get().as_str(),
         "broker": configured.map(|(broker, _)| broker),
         "prefix": configured.map(|(_, prefix)| prefix),
+        "problem": state.home_assistant.problem(),
     }))
 }

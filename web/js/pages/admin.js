@@ -211,9 +211,9 @@ async function tokensSection() {
 async function homeAssistantSection() {
   const { data } = await request('GET', '/api/v1/home-assistant');
   const said = {
-    off: ['off', 'warn', 'Start the server with --mqtt mqtt://USER:PASS@HOST:1883 (the broker Home Assistant\'s MQTT integration uses) to show every tag there.'],
+    off: ['off', 'warn', 'Start the server with --mqtt mqtt://USER:PASS@HOST:1883 (the broker Home Assistant\'s MQTT integration uses), or mqtts://USER:PASS@HOST with --mqtt-ca CA.pem for TLS, to show every tag there.'],
     standby: ['standby', 'good', 'Another replica of this registry runs the bridge.'],
-    connecting: ['connecting', 'bad', `Cannot reach the broker ${data.broker ?? ''} now; the bridge keeps trying, and the registry works on meanwhile.`],
+    connecting: ['connecting', 'bad', `Cannot use the broker ${data.broker ?? ''} now${data.problem ? `: ${data.problem}` : ''}. The bridge keeps trying, and the registry works on meanwhile.`],
     connected: ['connected', 'good', `Tags appear in Home Assistant through ${data.broker ?? ''} (discovery prefix ${data.prefix ?? ''}).`],
   }[data.bridge] ?? [data.bridge, 'warn', ''];
   const [label, tone, help] = said;

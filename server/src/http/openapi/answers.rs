@@ -490,7 +490,7 @@ pub(super) fn shapes() -> Vec<(&'static str, Value)> {
         (
             "home_assistant_bridge",
             object(
-                &["bridge", "broker", "prefix"],
+                &["bridge", "broker", "prefix", "problem"],
                 json!({
                     "bridge": { "enum": ["off", "standby", "connecting", "connected"] },
                     "broker": {
@@ -500,6 +500,11 @@ pub(super) fn shapes() -> Vec<(&'static str, Value)> {
                     "prefix": {
                         "type": ["string", "null"],
                         "description": "Home Assistant's discovery prefix; null when off"
+                    },
+                    "problem": {
+                        "type": ["string", "null"],
+                        "description": "While connecting: why the bridge cannot use the broker \
+                                        now, in a sentence; null otherwise"
                     }
                 }),
             ),
