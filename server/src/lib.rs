@@ -4,6 +4,7 @@
 //! The binary is a thin shell: everything is here, so tests run the real router in-process.
 
 pub mod accept;
+pub mod answers;
 pub mod auth;
 pub mod background;
 pub mod backup;

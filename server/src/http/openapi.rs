@@ -7,9 +7,9 @@
 //! This module only describes: it must never decide who may call a route or what it accepts.
 
 pub(super) mod accounts;
-mod answers;
 mod components;
 mod doc;
+mod requests;
 
 use std::sync::{Arc, OnceLock};
 

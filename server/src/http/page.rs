@@ -27,6 +27,13 @@ pub struct Page<T> {
     pub next_cursor: Option<String>,
 }
 
+impl<T> Page<T> {
+    /// The same page with each item turned into what the API answers.
+    pub fn map<U>(self, answer: impl FnMut(T) -> U) -> Page<U> {
+        Page { items: self.items.into_iter().map(answer).collect(), next_cursor: self.next_cursor }
+    }
+}
+
 /// Checks a requested page size against the bounds of DESIGN §4.
 pub fn limit(requested: Option<u32>) -> Result<u32, ApiError> {
     match requested.unwrap_or(DEFAULT_LIMIT) {

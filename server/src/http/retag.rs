@@ -9,6 +9,7 @@ use axum::response::{IntoResponse, Response};
 use pps_schema::Epc;
 use serde_json::{Value, json};
 
+use crate::answers::tags::StoredTagAnswer;
 use crate::error::ApiError;
 use crate::http::extract::{Caller, JsonBody};
 use crate::http::ids::{InPath, Segment};
@@ -86,5 +87,6 @@ pub async fn retag(
     state.effective.forget_tag(old.as_hex());
     state.effective.forget_tag(new.as_hex());
     state.feed.committed();
-    Ok(([(ETAG, precondition::tag_etag(moved.revision))], Json(moved.to_json())).into_response())
+    Ok(([(ETAG, precondition::tag_etag(moved.revision))], Json(StoredTagAnswer::from(&moved)))
+        .into_response())
 }

@@ -6,21 +6,22 @@ use axum::extract::{Path, State};
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
 use serde::Deserialize;
-use serde_json::Value;
 
+use crate::answers::accounts::{MintedTokenAnswer, RevokedToken, TokenAnswer};
 use crate::error::ApiError;
 use crate::http::extract::JsonBody;
 use crate::http::openapi::{Body, Doc, Param, ParamType, Reply};
 use crate::http::page::Page;
 use crate::identity::Role;
 use crate::state::AppState;
-use crate::store::tokens::{self, TokenRecord};
+use crate::store::tokens;
 
 pub const LIST: Doc = Doc::new("listTokens", "Every API token, without secrets")
     .replies(&[Reply::page("All tokens (one page)", "token_record")]);
 
-pub async fn list(State(state): State<AppState>) -> Result<Json<Page<TokenRecord>>, ApiError> {
-    Ok(Json(Page { items: tokens::list(state.db.reader()).await?, next_cursor: None }))
+pub async fn list(State(state): State<AppState>) -> Result<Json<Page<TokenAnswer>>, ApiError> {
+    let items = tokens::list(state.db.reader()).await?;
+    Ok(Json(Page { items: items.into_iter().map(TokenAnswer::from).collect(), next_cursor: None }))
 }
 
 #[derive(Debug, Deserialize)]
@@ -62,7 +63,7 @@ pub async fn create(
     let minted = tokens::create(&state.db, request.role, name, expires_at).await?;
     // The secret is in this answer only: no cache along the way may keep it.
     let no_store = [(axum::http::header::CACHE_CONTROL, "no-store")];
-    Ok((StatusCode::CREATED, no_store, Json(minted)).into_response())
+    Ok((StatusCode::CREATED, no_store, Json(MintedTokenAnswer::from(minted))).into_response())
 }
 
 pub const REVOKE: Doc = Doc::new("revokeToken", "Revoke a token, at once")
@@ -75,11 +76,11 @@ pub const REVOKE: Doc = Doc::new("revokeToken", "Revoke a token, at once")
 pub async fn revoke(
     State(state): State<AppState>,
     Path(id): Path<String>,
-) -> Result<Json<Value>, ApiError> {
+) -> Result<Json<RevokedToken>, ApiError> {
     if !tokens::revoke(&state.db, &id).await? {
         return Err(ApiError::NotFound(format!("no live token has the id {id:?}")));
     }
     // Revocation through the API bites at once, not after the cache's re-check interval.
     state.tokens.clear();
-    Ok(Json(serde_json::json!({ "id": id, "revoked": true })))
+    Ok(Json(RevokedToken::new(id)))
 }

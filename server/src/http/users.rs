@@ -9,6 +9,7 @@ use axum::response::{IntoResponse, Response};
 use pps_schema::FieldError;
 use serde::Deserialize;
 
+use crate::answers::accounts::UserAnswer;
 use crate::auth::{login_throttle, password, session};
 use crate::error::{ApiError, is_unique_violation};
 use crate::http::extract::{ApiQuery, Caller};
@@ -19,7 +20,7 @@ use crate::http::typed_json::TypedJson;
 use crate::identity::{Role, UserName, secret};
 use crate::state::AppState;
 use crate::store;
-use crate::store::users::{self, UserRecord};
+use crate::store::users;
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -32,11 +33,11 @@ pub struct ListParams {
 pub async fn list(
     State(state): State<AppState>,
     ApiQuery(params): ApiQuery<ListParams>,
-) -> Result<Json<Page<UserRecord>>, ApiError> {
+) -> Result<Json<Page<UserAnswer>>, ApiError> {
     let limit = page::limit(params.limit)?;
     let after = params.cursor.as_deref().map(page::decode_cursor).transpose()?;
     let rows = users::list(state.db.reader(), after.as_deref(), limit + 1).await?;
-    Ok(Json(page::page(rows, limit, |user| user.name.clone())))
+    Ok(Json(page::page(rows, limit, |user| user.name.clone()).map(|user| UserAnswer::from(&user))))
 }
 
 #[derive(Debug, Deserialize)]
@@ -83,7 +84,7 @@ pub async fn create(
             error.into()
         }
     })?;
-    let mut response = (StatusCode::CREATED, Json(&record)).into_response();
+    let mut response = (StatusCode::CREATED, Json(UserAnswer::from(&record))).into_response();
     if let Ok(location) = HeaderValue::from_str(&format!("/api/v1/users/{name}")) {
         response.headers_mut().insert(LOCATION, location);
     }

@@ -13,6 +13,7 @@ use pps_schema::{FieldError, RobotId, TaskState};
 use serde_json::Value;
 
 use super::{TASK_ID, find, outlook, targets};
+use crate::answers::tasks::TaskAnswer;
 use crate::error::ApiError;
 use crate::http::extract::{Caller, JsonBody};
 use crate::http::ids::{InPath, TaskId};
@@ -49,7 +50,7 @@ pub async fn decline(
     Caller(caller): Caller,
     InPath(TaskId(id)): InPath<TaskId>,
     JsonBody(body): JsonBody,
-) -> Result<Json<Value>, ApiError> {
+) -> Result<Json<TaskAnswer>, ApiError> {
     let robot = caller.own_robot()?;
     let reason = parse_reason(&body)?;
     let class = robots::get(state.db.reader(), robot).await?.and_then(|r| r.class);
