@@ -9,7 +9,6 @@
 pub(super) mod accounts;
 mod components;
 mod doc;
-mod requests;
 
 use std::sync::{Arc, OnceLock};
 

@@ -26,8 +26,10 @@ use crate::store;
 /// Where a browser logs in and out.
 pub const PATH: &str = "/api/v1/session";
 
-#[derive(Debug, Deserialize)]
+/// The user name and password of a login.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(rename = "login")]
 pub struct Login {
     username: String,
     password: String,

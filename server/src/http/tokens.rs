@@ -7,7 +7,7 @@ use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
 use serde::Deserialize;
 
-use crate::answers::accounts::{MintedTokenAnswer, RevokedToken, TokenAnswer};
+use crate::answers::accounts::{MintedTokenAnswer, RevokedToken, RoleName, TokenAnswer};
 use crate::error::ApiError;
 use crate::http::extract::JsonBody;
 use crate::http::openapi::{Body, Doc, Param, ParamType, Reply};
@@ -24,14 +24,22 @@ pub async fn list(State(state): State<AppState>) -> Result<Json<Page<TokenAnswer
     Ok(Json(Page { items: items.into_iter().map(TokenAnswer::from).collect(), next_cursor: None }))
 }
 
-#[derive(Debug, Deserialize)]
+/// A token to mint: its role, who holds it, and when it stops working.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
-struct NewToken {
+#[schemars(rename = "new_token")]
+pub struct NewToken {
+    #[schemars(with = "RoleName")]
     role: Role,
+    /// Who holds it; for a robot token, the robot's id.
     name: String,
     /// Days until it stops working; without it the token does not expire.
+    #[schemars(extend("exclusiveMinimum" = 0, "maximum" = MAX_DAYS))]
     expires_in_days: Option<f64>,
 }
+
+/// The longest a token may live: ten years.
+const MAX_DAYS: f64 = 3650.0;
 
 pub const CREATE: Doc = Doc::new("createToken", "Mint an API token; its secret is shown only now")
     .body(Body::json("new_token", "Role, name (a robot token's name is its robot id), expiry"))
@@ -49,7 +57,7 @@ pub async fn create(
         return Err(ApiError::invalid_at("/name", problem));
     }
     let expires_at = match request.expires_in_days {
-        Some(days) if !(days > 0.0 && days <= 3650.0) => {
+        Some(days) if !(days > 0.0 && days <= MAX_DAYS) => {
             return Err(ApiError::invalid_at(
                 "/expires_in_days",
                 "expires_in_days is more than 0 and at most 3650",

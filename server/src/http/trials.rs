@@ -153,6 +153,48 @@ pub(super) async fn find_visible(
     Ok(row)
 }
 
+/// A merge patch of a trial: only the person's verdict may change.
+#[derive(Debug, schemars::JsonSchema)]
+#[schemars(rename = "verdict")]
+pub struct VerdictPatch {
+    /// The person's verdict: true (it worked), false (it did not) or null (no verdict);
+    /// left out, the verdict stays as it is.
+    #[schemars(with = "Option<bool>")]
+    pub confirmed: Option<Option<bool>>,
+}
+
+impl VerdictPatch {
+    /// Reads a merge patch, every problem reported at once.
+    fn parse(body: &Value) -> Result<Self, ApiError> {
+        let Some(patch) = body.as_object() else {
+            return Err(ApiError::invalid_at(
+                "",
+                "a merge patch is a JSON object, e.g. {\"confirmed\": true}",
+            ));
+        };
+        let mut errors = Vec::new();
+        for key in patch.keys().filter(|key| *key != "confirmed") {
+            errors.push(pps_schema::FieldError::new(
+                pps_schema::pointer::join("", key),
+                format!("{key} cannot be changed after the trial is recorded; only confirmed (the person's verdict) can"),
+            ));
+        }
+        let confirmed = match patch.get("confirmed") {
+            None => None,
+            Some(Value::Bool(verdict)) => Some(Some(*verdict)),
+            Some(Value::Null) => Some(None),
+            Some(_) => {
+                errors.push(pps_schema::FieldError::new(
+                    "/confirmed",
+                    "confirmed is true, false or null",
+                ));
+                None
+            }
+        };
+        if errors.is_empty() { Ok(Self { confirmed }) } else { Err(ApiError::Invalid(errors)) }
+    }
+}
+
 pub const PATCH: Doc = Doc::new("confirmTrial", "Set the person's verdict on a trial")
     .params(&[Param::TRIAL_ID])
     .body(
@@ -173,34 +215,7 @@ pub async fn patch(
     JsonBody(body): JsonBody,
 ) -> Result<Json<StoredTrialAnswer>, ApiError> {
     let row = find_visible(&state, &caller, &id).await?;
-    let Some(patch) = body.as_object() else {
-        return Err(ApiError::invalid_at(
-            "",
-            "a merge patch is a JSON object, e.g. {\"confirmed\": true}",
-        ));
-    };
-    let mut errors = Vec::new();
-    for key in patch.keys().filter(|key| *key != "confirmed") {
-        errors.push(pps_schema::FieldError::new(
-            pps_schema::pointer::join("", key),
-            format!("{key} cannot be changed after the trial is recorded; only confirmed (the person's verdict) can"),
-        ));
-    }
-    let confirmed = match patch.get("confirmed") {
-        None => row.confirmed,
-        Some(Value::Bool(verdict)) => Some(*verdict),
-        Some(Value::Null) => None,
-        Some(_) => {
-            errors.push(pps_schema::FieldError::new(
-                "/confirmed",
-                "confirmed is true, false or null",
-            ));
-            None
-        }
-    };
-    if !errors.is_empty() {
-        return Err(ApiError::Invalid(errors));
-    }
+    let confirmed = VerdictPatch::parse(&body)?.confirmed.unwrap_or(row.confirmed);
     if confirmed == row.confirmed {
         return Ok(Json(StoredTrialAnswer::from(&row)));
     }

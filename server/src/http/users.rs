@@ -7,9 +7,13 @@ use axum::http::header::LOCATION;
 use axum::http::{HeaderMap, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
 use pps_schema::FieldError;
+use std::borrow::Cow;
+
+use schemars::{JsonSchema, Schema, SchemaGenerator, json_schema};
 use serde::Deserialize;
 
 use crate::answers::accounts::UserAnswer;
+use crate::answers::accounts::UserRole;
 use crate::auth::{login_throttle, password, session};
 use crate::error::{ApiError, is_unique_violation};
 use crate::http::extract::{ApiQuery, Caller};
@@ -17,7 +21,7 @@ use crate::http::ids::InPath;
 use crate::http::page::{self, Page};
 use crate::http::session::too_many_attempts;
 use crate::http::typed_json::TypedJson;
-use crate::identity::{Role, UserName, secret};
+use crate::identity::{Role, UserName, secret, user_name};
 use crate::state::AppState;
 use crate::store;
 use crate::store::users;
@@ -40,12 +44,59 @@ pub async fn list(
     Ok(Json(page::page(rows, limit, |user| user.name.clone()).map(|user| UserAnswer::from(&user))))
 }
 
-#[derive(Debug, Deserialize)]
+/// A new login: name, role (caretaker or admin) and password.
+#[derive(Debug, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(rename = "new_user")]
 pub struct NewUser {
+    #[schemars(with = "UserNameText")]
     name: String,
+    #[schemars(with = "UserRole")]
     role: String,
+    #[schemars(with = "PasswordText")]
     password: String,
+}
+
+/// A user name as [`UserName::parse`] takes it.
+#[derive(Debug)]
+pub struct UserNameText;
+
+impl JsonSchema for UserNameText {
+    fn schema_name() -> Cow<'static, str> {
+        "user_name".into()
+    }
+
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        json_schema!({
+            "description": "Letters, digits, '.', '_' and '-', starting with a letter or digit; \
+                stored lower-case",
+            "type": "string",
+            "pattern": format!("^[A-Za-z0-9][A-Za-z0-9._-]{{0,{}}}$", user_name::MAX_CHARS - 1)
+        })
+    }
+}
+
+/// A password as [`password::problem`] takes it.
+#[derive(Debug)]
+pub struct PasswordText;
+
+impl JsonSchema for PasswordText {
+    fn schema_name() -> Cow<'static, str> {
+        "password".into()
+    }
+
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        json_schema!({
+            "description": format!(
+                "At least {} characters, at most {} bytes, not only spaces",
+                password::MIN_CHARS,
+                password::MAX_BYTES
+            ),
+            "type": "string",
+            "minLength": password::MIN_CHARS,
+            "maxLength": password::MAX_BYTES
+        })
+    }
 }
 
 /// `POST /api/v1/users`: makes a login; 409 when the name is taken.
@@ -103,10 +154,14 @@ pub async fn delete(
     }
 }
 
-#[derive(Debug, Deserialize)]
+/// The new password, and the current one unless an admin changes it.
+#[derive(Debug, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(rename = "password_change")]
 pub struct PasswordChange {
+    #[schemars(with = "PasswordText")]
     password: String,
+    /// Needed unless an admin changes it.
     current_password: Option<String>,
 }
 

@@ -12,6 +12,7 @@ use serde_json::{Map, Value};
 pub use crate::answers::contract::SCHEMAS;
 use crate::answers::{accounts, effective, inbox, meta, robots, stats, tags, tasks, trials};
 use crate::error::Problem;
+use crate::http;
 
 /// Every schema of the document, by name.
 pub fn schemas() -> Map<String, Value> {
@@ -22,21 +23,23 @@ pub fn schemas() -> Map<String, Value> {
         }
     }
     schemas.extend(answers());
-    for (name, schema) in super::requests::shapes() {
-        schemas.insert(name.to_owned(), schema);
-    }
+    schemas.extend(request_bodies());
     schemas
 }
 
-/// The schemas of every answer the routes name, and of what those refer to, by name.
-fn answers() -> Map<String, Value> {
-    let mut generator = SchemaSettings::draft2020_12()
+/// A generator of components for what the registry sends (`for_serialize`) or reads.
+fn generator(settings: SchemaSettings) -> SchemaGenerator {
+    settings
         .with(|settings| {
             settings.definitions_path = "/components/schemas".into();
             settings.meta_schema = None;
         })
-        .for_serialize()
-        .into_generator();
+        .into_generator()
+}
+
+/// The schemas of every answer the routes name, and of what those refer to, by name.
+fn answers() -> Map<String, Value> {
+    let mut generator = generator(SchemaSettings::draft2020_12().for_serialize());
     add::<Problem<'static>>(&mut generator);
     add::<tags::StoredTagAnswer>(&mut generator);
     add::<tags::TagRevisionAnswer>(&mut generator);
@@ -56,6 +59,22 @@ fn answers() -> Map<String, Value> {
     add::<meta::HomeAssistantBridge>(&mut generator);
     add::<meta::JsonSchemaDocument>(&mut generator);
     add::<meta::OpenApiDocument>(&mut generator);
+    generator.take_definitions(true)
+}
+
+/// The schemas of the request bodies that are not contract documents, by name.
+fn request_bodies() -> Map<String, Value> {
+    let mut generator = generator(SchemaSettings::draft2020_12().for_deserialize());
+    add::<http::retag::RetagBody>(&mut generator);
+    add::<http::tasks::request::NewTask>(&mut generator);
+    add::<http::tasks::lease::Finish>(&mut generator);
+    add::<http::tasks::decline::DeclineBody>(&mut generator);
+    add::<http::trials::VerdictPatch>(&mut generator);
+    add::<http::tokens::NewToken>(&mut generator);
+    add::<http::session::Login>(&mut generator);
+    add::<http::users::NewUser>(&mut generator);
+    add::<http::users::PasswordChange>(&mut generator);
+    add::<http::users::UserNameText>(&mut generator);
     generator.take_definitions(true)
 }
 

@@ -13,11 +13,13 @@ use axum::extract::State;
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
 use pps_schema::{FieldError, Outcome, RobotId, TaskState};
+use schemars::JsonSchema;
 use serde::Deserialize;
 use serde_json::Value;
 use uuid::Uuid;
 
 use super::{TASK_ID, find, offer};
+use crate::answers::contract;
 use crate::answers::tasks::TaskAnswer;
 use crate::clock;
 use crate::error::ApiError;
@@ -202,7 +204,7 @@ pub async fn finish(
     JsonBody(body): JsonBody,
 ) -> Result<Json<TaskAnswer>, ApiError> {
     let robot = caller.own_robot()?;
-    let (trial_id, outcome) = parse_finish(&body)?;
+    let Finish { trial: trial_id, outcome } = parse_finish(&body)?;
     let task = find(&state, &id).await?;
     if let Some(first) = task.trial.filter(|_| task.claimed_by.as_ref() == Some(robot)) {
         // A retry whose first answer was lost: it must say what the first finish said.
@@ -304,8 +306,19 @@ fn trial_used(trial: &Uuid, task: &Uuid) -> ApiError {
     ))
 }
 
+/// The finish body: the trial that did the task, and how it went.
+#[derive(Debug, JsonSchema)]
+#[serde(deny_unknown_fields)]
+#[schemars(rename = "task_finish")]
+pub struct Finish {
+    /// The recorded trial (its UUID) that did the task.
+    pub trial: Uuid,
+    #[schemars(with = "contract::Outcome")]
+    pub outcome: Outcome,
+}
+
 /// The finish body: `{"trial": UUID, "outcome"}`, every problem reported at once.
-fn parse_finish(body: &Value) -> Result<(Uuid, Outcome), ApiError> {
+fn parse_finish(body: &Value) -> Result<Finish, ApiError> {
     let Some(object) = body.as_object() else {
         return Err(ApiError::invalid_at(
             "",
@@ -339,7 +352,7 @@ fn parse_finish(body: &Value) -> Result<(Uuid, Outcome), ApiError> {
         }
     };
     match (trial, outcome) {
-        (Some(trial), Some(outcome)) if errors.is_empty() => Ok((trial, outcome)),
+        (Some(trial), Some(outcome)) if errors.is_empty() => Ok(Finish { trial, outcome }),
         _ => Err(ApiError::Invalid(errors)),
     }
 }
