@@ -84,10 +84,7 @@ mod tests {
     #[test]
     fn references_point_into_the_components() {
         let epc = Epc::json_schema(&mut SchemaGenerator::default());
-        assert_eq!(
-            epc.get("$ref").and_then(|r| r.as_str()),
-            Some("#/components/schemas/tag/$defs/epc")
-        );
-        assert!(SCHEMAS.starts_with("#/components/schemas/"));
+        let reference = epc.get("$ref").and_then(|r| r.as_str());
+        assert_eq!(reference, Some(format!("{SCHEMAS}tag/$defs/epc").as_str()));
     }
 }

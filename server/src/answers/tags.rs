@@ -103,3 +103,44 @@ pub struct ValidationResult {
 impl ValidationResult {
     pub const VALID: Self = Self { valid: true, errors: Vec::new() };
 }
+
+#[cfg(test)]
+mod tests {
+    use serde_json::json;
+
+    use super::*;
+
+    #[test]
+    fn a_stored_tag_says_its_own_read_only_fields_once() {
+        // An entry PUT back after a GET carries the read-only fields of that older read.
+        let entry = json!({
+            "epc": "E20034120000000000001001",
+            "actions": {},
+            "revision": 1,
+            "updated_by": "someone else",
+            "archived": true
+        });
+        let tag = StoredTag {
+            epc: pps_schema::Epc::parse("E20034120000000000001001").unwrap(),
+            entry,
+            revision: 4,
+            archived: false,
+            updated_at: "2026-03-04T05:06:07.089Z".into(),
+            updated_by: "nurse".into(),
+        };
+        let text = serde_json::to_string(&StoredTagAnswer::from(&tag)).unwrap();
+        assert_eq!(text.matches("\"revision\"").count(), 1, "{text}");
+        let answer: Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(
+            answer,
+            json!({
+                "epc": "E20034120000000000001001",
+                "actions": {},
+                "revision": 4,
+                "updated_at": "2026-03-04T05:06:07.089Z",
+                "updated_by": "nurse",
+                "archived": false
+            })
+        );
+    }
+}

@@ -114,3 +114,66 @@ impl From<&TaskRow> for TaskAnswer {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use serde_json::{Value, json};
+
+    use super::*;
+
+    #[test]
+    fn a_task_answers_with_every_field_of_the_contract_and_stored_times_unchanged() {
+        let task = TaskRow {
+            seq: 7,
+            id: Uuid::nil(),
+            epc: pps_schema::Epc::parse("E20034120000000000001001").unwrap(),
+            action: "off".into(),
+            robot: None,
+            class: Some("el-e".into()),
+            note: None,
+            state: TaskState::Claimed,
+            created_by: "nurse".into(),
+            created_at: "2026-03-04T05:06:07.089Z".into(),
+            claimed_by: Some(RobotId::parse("el-e-1").unwrap()),
+            lease_until: Some("2026-03-04T05:07:07.089Z".into()),
+            attempts: 1,
+            holders: r#"["el-e-1"]"#.into(),
+            trial: None,
+            reason: None,
+            updated_at: "2026-03-04T05:06:08.000Z".into(),
+            declines:
+                r#"[{"robot": "pr2-1", "reason": "no arm", "at": "2026-03-04T05:06:07.500Z"}]"#
+                    .into(),
+            expires_at: None,
+        };
+        let answer = serde_json::to_value(TaskAnswer::from(&task)).unwrap();
+        assert_eq!(
+            answer,
+            json!({
+                "id": "00000000-0000-0000-0000-000000000000",
+                "epc": "E20034120000000000001001",
+                "action": "off",
+                "robot": null,
+                "class": "el-e",
+                "note": null,
+                "state": "claimed",
+                "created_by": "nurse",
+                "created_at": "2026-03-04T05:06:07.089Z",
+                "claimed_by": "el-e-1",
+                "lease_until": "2026-03-04T05:07:07.089Z",
+                "attempts": 1,
+                "holders": ["el-e-1"],
+                "trial": null,
+                "reason": null,
+                "updated_at": "2026-03-04T05:06:08.000Z",
+                "declined": [
+                    { "robot": "pr2-1", "reason": "no arm", "at": "2026-03-04T05:06:07.500Z" }
+                ],
+                "expires_at": null,
+                "expired": false,
+                "waiting_for": [],
+                "stuck": Value::Null
+            })
+        );
+    }
+}
