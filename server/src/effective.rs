@@ -228,17 +228,8 @@ mod tests {
     }
 
     /// The effective entry as robots read it.
-    fn merged(
-        epc: &str,
-        revision: i64,
-        entry: &Value,
-        robot_id: &str,
-        robot: Option<&StoredRobot>,
-        learned: &[Learned],
-        colours: &LearnedColours,
-    ) -> Value {
-        serde_json::to_value(merge(epc, revision, entry, robot_id, robot, learned, colours))
-            .unwrap()
+    fn json(effective: EffectiveEntry) -> Value {
+        serde_json::to_value(effective).unwrap()
     }
 
     fn entry() -> Value {
@@ -255,8 +246,15 @@ mod tests {
         let learned =
             [Learned { pointer: "/behaviors/pull_open/pull_distance".into(), value: 0.31 }];
         let robot = robot(Some("el-e"), &["pull_back", "push"], 15.0);
-        let out =
-            merged("E", 3, &entry, "el-e-1", Some(&robot), &learned, &LearnedColours::default());
+        let out = json(merge(
+            "E",
+            3,
+            &entry,
+            "el-e-1",
+            Some(&robot),
+            &learned,
+            &LearnedColours::default(),
+        ));
         let pull = &out["entry"]["behaviors"]["pull_open"];
         assert_eq!(pull["pull_distance"], 0.31);
         assert_eq!(pull["grasp_force"], 3.0);
@@ -279,7 +277,7 @@ mod tests {
         entry["behaviors"]["pull_open"]["robots"] = json!({ "el-e": { "pull_distance": 0.2 } });
         let learned =
             [Learned { pointer: "/behaviors/pull_open/pull_distance".into(), value: 0.31 }];
-        let out = merged(
+        let out = json(merge(
             "E",
             1,
             &entry,
@@ -287,7 +285,7 @@ mod tests {
             Some(&robot(Some("el-e"), &["pull_back"], 15.0)),
             &learned,
             &LearnedColours::default(),
-        );
+        ));
         assert_eq!(out["entry"]["behaviors"]["pull_open"]["pull_distance"], 0.2);
         assert_eq!(out["provenance"]["/behaviors/pull_open/pull_distance"], "class:el-e");
     }
@@ -305,7 +303,7 @@ mod tests {
         let colours =
             LearnedColours { tag: Some(model(352.0, 4)), household: Some(model(350.0, 9)) };
         let robot = robot(Some("el-e"), &["pull_back", "push"], 15.0);
-        let out = merged("E", 1, &entry(), "el-e-1", Some(&robot), &[], &colours);
+        let out = json(merge("E", 1, &entry(), "el-e-1", Some(&robot), &[], &colours));
         let properties = &out["entry"]["properties"];
         assert_eq!(properties["color_segmentation"]["hue_deg"], json!([340, 20]));
         assert_eq!(properties["learned_color_segmentation"]["hue_deg"], json!([352.0, 9.0]));
@@ -322,7 +320,8 @@ mod tests {
     #[test]
     fn missing_capabilities_limits_and_registration_make_actions_unavailable() {
         let weak = robot(Some("tiny"), &["push"], 5.0);
-        let out = merged("E", 1, &entry(), "el-e-1", Some(&weak), &[], &LearnedColours::default());
+        let out =
+            json(merge("E", 1, &entry(), "el-e-1", Some(&weak), &[], &LearnedColours::default()));
         let reasons: Vec<(String, String)> = out["unavailable_actions"]
             .as_array()
             .unwrap()
@@ -335,7 +334,8 @@ mod tests {
         assert_eq!(reasons[1].0, "open");
         assert!(reasons[1].1.contains("pull_back"), "{reasons:?}");
 
-        let unknown = merged("E", 1, &entry(), "el-e-9", None, &[], &LearnedColours::default());
+        let unknown =
+            json(merge("E", 1, &entry(), "el-e-9", None, &[], &LearnedColours::default()));
         assert_eq!(unknown["unavailable_actions"].as_array().unwrap().len(), 2);
         assert!(
             unknown["unavailable_actions"][0]["reason"]

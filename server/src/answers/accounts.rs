@@ -1,8 +1,6 @@
 //! Answers about credentials: API tokens, the caller's session, the UI's logins.
 
-use std::borrow::Cow;
-
-use schemars::{JsonSchema, Schema, SchemaGenerator, json_schema};
+use schemars::{JsonSchema, json_schema};
 use serde::Serialize;
 use time::OffsetDateTime;
 
@@ -13,39 +11,23 @@ use crate::identity::Role;
 use crate::store::tokens::{MintedToken, TokenRecord};
 use crate::store::users::UserRecord;
 
-/// A credential's role: one of [`Role::ALL`].
-#[derive(Debug)]
-pub struct RoleName;
+written_schema!(
+    /// A credential's role: one of [`Role::ALL`].
+    RoleName,
+    "role",
+    inline: false,
+    json_schema!({ "enum": Role::ALL.map(Role::as_str) })
+);
 
-impl JsonSchema for RoleName {
-    fn schema_name() -> Cow<'static, str> {
-        "role".into()
-    }
-
-    fn json_schema(_: &mut SchemaGenerator) -> Schema {
-        json_schema!({ "enum": Role::ALL.map(Role::as_str) })
-    }
-}
-
-/// The role of a login of the UI: any but `robot`.
-#[derive(Debug)]
-pub struct UserRole;
-
-impl JsonSchema for UserRole {
-    fn inline_schema() -> bool {
-        true
-    }
-
-    fn schema_name() -> Cow<'static, str> {
-        "user_role".into()
-    }
-
-    fn json_schema(_: &mut SchemaGenerator) -> Schema {
-        let roles: Vec<&str> =
-            Role::ALL.into_iter().filter(|r| *r != Role::Robot).map(Role::as_str).collect();
-        json_schema!({ "enum": roles })
-    }
-}
+written_schema!(
+    /// The role of a login of the UI: any but `robot`.
+    UserRole,
+    "user_role",
+    inline: true,
+    json_schema!({
+        "enum": Role::ALL.into_iter().filter(|r| *r != Role::Robot).map(Role::as_str).collect::<Vec<_>>()
+    })
+);
 
 /// A token as listed: everything but the secret, which is shown once at creation.
 #[derive(Debug, Serialize, JsonSchema)]

@@ -1,32 +1,20 @@
 //! Parts of answers whose shape the contract (`pps-schema`'s JSON Schemas) defines: their
 //! schema is a `$ref` to the contract's own, never a restatement of it.
 
-use std::borrow::Cow;
-
-use schemars::{JsonSchema, Schema, SchemaGenerator, json_schema};
+use schemars::json_schema;
 
 /// Where the components live in the OpenAPI document.
 pub const SCHEMAS: &str = "#/components/schemas/";
 
 macro_rules! contract_ref {
     ($(#[$doc:meta])* $name:ident => $path:literal) => {
-        $(#[$doc])*
-        #[derive(Debug)]
-        pub struct $name;
-
-        impl JsonSchema for $name {
-            fn inline_schema() -> bool {
-                true
-            }
-
-            fn schema_name() -> Cow<'static, str> {
-                $path.into()
-            }
-
-            fn json_schema(_: &mut SchemaGenerator) -> Schema {
-                json_schema!({ "$ref": concat!("#/components/schemas/", $path) })
-            }
-        }
+        written_schema!(
+            $(#[$doc])*
+            $name,
+            $path,
+            inline: true,
+            json_schema!({ "$ref": concat!("#/components/schemas/", $path) })
+        );
     };
 }
 
@@ -59,26 +47,18 @@ contract_ref!(
     Outcome => "trial/properties/outcome"
 );
 
-/// A task's state: the names of `pps_schema::TaskState`.
-#[derive(Debug)]
-pub struct TaskState;
-
-impl JsonSchema for TaskState {
-    fn inline_schema() -> bool {
-        true
-    }
-
-    fn schema_name() -> Cow<'static, str> {
-        "task_state".into()
-    }
-
-    fn json_schema(_: &mut SchemaGenerator) -> Schema {
-        json_schema!({ "enum": pps_schema::TaskState::NAMES })
-    }
-}
+written_schema!(
+    /// A task's state: the names of `pps_schema::TaskState`.
+    TaskState,
+    "task_state",
+    inline: true,
+    json_schema!({ "enum": pps_schema::TaskState::NAMES })
+);
 
 #[cfg(test)]
 mod tests {
+    use schemars::{JsonSchema, SchemaGenerator};
+
     use super::*;
 
     #[test]

@@ -1,9 +1,7 @@
 //! Answers about the registry itself: liveness, the Home Assistant bridge, and the documents
 //! it publishes (which are described by their own standards, not here).
 
-use std::borrow::Cow;
-
-use schemars::{JsonSchema, Schema, SchemaGenerator, json_schema};
+use schemars::{JsonSchema, json_schema};
 use serde::Serialize;
 
 use crate::home_assistant::Status;
@@ -31,38 +29,26 @@ pub struct HomeAssistantBridge {
     pub prefix: Option<String>,
 }
 
-/// A JSON Schema (2020-12) document of the contract, as published.
-#[derive(Debug)]
-pub struct JsonSchemaDocument;
+written_schema!(
+    /// A JSON Schema (2020-12) document of the contract, as published.
+    JsonSchemaDocument,
+    "json_schema",
+    inline: false,
+    json_schema!({
+        "description": "A JSON Schema (2020-12) document of the contract, as published.",
+        "type": "object",
+        "required": ["$schema", "$id"]
+    })
+);
 
-impl JsonSchema for JsonSchemaDocument {
-    fn schema_name() -> Cow<'static, str> {
-        "json_schema".into()
-    }
-
-    fn json_schema(_: &mut SchemaGenerator) -> Schema {
-        json_schema!({
-            "description": "A JSON Schema (2020-12) document of the contract, as published.",
-            "type": "object",
-            "required": ["$schema", "$id"]
-        })
-    }
-}
-
-/// This document: OpenAPI 3.1, described by its own specification.
-#[derive(Debug)]
-pub struct OpenApiDocument;
-
-impl JsonSchema for OpenApiDocument {
-    fn schema_name() -> Cow<'static, str> {
-        "openapi".into()
-    }
-
-    fn json_schema(_: &mut SchemaGenerator) -> Schema {
-        json_schema!({
-            "description": "This document.",
-            "type": "object",
-            "required": ["openapi", "paths"]
-        })
-    }
-}
+written_schema!(
+    /// This document: OpenAPI 3.1, described by its own specification.
+    OpenApiDocument,
+    "openapi",
+    inline: false,
+    json_schema!({
+        "description": "This document.",
+        "type": "object",
+        "required": ["openapi", "paths"]
+    })
+);

@@ -6,6 +6,32 @@
 //! Answers are built from store rows and decide nothing. They never reach HTTP: the command
 //! line's export writes stored trials with them too.
 
+/// A type that stands for a schema written out rather than derived: a `$ref` to the contract,
+/// a time, names taken from a constant, a document another standard describes. An `inline`
+/// one is written where it is used; any other becomes the component `$name`.
+macro_rules! written_schema {
+    ($(#[$doc:meta])* $ty:ident, $name:expr, inline: $inline:expr, $schema:expr) => {
+        $(#[$doc])*
+        #[derive(Debug)]
+        pub struct $ty;
+
+        impl schemars::JsonSchema for $ty {
+            fn inline_schema() -> bool {
+                $inline
+            }
+
+            fn schema_name() -> std::borrow::Cow<'static, str> {
+                $name.into()
+            }
+
+            fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+                $schema
+            }
+        }
+    };
+}
+pub(crate) use written_schema;
+
 pub mod accounts;
 pub mod contract;
 pub mod effective;

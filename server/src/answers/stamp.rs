@@ -3,9 +3,7 @@
 //! with `#[schemars(with = "stamp::DateTime")]`, or the `option` pair for a time that may be
 //! missing.
 
-use std::borrow::Cow;
-
-use schemars::{JsonSchema, Schema, SchemaGenerator, json_schema};
+use schemars::json_schema;
 use serde::Serializer;
 use time::OffsetDateTime;
 
@@ -31,23 +29,13 @@ pub mod option {
     }
 }
 
-/// The schema of a time on the wire.
-#[derive(Debug)]
-pub struct DateTime;
-
-impl JsonSchema for DateTime {
-    fn inline_schema() -> bool {
-        true
-    }
-
-    fn schema_name() -> Cow<'static, str> {
-        "date_time".into()
-    }
-
-    fn json_schema(_: &mut SchemaGenerator) -> Schema {
-        json_schema!({ "type": "string", "format": "date-time" })
-    }
-}
+written_schema!(
+    /// The schema of a time on the wire.
+    DateTime,
+    "date_time",
+    inline: true,
+    json_schema!({ "type": "string", "format": "date-time" })
+);
 
 /// A time the store keeps as text, as a moment. The store writes these columns only with
 /// `clock::format`, so the text always parses; should a row ever hold something else, the

@@ -7,13 +7,12 @@ use axum::http::header::LOCATION;
 use axum::http::{HeaderMap, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
 use pps_schema::FieldError;
-use std::borrow::Cow;
-
-use schemars::{JsonSchema, Schema, SchemaGenerator, json_schema};
+use schemars::{JsonSchema, json_schema};
 use serde::Deserialize;
 
 use crate::answers::accounts::UserAnswer;
 use crate::answers::accounts::UserRole;
+use crate::answers::written_schema;
 use crate::auth::{login_throttle, password, session};
 use crate::error::{ApiError, is_unique_violation};
 use crate::http::extract::{ApiQuery, Caller};
@@ -57,47 +56,35 @@ pub struct NewUser {
     password: String,
 }
 
-/// A user name as [`UserName::parse`] takes it.
-#[derive(Debug)]
-pub struct UserNameText;
+written_schema!(
+    /// A user name as [`UserName::parse`] takes it.
+    UserNameText,
+    "user_name",
+    inline: false,
+    json_schema!({
+        "description": "Letters, digits, '.', '_' and '-', starting with a letter or digit; \
+            stored lower-case",
+        "type": "string",
+        "pattern": format!("^[A-Za-z0-9][A-Za-z0-9._-]{{0,{}}}$", user_name::MAX_CHARS - 1)
+    })
+);
 
-impl JsonSchema for UserNameText {
-    fn schema_name() -> Cow<'static, str> {
-        "user_name".into()
-    }
-
-    fn json_schema(_: &mut SchemaGenerator) -> Schema {
-        json_schema!({
-            "description": "Letters, digits, '.', '_' and '-', starting with a letter or digit; \
-                stored lower-case",
-            "type": "string",
-            "pattern": format!("^[A-Za-z0-9][A-Za-z0-9._-]{{0,{}}}$", user_name::MAX_CHARS - 1)
-        })
-    }
-}
-
-/// A password as [`password::problem`] takes it.
-#[derive(Debug)]
-pub struct PasswordText;
-
-impl JsonSchema for PasswordText {
-    fn schema_name() -> Cow<'static, str> {
-        "password".into()
-    }
-
-    fn json_schema(_: &mut SchemaGenerator) -> Schema {
-        json_schema!({
-            "description": format!(
-                "At least {} characters, at most {} bytes, not only spaces",
-                password::MIN_CHARS,
-                password::MAX_BYTES
-            ),
-            "type": "string",
-            "minLength": password::MIN_CHARS,
-            "maxLength": password::MAX_BYTES
-        })
-    }
-}
+written_schema!(
+    /// A password as [`password::problem`] takes it.
+    PasswordText,
+    "password",
+    inline: false,
+    json_schema!({
+        "description": format!(
+            "At least {} characters, at most {} bytes, not only spaces",
+            password::MIN_CHARS,
+            password::MAX_BYTES
+        ),
+        "type": "string",
+        "minLength": password::MIN_CHARS,
+        "maxLength": password::MAX_BYTES
+    })
+);
 
 /// `POST /api/v1/users`: makes a login; 409 when the name is taken.
 pub async fn create(
