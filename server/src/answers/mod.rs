@@ -3,8 +3,8 @@
 //! Schema derived from the same type (`schemars`), so the OpenAPI document cannot drift from
 //! what is sent; the doc comments of the fields are the schema's descriptions.
 //!
-//! Answers are built from store rows and decide nothing. They never reach HTTP: the command
-//! line's export writes stored trials with them too.
+//! Answers are built from store rows and decide nothing. They name no HTTP type (the command
+//! line's exports write stored tags and trials with them too), and the store never uses them.
 
 /// A type that stands for a schema written out rather than derived: a `$ref` to the contract,
 /// a time, names taken from a constant, a document another standard describes. An `inline`

@@ -1,8 +1,8 @@
 //! `GET /api/v1/openapi.json`: the OpenAPI 3.1 document of the API, generated from the route
 //! table. Each route's [`Doc`] (written next to its handler) gives what only the handler knows;
 //! its [`Access`] gives the security, the 401/403 answers and `x-roles`; the contract's JSON
-//! Schemas are components as they are. The one part written by hand is the shape of the
-//! registry's own answers (`components`), which tests hold against real answers.
+//! Schemas are components as they are; the schemas of the registry's own answers and request
+//! bodies are derived from the types that write and read them (`components`).
 //!
 //! This module only describes: it must never decide who may call a route or what it accepts.
 
