@@ -20,10 +20,13 @@ pub struct PageParams {
     pub cursor: Option<String>,
 }
 
-/// One page of a list.
-#[derive(Debug, Serialize)]
+/// One page of a list; pass next_cursor back as `cursor` for the next.
+#[derive(Debug, Serialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+#[schemars(rename = "{T}_page")]
 pub struct Page<T> {
     pub items: Vec<T>,
+    /// `null` on the last page.
     pub next_cursor: Option<String>,
 }
 

@@ -13,6 +13,7 @@ pub use crate::answers::contract::SCHEMAS;
 use crate::answers::{accounts, effective, inbox, meta, robots, stats, tags, tasks, trials};
 use crate::error::Problem;
 use crate::http;
+use crate::http::page::Page;
 
 /// Every schema of the document, by name.
 pub fn schemas() -> Map<String, Value> {
@@ -59,6 +60,15 @@ fn answers() -> Map<String, Value> {
     add::<meta::HomeAssistantBridge>(&mut generator);
     add::<meta::JsonSchemaDocument>(&mut generator);
     add::<meta::OpenApiDocument>(&mut generator);
+    // The lists: `Reply::page` names each as `<item>_page`.
+    add::<Page<tags::StoredTagAnswer>>(&mut generator);
+    add::<Page<tags::TagRevisionAnswer>>(&mut generator);
+    add::<Page<robots::StoredRobotAnswer>>(&mut generator);
+    add::<Page<inbox::InboxAnswer>>(&mut generator);
+    add::<Page<trials::StoredTrialAnswer>>(&mut generator);
+    add::<Page<tasks::TaskAnswer>>(&mut generator);
+    add::<Page<accounts::TokenAnswer>>(&mut generator);
+    add::<Page<accounts::UserAnswer>>(&mut generator);
     generator.take_definitions(true)
 }
 
