@@ -18,11 +18,13 @@ use crate::schemas::{documents, schema_document};
 
 /// One problem with a document.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema), schemars(rename = "field_error"))]
 pub struct FieldError {
     /// RFC 6901 JSON pointer into the document to the field the problem is about (`""` for the
     /// whole document). For a missing field it points where the field belongs.
     pub pointer: String,
     /// A sentence naming the field, and the bound and unit where there is one.
+    #[cfg_attr(feature = "schemars", schemars(length(min = 1)))]
     pub message: String,
 }
 

@@ -92,13 +92,18 @@ impl ApiError {
     }
 }
 
-/// The problem document (RFC 9457) with our one extension, `errors`.
-#[derive(Debug, Serialize)]
+/// Every error: what went wrong, in words a person can act on; a validation error lists every
+/// problem in `errors`. The problem document of RFC 9457 with our one extension, `errors`.
+#[derive(Debug, Serialize, schemars::JsonSchema)]
+#[schemars(rename = "problem", title = "Problem (RFC 9457)")]
 pub struct Problem<'a> {
     #[serde(rename = "type")]
+    #[schemars(extend("format" = "uri"))]
     pub kind: String,
     pub title: &'a str,
+    #[schemars(range(min = 400, max = 599))]
     pub status: u16,
+    #[schemars(length(min = 1))]
     pub detail: String,
     #[serde(skip_serializing_if = "<[FieldError]>::is_empty")]
     pub errors: &'a [FieldError],

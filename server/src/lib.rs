@@ -15,6 +15,7 @@
 //! - [`home_assistant`] is the smart-home bridge; [`ops`] and [`cli`] are the operator's side.
 
 pub mod accept;
+pub mod answers;
 pub mod auth;
 pub mod background;
 pub mod cli;

@@ -3,8 +3,10 @@
 use std::sync::atomic::{AtomicU8, Ordering};
 use std::sync::{Mutex, OnceLock};
 
-/// The bridge as this process sees it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// The bridge as this process sees it; the API answers it by name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, schemars::JsonSchema)]
+#[serde(rename_all = "lowercase")]
+#[schemars(rename = "bridge_state")]
 pub enum Status {
     /// No `--mqtt` was given.
     Off,
@@ -12,6 +14,7 @@ pub enum Status {
     Standby,
     /// This process runs the bridge and is (re)connecting to the broker.
     Connecting,
+    /// This process runs the bridge and the broker answers.
     Connected,
 }
 

@@ -3,7 +3,8 @@
 
 use axum::Json;
 use axum::extract::State;
-use serde_json::{Value, json};
+
+use crate::answers::meta::HomeAssistantBridge;
 
 use crate::http::openapi::{Doc, Reply};
 use crate::state::AppState;
@@ -17,12 +18,12 @@ pub const GET: Doc =
         )
         .replies(&[Reply::json(200, "The bridge's status", "home_assistant_bridge")]);
 
-pub async fn get(State(state): State<AppState>) -> Json<Value> {
+pub async fn get(State(state): State<AppState>) -> Json<HomeAssistantBridge> {
     let configured = state.home_assistant.broker();
-    Json(json!({
-        "bridge": state.home_assistant.get().as_str(),
-        "broker": configured.map(|(broker, _)| broker),
-        "prefix": configured.map(|(_, prefix)| prefix),
-        "problem": state.home_assistant.problem(),
-    }))
+    Json(HomeAssistantBridge {
+        bridge: state.home_assistant.get(),
+        broker: configured.map(|(broker, _)| broker.to_owned()),
+        prefix: configured.map(|(_, prefix)| prefix.to_owned()),
+        problem: state.home_assistant.problem(),
+    })
 }

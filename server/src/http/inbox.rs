@@ -3,12 +3,13 @@
 use axum::Json;
 use axum::extract::State;
 
+use crate::answers::inbox::InboxAnswer;
 use crate::error::ApiError;
 use crate::http::extract::ApiQuery;
 use crate::http::openapi::{Doc, Param, Reply};
 use crate::http::page::{self, Page, PageParams};
 use crate::state::AppState;
-use crate::store::inbox::{self, InboxItem};
+use crate::store::inbox;
 
 pub const LIST: Doc = Doc::new("listInbox", "EPCs robots read that nobody registered")
     .params(&[Param::LIMIT, Param::CURSOR])
@@ -17,9 +18,9 @@ pub const LIST: Doc = Doc::new("listInbox", "EPCs robots read that nobody regist
 pub async fn list(
     State(state): State<AppState>,
     ApiQuery(params): ApiQuery<PageParams>,
-) -> Result<Json<Page<InboxItem>>, ApiError> {
+) -> Result<Json<Page<InboxAnswer>>, ApiError> {
     let limit = page::limit(params.limit)?;
     let after = params.cursor.as_deref().map(page::decode_cursor).transpose()?;
     let rows = inbox::list(state.db.reader(), after.as_deref(), limit + 1).await?;
-    Ok(Json(page::page(rows, limit, |item| item.epc.clone())))
+    Ok(Json(page::page(rows, limit, |item| item.epc.clone()).map(InboxAnswer::from)))
 }

@@ -2,16 +2,17 @@
 
 use axum::Json;
 use axum::extract::Path;
-use serde_json::{Value, json};
+use serde_json::Value;
 
+use crate::answers::meta::Health;
 use crate::error::ApiError;
 use crate::http::openapi::{Doc, Param, ParamType, Reply};
 
 pub const HEALTHZ: Doc = Doc::new("healthz", "Liveness: the registry answers")
     .replies(&[Reply::json(200, "Alive", "health")]);
 
-pub async fn healthz() -> Json<Value> {
-    Json(json!({ "status": "ok" }))
+pub async fn healthz() -> Json<Health> {
+    Json(Health::OK)
 }
 
 pub const READYZ: Doc = Doc::new("readyz", "Readiness: the registry can store writes now")
@@ -27,9 +28,9 @@ pub const READYZ: Doc = Doc::new("readyz", "Readiness: the registry can store wr
 
 pub async fn readyz(
     axum::extract::State(state): axum::extract::State<crate::state::AppState>,
-) -> Result<Json<Value>, ApiError> {
+) -> Result<Json<Health>, ApiError> {
     state.db.readiness().await.map_err(|why| ApiError::Unavailable(why.to_string()))?;
-    Ok(Json(json!({ "status": "ok" })))
+    Ok(Json(Health::OK))
 }
 
 pub const SCHEMA: Doc = Doc::new("getSchema", "One JSON Schema of the contract, as published")

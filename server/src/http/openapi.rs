@@ -1,13 +1,12 @@
 //! `GET /api/v1/openapi.json`: the OpenAPI 3.1 document of the API, generated from the route
 //! table. Each route's [`Doc`] (written next to its handler) gives what only the handler knows;
 //! its [`Access`] gives the security, the 401/403 answers and `x-roles`; the contract's JSON
-//! Schemas are components as they are. The one part written by hand is the shape of the
-//! registry's own answers (`components`), which tests hold against real answers.
+//! Schemas are components as they are; the schemas of the registry's own answers and request
+//! bodies are derived from the types that write and read them (`components`).
 //!
 //! This module only describes: it must never decide who may call a route or what it accepts.
 
 pub(super) mod accounts;
-mod answers;
 mod components;
 mod doc;
 
@@ -61,10 +60,10 @@ impl Published {
 /// The OpenAPI document of `routes`.
 pub fn document(routes: &[RouteSpec]) -> Value {
     let mut paths = Map::new();
-    let mut schemas = components::schemas();
+    let schemas = components::schemas();
     for route in routes {
         let item = paths.entry(route.path).or_insert_with(|| json!({}));
-        item[route.method.as_str().to_ascii_lowercase()] = operation(route, &mut schemas);
+        item[route.method.as_str().to_ascii_lowercase()] = operation(route);
     }
     json!({
         "openapi": "3.1.0",
@@ -100,7 +99,7 @@ pub fn document(routes: &[RouteSpec]) -> Value {
     })
 }
 
-fn operation(route: &RouteSpec, schemas: &mut Map<String, Value>) -> Value {
+fn operation(route: &RouteSpec) -> Value {
     let doc = &route.doc;
     let mut operation = json!({
         "operationId": doc.operation_id,
@@ -108,7 +107,7 @@ fn operation(route: &RouteSpec, schemas: &mut Map<String, Value>) -> Value {
         "description": description(doc, route.access),
         "tags": [resource(route.path)],
         "parameters": doc.params.iter().map(parameter).collect::<Vec<_>>(),
-        "responses": responses(doc, route.access, schemas),
+        "responses": responses(doc, route.access),
         "security": security(route.access),
         "x-access": access_name(route.access),
         "x-roles": roles(route.access),
@@ -230,7 +229,7 @@ fn binary_schema() -> Value {
 }
 
 /// The route's own replies, then the ones every route of its kind gives.
-fn responses(doc: &Doc, access: Access, schemas: &mut Map<String, Value>) -> Value {
+fn responses(doc: &Doc, access: Access) -> Value {
     let mut replies: Vec<Reply> = doc.replies.to_vec();
     let mut common = |reply: Reply| {
         if !replies.iter().any(|r| r.status == reply.status) {
@@ -254,17 +253,19 @@ fn responses(doc: &Doc, access: Access, schemas: &mut Map<String, Value>) -> Val
     }
     replies.sort_by_key(|reply| reply.status);
     let responses: Map<String, Value> =
-        replies.iter().map(|reply| (reply.status.to_string(), response(reply, schemas))).collect();
+        replies.iter().map(|reply| (reply.status.to_string(), response(reply))).collect();
     Value::Object(responses)
 }
 
-fn response(reply: &Reply, schemas: &mut Map<String, Value>) -> Value {
+fn response(reply: &Reply) -> Value {
     let mut response = json!({ "description": reply.description });
     let content = match reply.content {
         Content::Json(name) => {
             Some(("application/json", json!({ "$ref": format!("{SCHEMAS}{name}") })))
         }
-        Content::Page(item) => Some(("application/json", page_schema(item, schemas))),
+        Content::Page(item) => {
+            Some(("application/json", json!({ "$ref": format!("{SCHEMAS}{item}_page") })))
+        }
         Content::Problem => {
             Some(("application/problem+json", json!({ "$ref": format!("{SCHEMAS}problem") })))
         }
@@ -305,22 +306,4 @@ fn response(reply: &Reply, schemas: &mut Map<String, Value>) -> Value {
         response["headers"] = Value::Object(headers);
     }
     response
-}
-
-/// A list page of `item`, added to the components the first time it is used.
-fn page_schema(item: &str, schemas: &mut Map<String, Value>) -> Value {
-    let name = format!("{item}_page");
-    schemas.entry(name.clone()).or_insert_with(|| {
-        json!({
-            "description": "One page of a list; pass next_cursor back as `cursor` for the next",
-            "type": "object",
-            "required": ["items", "next_cursor"],
-            "additionalProperties": false,
-            "properties": {
-                "items": { "type": "array", "items": { "$ref": format!("{SCHEMAS}{item}") } },
-                "next_cursor": { "type": ["string", "null"] }
-            }
-        })
-    });
-    json!({ "$ref": format!("{SCHEMAS}{name}") })
 }

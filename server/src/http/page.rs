@@ -20,11 +20,21 @@ pub struct PageParams {
     pub cursor: Option<String>,
 }
 
-/// One page of a list.
-#[derive(Debug, Serialize)]
+/// One page of a list; pass next_cursor back as `cursor` for the next.
+#[derive(Debug, Serialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+#[schemars(rename = "{T}_page")]
 pub struct Page<T> {
     pub items: Vec<T>,
+    /// `null` on the last page.
     pub next_cursor: Option<String>,
+}
+
+impl<T> Page<T> {
+    /// The same page with each item turned into what the API answers.
+    pub fn map<U>(self, answer: impl FnMut(T) -> U) -> Page<U> {
+        Page { items: self.items.into_iter().map(answer).collect(), next_cursor: self.next_cursor }
+    }
 }
 
 /// Checks a requested page size against the bounds of DESIGN §4.

@@ -10,6 +10,7 @@ use bytes::Bytes;
 use pps_schema::Epc;
 use serde_json::json;
 
+use crate::answers::trials::StoredTrialAnswer;
 use crate::clock;
 use crate::error::ApiError;
 use crate::http::extract::{Caller, body_error};
@@ -96,7 +97,7 @@ pub async fn put(
         return match existing {
             Some(existing) if existing.sha256 == picture.sha256 => {
                 let row = trials::get(state.db.reader(), &id).await?.unwrap_or(trial);
-                Ok((StatusCode::OK, Json(row.to_json())).into_response())
+                Ok((StatusCode::OK, Json(StoredTrialAnswer::from(&row))).into_response())
             }
             _ => Err(ApiError::Conflict(format!(
                 "the trial {id} already has another picture; a trial keeps the first picture \
@@ -124,7 +125,7 @@ pub async fn put(
         );
     }
     let row = trials::get(state.db.reader(), &id).await?.unwrap_or(trial);
-    Ok((StatusCode::CREATED, Json(row.to_json())).into_response())
+    Ok((StatusCode::CREATED, Json(StoredTrialAnswer::from(&row))).into_response())
 }
 
 fn problem(problem: PictureProblem) -> ApiError {

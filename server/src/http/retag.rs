@@ -7,8 +7,10 @@ use axum::http::HeaderMap;
 use axum::http::header::ETAG;
 use axum::response::{IntoResponse, Response};
 use pps_schema::Epc;
-use serde_json::{Value, json};
+use serde_json::json;
 
+use crate::answers::contract;
+use crate::answers::tags::StoredTagAnswer;
 use crate::error::ApiError;
 use crate::http::extract::{Caller, JsonBody};
 use crate::http::ids::{InPath, Segment};
@@ -18,6 +20,14 @@ use crate::state::AppState;
 use crate::store::WriteCondition;
 use crate::store::events::{self, EventKind};
 use crate::store::{learning, retired, tags, tasks, trials};
+
+/// The retag body: the new tag's EPC.
+#[derive(Debug, serde::Deserialize, schemars::JsonSchema)]
+#[schemars(rename = "retag")]
+pub struct RetagBody {
+    #[schemars(with = "contract::Epc")]
+    pub new_epc: String,
+}
 
 pub const RETAG: Doc =
     Doc::new("retagTag", "Move an entry, its history and learned values to a new EPC")
@@ -39,14 +49,14 @@ pub async fn retag(
     headers: HeaderMap,
     JsonBody(body): JsonBody,
 ) -> Result<Response, ApiError> {
-    let Some(new) = body.get("new_epc").and_then(Value::as_str) else {
+    let Ok(RetagBody { new_epc: new }) = serde_json::from_value(body) else {
         return Err(ApiError::invalid_at(
             "/new_epc",
             "say which EPC the new tag has: {\"new_epc\": \"E2...\"}",
         ));
     };
     let new =
-        Epc::parse_segment(new).map_err(|e| ApiError::invalid_at("/new_epc", e.to_string()))?;
+        Epc::parse_segment(&new).map_err(|e| ApiError::invalid_at("/new_epc", e.to_string()))?;
     if new == old {
         return Err(ApiError::invalid_at("/new_epc", "the new EPC is the one the tag already has"));
     }
@@ -86,5 +96,6 @@ pub async fn retag(
     state.effective.forget_tag(old.as_hex());
     state.effective.forget_tag(new.as_hex());
     state.feed.committed();
-    Ok(([(ETAG, precondition::tag_etag(moved.revision))], Json(moved.to_json())).into_response())
+    Ok(([(ETAG, precondition::tag_etag(moved.revision))], Json(StoredTagAnswer::from(&moved)))
+        .into_response())
 }

@@ -8,6 +8,7 @@ use pps_schema::{Robot, RobotId};
 use serde_json::Value;
 
 use crate::accept::accept;
+use crate::answers::robots::StoredRobotAnswer;
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, JsonBody};
 use crate::http::ids::InPath;
@@ -23,7 +24,7 @@ pub const LIST: Doc = Doc::new("listRobots", "List the robots, by id")
 pub async fn list(
     State(state): State<AppState>,
     ApiQuery(params): ApiQuery<PageParams>,
-) -> Result<Json<Page<Value>>, ApiError> {
+) -> Result<Json<Page<StoredRobotAnswer>>, ApiError> {
     let limit = page::limit(params.limit)?;
     let after = params.cursor.as_deref().map(page::decode_cursor).transpose()?;
     let rows = robots::list(state.db.reader(), after.as_deref(), limit + 1).await?;
@@ -41,7 +42,7 @@ pub const GET: Doc =
 pub async fn get(
     State(state): State<AppState>,
     InPath(robot): InPath<RobotId>,
-) -> Result<Json<Value>, ApiError> {
+) -> Result<Json<StoredRobotAnswer>, ApiError> {
     let stored = robots::get(state.db.reader(), &robot).await?.ok_or_else(|| {
         ApiError::NotFound(format!(
             "no robot has the id {robot}; an admin registers it with PUT /api/v1/robots/{robot}"
@@ -81,6 +82,6 @@ pub async fn put(
     Ok((status, Json(with_presence(&state, &stored))).into_response())
 }
 
-fn with_presence(state: &AppState, robot: &StoredRobot) -> Value {
-    robot.to_json(state.presence.last_seen(robot.id.as_str()).as_deref())
+fn with_presence(state: &AppState, robot: &StoredRobot) -> StoredRobotAnswer {
+    StoredRobotAnswer::new(robot, state.presence.last_seen(robot.id.as_str()).as_deref())
 }

@@ -11,8 +11,9 @@ use axum::http::header::{CACHE_CONTROL, RETRY_AFTER, SET_COOKIE};
 use axum::http::{HeaderMap, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
 use serde::Deserialize;
-use serde_json::json;
 
+use crate::answers::accounts::{Credential, SessionAnswer};
+use crate::answers::stamp;
 use crate::auth::{login_throttle, password, session};
 use crate::clock;
 use crate::error::ApiError;
@@ -25,8 +26,10 @@ use crate::store;
 /// Where a browser logs in and out.
 pub const PATH: &str = "/api/v1/session";
 
-#[derive(Debug, Deserialize)]
+/// The user name and password of a login.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(rename = "login")]
 pub struct Login {
     username: String,
     password: String,
@@ -65,15 +68,18 @@ pub async fn login(
     attempt.succeeded();
 
     let session_secret = session::mint_secret();
-    let expires_at = clock::format(time::OffsetDateTime::now_utc() + session::LIFETIME);
-    store::sessions::create(&state.db, &secret::hash(&session_secret), &name, &expires_at).await?;
-    let body = json!({
-        "name": user.name,
-        "role": user.role,
-        "credential": "session",
-        "expires_at": expires_at,
-        "csrf_token": session::csrf_token(&session_secret),
-    });
+    let expires_at = time::OffsetDateTime::now_utc() + session::LIFETIME;
+    let stored_expiry = clock::format(expires_at);
+    store::sessions::create(&state.db, &secret::hash(&session_secret), &name, &stored_expiry)
+        .await?;
+    let body = SessionAnswer {
+        name: user.name,
+        role: user.role,
+        credential: Credential::Session {
+            expires_at,
+            csrf_token: session::csrf_token(&session_secret),
+        },
+    };
     let mut response = no_store(Json(body).into_response());
     response
         .headers_mut()
@@ -95,20 +101,17 @@ pub async fn current(
                 store::sessions::find_live(state.db.reader(), &hash).await?.ok_or_else(|| {
                     ApiError::Unauthorized("your session has ended; log in again".into())
                 })?;
-            json!({
-                "name": caller.name,
-                "role": caller.role,
-                "credential": "session",
-                "expires_at": live.expires_at,
-                "csrf_token": session::csrf_token(&session_secret),
-            })
+            Credential::Session {
+                expires_at: stamp::stored(&live.expires_at),
+                csrf_token: session::csrf_token(&session_secret),
+            }
         }
-        None => json!({
-            "name": caller.name,
-            "role": caller.role,
-            "credential": "token",
-            "robot": caller.robot,
-        }),
+        None => Credential::Token { robot: caller.robot.clone() },
+    };
+    let body = SessionAnswer {
+        name: caller.name.clone(),
+        role: caller.role.as_str().to_owned(),
+        credential: body,
     };
     Ok(no_store(Json(body).into_response()))
 }

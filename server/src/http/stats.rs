@@ -3,12 +3,14 @@
 
 use axum::Json;
 use axum::extract::State;
-use serde::{Deserialize, Serialize};
-use serde_json::{Map, Value, json};
+use serde::Deserialize;
+use serde_json::Value;
 
 use pps_schema::pointer::escape;
 use pps_schema::{Epc, Purpose};
 
+use crate::answers::stamp;
+use crate::answers::stats::{ActionStats, LearnedValue, TagStats};
 use crate::error::ApiError;
 use crate::http::extract::ApiQuery;
 use crate::http::ids::InPath;
@@ -18,28 +20,6 @@ use crate::state::AppState;
 use crate::store::trial_counts::{self, GroupKey};
 use crate::store::{learning, tags};
 use crate::trials::counted_purposes::CountedPurposes;
-
-/// One action as done by one robot class.
-#[derive(Debug, Serialize)]
-pub struct GroupStats {
-    action: String,
-    /// `null` for robots registered without a class.
-    robot_class: Option<String>,
-    attempts: i64,
-    /// Trials the robot's own detector called a success.
-    detected_successes: i64,
-    /// Trials the person gave a verdict on, and how many they called a success.
-    confirmed: i64,
-    confirmed_successes: i64,
-    /// Share of verdicts that agree with the detector; `null` before any verdict.
-    agreement: Option<f64>,
-    /// Successes (the person's verdict where given, else the detector's) over attempts.
-    success_rate: Option<f64>,
-    /// The lab's rule over the most recent attempts: at least 20, at least 90 % successful.
-    reliable: bool,
-    last_attempt: Option<String>,
-    learned: Map<String, Value>,
-}
 
 pub const GET: Doc = Doc::new("getTagStats", "How a tag's actions have gone, per robot class")
     .describe(
@@ -73,7 +53,7 @@ pub async fn get(
     State(state): State<AppState>,
     InPath(epc): InPath<Epc>,
     ApiQuery(params): ApiQuery<StatsParams>,
-) -> Result<Json<Value>, ApiError> {
+) -> Result<Json<TagStats>, ApiError> {
     let counted = match params.include.as_deref() {
         None => CountedPurposes::real_use(),
         Some(include) => CountedPurposes::including(include).map_err(ApiError::BadRequest)?,
@@ -109,10 +89,10 @@ pub async fn get(
             .filter(|(c, ..)| *c == class)
             .filter(|(_, pointer, ..)| prefix.as_ref().is_some_and(|p| pointer.starts_with(p)))
             .map(|(_, pointer, value, trials)| {
-                (pointer.clone(), json!({ "value": value, "trials": trials }))
+                (pointer.clone(), LearnedValue { value: *value, trials: *trials })
             })
             .collect();
-        groups.push(GroupStats {
+        groups.push(ActionStats {
             action,
             robot_class: class,
             attempts,
@@ -122,23 +102,21 @@ pub async fn get(
             agreement: ratio(agreeing, confirmed),
             success_rate: ratio(successes, attempts),
             reliable: is_reliable(recent, recent_ok),
-            last_attempt: last,
+            last_attempt: stamp::stored_option(last.as_deref()),
             learned: learned_here,
         });
     }
-    let not_counted: Map<String, Value> = trial_counts::purpose_counts(pool, &epc)
+    let not_counted = trial_counts::purpose_counts(pool, &epc)
         .await?
         .into_iter()
         .filter(|(purpose, _)| Purpose::parse(purpose).is_some_and(|p| !counted.counts(p)))
-        .map(|(purpose, trials)| (purpose, trials.into()))
         .collect();
-    let counted: Vec<&str> = counted.purposes().iter().map(|p| p.as_str()).collect();
-    Ok(Json(json!({
-        "epc": epc.as_hex(),
-        "counted": counted,
-        "not_counted": not_counted,
-        "groups": groups,
-    })))
+    Ok(Json(TagStats {
+        epc: epc.as_hex().to_owned(),
+        counted: counted.purposes().iter().map(|p| p.as_str()).collect(),
+        not_counted,
+        groups,
+    }))
 }
 
 fn ratio(part: i64, whole: i64) -> Option<f64> {

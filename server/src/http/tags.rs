@@ -1,15 +1,7 @@
 //! `/api/v1/tags`: list, read, create or replace, archive and restore, history, validation.
 
-use axum::Json;
-use axum::extract::State;
-use axum::http::header::{ETAG, LOCATION};
-use axum::http::{HeaderMap, HeaderValue, StatusCode};
-use axum::response::{IntoResponse, Response};
-use pps_schema::{Epc, TagEntry};
-use serde::Deserialize;
-use serde_json::{Value, json};
-
 use crate::accept::accept;
+use crate::answers::tags::{StoredTagAnswer, TagRevisionAnswer, ValidationResult};
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, JsonBody};
 use crate::http::ids::InPath;
@@ -19,6 +11,13 @@ use crate::http::precondition;
 use crate::state::AppState;
 use crate::store::WriteCondition;
 use crate::store::tags::{self, StoredTag, TagFilter, TagWriteError};
+use axum::Json;
+use axum::extract::State;
+use axum::http::header::{ETAG, LOCATION};
+use axum::http::{HeaderMap, HeaderValue, StatusCode};
+use axum::response::{IntoResponse, Response};
+use pps_schema::{Epc, TagEntry};
+use serde::Deserialize;
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -45,7 +44,7 @@ pub const LIST: Doc = Doc::new("listTags", "List tags, by EPC")
 pub async fn list(
     State(state): State<AppState>,
     ApiQuery(params): ApiQuery<ListParams>,
-) -> Result<Json<Page<Value>>, ApiError> {
+) -> Result<Json<Page<StoredTagAnswer>>, ApiError> {
     let limit = page::limit(params.limit)?;
     let after = params.cursor.as_deref().map(page::decode_cursor).transpose()?;
     let filter = TagFilter {
@@ -55,10 +54,7 @@ pub async fn list(
     };
     let rows = tags::list(state.db.reader(), &filter, after.as_deref(), limit + 1).await?;
     let page = page::page(rows, limit, |tag| tag.epc.as_hex().to_owned());
-    Ok(Json(Page {
-        items: page.items.iter().map(StoredTag::to_json).collect(),
-        next_cursor: page.next_cursor,
-    }))
+    Ok(Json(page.map(|tag| StoredTagAnswer::from(&tag))))
 }
 
 pub const GET: Doc = Doc::new("getTag", "One stored entry with its read-only fields")
@@ -180,14 +176,15 @@ pub async fn revisions(
     State(state): State<AppState>,
     InPath(epc): InPath<Epc>,
     ApiQuery(params): ApiQuery<PageParams>,
-) -> Result<Json<Page<tags::Revision>>, ApiError> {
+) -> Result<Json<Page<TagRevisionAnswer>>, ApiError> {
     let limit = page::limit(params.limit)?;
     let after = page::decode_position(params.cursor.as_deref())?;
     let rows = tags::revisions(state.db.reader(), &epc, after, limit + 1).await?;
     if rows.is_empty() && after == 0 {
         return Err(not_found(&epc));
     }
-    Ok(Json(page::page(rows, limit, |revision| revision.revision.to_string())))
+    let page = page::page(rows, limit, |revision| revision.revision.to_string());
+    Ok(Json(page.map(TagRevisionAnswer::from)))
 }
 
 pub const VALIDATE: Doc = Doc::new("validateTag", "Validate an entry without storing it")
@@ -197,9 +194,9 @@ pub const VALIDATE: Doc = Doc::new("validateTag", "Validate an entry without sto
     )
     .replies(&[Reply::json(200, "The entry is valid", "validation_result"), Reply::INVALID]);
 
-pub async fn validate(JsonBody(body): JsonBody) -> Result<Json<Value>, ApiError> {
+pub async fn validate(JsonBody(body): JsonBody) -> Result<Json<ValidationResult>, ApiError> {
     accept::<TagEntry>(None, body)?;
-    Ok(Json(json!({ "valid": true, "errors": [] })))
+    Ok(Json(ValidationResult::VALID))
 }
 
 /// After a committed change: robots must see it on their next read, and the feed must tell.
@@ -210,7 +207,7 @@ fn changed(state: &AppState, epc: &pps_schema::Epc) {
 
 fn with_etag(status: StatusCode, tag: &StoredTag) -> Response {
     let etag = precondition::tag_etag(tag.revision);
-    (status, [(ETAG, etag)], Json(tag.to_json())).into_response()
+    (status, [(ETAG, etag)], Json(StoredTagAnswer::from(tag))).into_response()
 }
 
 fn not_found(epc: &pps_schema::Epc) -> ApiError {

@@ -11,6 +11,7 @@ use serde_json::{Value, json};
 use uuid::Uuid;
 
 use crate::accept::accept;
+use crate::answers::trials::StoredTrialAnswer;
 use crate::auth::Principal;
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, JsonBody};
@@ -87,9 +88,11 @@ pub async fn put(
     match state.trials.record(checked).await {
         Ok(Recorded::New(row)) => {
             state.metrics.trial_recorded();
-            Ok((StatusCode::CREATED, Json(row.to_json())).into_response())
+            Ok((StatusCode::CREATED, Json(StoredTrialAnswer::from(&row))).into_response())
         }
-        Ok(Recorded::Repeat(row)) => Ok((StatusCode::OK, Json(row.to_json())).into_response()),
+        Ok(Recorded::Repeat(row)) => {
+            Ok((StatusCode::OK, Json(StoredTrialAnswer::from(&row))).into_response())
+        }
         Err(rejection) => Err(rejection_error(&epc, rejection)),
     }
 }
@@ -132,9 +135,9 @@ pub async fn get(
     State(state): State<AppState>,
     Caller(caller): Caller,
     InPath(TrialId(id)): InPath<TrialId>,
-) -> Result<Json<Value>, ApiError> {
+) -> Result<Json<StoredTrialAnswer>, ApiError> {
     let row = find_visible(&state, &caller, &id).await?;
-    Ok(Json(row.to_json()))
+    Ok(Json(StoredTrialAnswer::from(&row)))
 }
 
 /// A trial the caller may see: a robot sees only its own.
@@ -148,6 +151,48 @@ pub(super) async fn find_visible(
         .ok_or_else(|| ApiError::NotFound(format!("no trial has the id {id}")))?;
     caller.require_robot_or_editor(&row.robot)?;
     Ok(row)
+}
+
+/// A merge patch of a trial: only the person's verdict may change.
+#[derive(Debug, schemars::JsonSchema)]
+#[schemars(rename = "verdict")]
+pub struct VerdictPatch {
+    /// The person's verdict: true (it worked), false (it did not) or null (no verdict);
+    /// left out, the verdict stays as it is.
+    #[schemars(with = "Option<bool>")]
+    pub confirmed: Option<Option<bool>>,
+}
+
+impl VerdictPatch {
+    /// Reads a merge patch, every problem reported at once.
+    fn parse(body: &Value) -> Result<Self, ApiError> {
+        let Some(patch) = body.as_object() else {
+            return Err(ApiError::invalid_at(
+                "",
+                "a merge patch is a JSON object, e.g. {\"confirmed\": true}",
+            ));
+        };
+        let mut errors = Vec::new();
+        for key in patch.keys().filter(|key| *key != "confirmed") {
+            errors.push(pps_schema::FieldError::new(
+                pps_schema::pointer::join("", key),
+                format!("{key} cannot be changed after the trial is recorded; only confirmed (the person's verdict) can"),
+            ));
+        }
+        let confirmed = match patch.get("confirmed") {
+            None => None,
+            Some(Value::Bool(verdict)) => Some(Some(*verdict)),
+            Some(Value::Null) => Some(None),
+            Some(_) => {
+                errors.push(pps_schema::FieldError::new(
+                    "/confirmed",
+                    "confirmed is true, false or null",
+                ));
+                None
+            }
+        };
+        if errors.is_empty() { Ok(Self { confirmed }) } else { Err(ApiError::Invalid(errors)) }
+    }
 }
 
 pub const PATCH: Doc = Doc::new("confirmTrial", "Set the person's verdict on a trial")
@@ -168,38 +213,11 @@ pub async fn patch(
     Caller(caller): Caller,
     InPath(TrialId(id)): InPath<TrialId>,
     JsonBody(body): JsonBody,
-) -> Result<Json<Value>, ApiError> {
+) -> Result<Json<StoredTrialAnswer>, ApiError> {
     let row = find_visible(&state, &caller, &id).await?;
-    let Some(patch) = body.as_object() else {
-        return Err(ApiError::invalid_at(
-            "",
-            "a merge patch is a JSON object, e.g. {\"confirmed\": true}",
-        ));
-    };
-    let mut errors = Vec::new();
-    for key in patch.keys().filter(|key| *key != "confirmed") {
-        errors.push(pps_schema::FieldError::new(
-            pps_schema::pointer::join("", key),
-            format!("{key} cannot be changed after the trial is recorded; only confirmed (the person's verdict) can"),
-        ));
-    }
-    let confirmed = match patch.get("confirmed") {
-        None => row.confirmed,
-        Some(Value::Bool(verdict)) => Some(*verdict),
-        Some(Value::Null) => None,
-        Some(_) => {
-            errors.push(pps_schema::FieldError::new(
-                "/confirmed",
-                "confirmed is true, false or null",
-            ));
-            None
-        }
-    };
-    if !errors.is_empty() {
-        return Err(ApiError::Invalid(errors));
-    }
+    let confirmed = VerdictPatch::parse(&body)?.confirmed.unwrap_or(row.confirmed);
     if confirmed == row.confirmed {
-        return Ok(Json(row.to_json()));
+        return Ok(Json(StoredTrialAnswer::from(&row)));
     }
     let mut tx = state.db.begin_write().await?;
     trials::set_confirmed(&mut tx, &id, confirmed).await?;
@@ -224,7 +242,7 @@ pub async fn patch(
         state.effective.forget_tag(epc.as_hex());
     }
     state.feed.committed();
-    Ok(Json(TrialRow { confirmed, ..row }.to_json()))
+    Ok(Json(StoredTrialAnswer::from(&TrialRow { confirmed, ..row })))
 }
 
 #[derive(Debug, Deserialize)]
@@ -313,20 +331,21 @@ pub async fn list(
     if cut_short {
         page.next_cursor = page.items.last().map(|last| page::encode_cursor(&last.seq.to_string()));
     }
-    Ok(page_response(&page))
+    page_response(&page)
 }
 
 /// The page's JSON written item by item, so the answer is never held twice over as values.
-fn page_response(page: &Page<TrialRow>) -> Response {
-    let mut body = String::from("{\"items\":[");
+fn page_response(page: &Page<TrialRow>) -> Result<Response, ApiError> {
+    let mut body = b"{\"items\":[".to_vec();
     for (n, row) in page.items.iter().enumerate() {
         if n > 0 {
-            body.push(',');
+            body.push(b',');
         }
-        body.push_str(&row.to_json().to_string());
+        serde_json::to_writer(&mut body, &StoredTrialAnswer::from(row))
+            .map_err(anyhow::Error::from)?;
     }
-    body.push_str("],\"next_cursor\":");
-    body.push_str(&Value::from(page.next_cursor.clone()).to_string());
-    body.push('}');
-    ([(axum::http::header::CONTENT_TYPE, "application/json")], body).into_response()
+    body.extend_from_slice(b"],\"next_cursor\":");
+    serde_json::to_writer(&mut body, &page.next_cursor).map_err(anyhow::Error::from)?;
+    body.push(b'}');
+    Ok(([(axum::http::header::CONTENT_TYPE, "application/json")], body).into_response())
 }

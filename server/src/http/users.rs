@@ -7,8 +7,12 @@ use axum::http::header::LOCATION;
 use axum::http::{HeaderMap, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
 use pps_schema::FieldError;
+use schemars::{JsonSchema, json_schema};
 use serde::Deserialize;
 
+use crate::answers::accounts::UserAnswer;
+use crate::answers::accounts::UserRole;
+use crate::answers::written_schema;
 use crate::auth::{login_throttle, password, session};
 use crate::error::{ApiError, is_unique_violation};
 use crate::http::extract::{ApiQuery, Caller};
@@ -16,10 +20,10 @@ use crate::http::ids::InPath;
 use crate::http::page::{self, Page};
 use crate::http::session::too_many_attempts;
 use crate::http::typed_json::TypedJson;
-use crate::identity::{Role, UserName, secret};
+use crate::identity::{Role, UserName, secret, user_name};
 use crate::state::AppState;
 use crate::store;
-use crate::store::users::{self, UserRecord};
+use crate::store::users;
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -32,20 +36,55 @@ pub struct ListParams {
 pub async fn list(
     State(state): State<AppState>,
     ApiQuery(params): ApiQuery<ListParams>,
-) -> Result<Json<Page<UserRecord>>, ApiError> {
+) -> Result<Json<Page<UserAnswer>>, ApiError> {
     let limit = page::limit(params.limit)?;
     let after = params.cursor.as_deref().map(page::decode_cursor).transpose()?;
     let rows = users::list(state.db.reader(), after.as_deref(), limit + 1).await?;
-    Ok(Json(page::page(rows, limit, |user| user.name.clone())))
+    Ok(Json(page::page(rows, limit, |user| user.name.clone()).map(|user| UserAnswer::from(&user))))
 }
 
-#[derive(Debug, Deserialize)]
+/// A new login: name, role (caretaker or admin) and password.
+#[derive(Debug, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(rename = "new_user")]
 pub struct NewUser {
+    #[schemars(with = "UserNameText")]
     name: String,
+    #[schemars(with = "UserRole")]
     role: String,
+    #[schemars(with = "PasswordText")]
     password: String,
 }
+
+written_schema!(
+    /// A user name as [`UserName::parse`] takes it.
+    UserNameText,
+    "user_name",
+    inline: false,
+    json_schema!({
+        "description": "Letters, digits, '.', '_' and '-', starting with a letter or digit; \
+            stored lower-case",
+        "type": "string",
+        "pattern": format!("^[A-Za-z0-9][A-Za-z0-9._-]{{0,{}}}$", user_name::MAX_CHARS - 1)
+    })
+);
+
+written_schema!(
+    /// A password as [`password::problem`] takes it.
+    PasswordText,
+    "password",
+    inline: false,
+    json_schema!({
+        "description": format!(
+            "At least {} characters, at most {} bytes, not only spaces",
+            password::MIN_CHARS,
+            password::MAX_BYTES
+        ),
+        "type": "string",
+        "minLength": password::MIN_CHARS,
+        "maxLength": password::MAX_BYTES
+    })
+);
 
 /// `POST /api/v1/users`: makes a login; 409 when the name is taken.
 pub async fn create(
@@ -83,7 +122,7 @@ pub async fn create(
             error.into()
         }
     })?;
-    let mut response = (StatusCode::CREATED, Json(&record)).into_response();
+    let mut response = (StatusCode::CREATED, Json(UserAnswer::from(&record))).into_response();
     if let Ok(location) = HeaderValue::from_str(&format!("/api/v1/users/{name}")) {
         response.headers_mut().insert(LOCATION, location);
     }
@@ -102,10 +141,14 @@ pub async fn delete(
     }
 }
 
-#[derive(Debug, Deserialize)]
+/// The new password, and the current one unless an admin changes it.
+#[derive(Debug, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(rename = "password_change")]
 pub struct PasswordChange {
+    #[schemars(with = "PasswordText")]
     password: String,
+    /// Needed unless an admin changes it.
     current_password: Option<String>,
 }
 

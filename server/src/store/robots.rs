@@ -19,20 +19,6 @@ pub struct StoredRobot {
     pub document: Option<Value>,
 }
 
-impl StoredRobot {
-    /// The robot as returned by the API, with `last_seen` when known.
-    pub fn to_json(&self, last_seen: Option<&str>) -> Value {
-        let mut robot = self.document.clone().unwrap_or_else(|| {
-            // Minted a token before an admin registered it: it shows up without a class.
-            json!({ "id": self.id, "class": null, "name": self.id, "capabilities": [] })
-        });
-        if let Some(object) = robot.as_object_mut() {
-            object.insert("last_seen".into(), last_seen.map_or(Value::Null, Value::from));
-        }
-        robot
-    }
-}
-
 /// What a PUT did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum RobotWrite {

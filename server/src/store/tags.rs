@@ -4,7 +4,7 @@
 //! current revision, so of two caretakers saving the same revision exactly one wins.
 
 use pps_schema::Epc;
-use serde_json::{Map, Value, json};
+use serde_json::{Value, json};
 use sqlx::AnyPool;
 
 use super::WriteCondition;
@@ -23,24 +23,6 @@ pub struct StoredTag {
     pub archived: bool,
     pub updated_at: String,
     pub updated_by: String,
-}
-
-impl StoredTag {
-    /// The entry as returned by GET: the stored entry plus the read-only fields.
-    pub fn to_json(&self) -> Value {
-        let mut object = match &self.entry {
-            Value::Object(map) => map.clone(),
-            _ => Map::new(),
-        };
-        if let Some(uri) = self.epc.pure_identity_uri() {
-            object.insert("epc_uri".into(), uri.into());
-        }
-        object.insert("revision".into(), self.revision.into());
-        object.insert("updated_at".into(), self.updated_at.clone().into());
-        object.insert("updated_by".into(), self.updated_by.clone().into());
-        object.insert("archived".into(), self.archived.into());
-        Value::Object(object)
-    }
 }
 
 #[derive(sqlx::FromRow)]

@@ -1,7 +1,7 @@
 //! Trials in the database: one row per attempt, in the order the registry received them.
 
 use pps_schema::{Epc, Outcome, Purpose, RobotId, Trial};
-use serde_json::{Value, json};
+use serde_json::Value;
 use sqlx::{AnyConnection, AnyPool};
 use uuid::Uuid;
 
@@ -35,22 +35,6 @@ pub struct TrialRow {
 }
 
 impl TrialRow {
-    /// The trial as submitted, as the API returns it: with the verdict as it is now, its
-    /// purpose spelled out also where real use went without saying, and the registry's
-    /// `received_at` and `seq`.
-    pub fn to_json(&self) -> Value {
-        let mut trial: Value = serde_json::from_str(&self.body).unwrap_or_else(|_| json!({}));
-        if let Some(object) = trial.as_object_mut() {
-            object.insert("confirmed".into(), self.confirmed.map_or(Value::Null, Value::from));
-            object.insert("purpose".into(), self.purpose.clone().into());
-            object.insert("received_at".into(), self.received_at.clone().into());
-            object.insert("seq".into(), self.seq.into());
-            let picture = self.has_picture.then(|| picture_path(&self.id));
-            object.insert("picture".into(), picture.map_or(Value::Null, Value::from));
-        }
-        trial
-    }
-
     /// The trial as first submitted (the idempotency key's content).
     pub fn submitted(&self) -> Value {
         serde_json::from_str(&self.body).unwrap_or(Value::Null)

@@ -12,6 +12,7 @@ use pps_schema::pointer::{escape, unescape};
 use pps_schema::{BehaviorKind, BehaviorSpec, HOUSEHOLD_COLOR, LEARNED_COLOR, LearnedColor};
 use serde_json::{Map, Value, json};
 
+use crate::answers::effective::{EffectiveEntry, UnavailableAction};
 use crate::store::robots::StoredRobot;
 
 /// A value learned from trials, addressed by its JSON pointer in the entry.
@@ -38,7 +39,7 @@ pub fn merge(
     robot: Option<&StoredRobot>,
     learned: &[Learned],
     colours: &LearnedColours,
-) -> Value {
+) -> EffectiveEntry {
     let class = robot.and_then(|r| r.class.as_deref());
     let mut provenance = BTreeMap::new();
     let mut merged = entry.clone();
@@ -91,14 +92,14 @@ pub fn merge(
     }
 
     let unavailable = unavailable_actions(&merged, robot_id, robot);
-    json!({
-        "epc": epc,
-        "robot": robot_id,
-        "revision": revision,
-        "entry": merged,
-        "provenance": provenance,
-        "unavailable_actions": unavailable,
-    })
+    EffectiveEntry {
+        epc: epc.to_owned(),
+        robot: robot_id.to_owned(),
+        revision,
+        entry: merged,
+        provenance,
+        unavailable_actions: unavailable,
+    }
 }
 
 /// Overlays `layer` onto `target` (objects merge, anything else replaces), recording sources.
@@ -140,7 +141,11 @@ fn record_leaves(at: &str, value: &Value, source: &str, provenance: &mut BTreeMa
 }
 
 /// Actions the robot cannot run, each with the reason.
-fn unavailable_actions(merged: &Value, robot_id: &str, robot: Option<&StoredRobot>) -> Vec<Value> {
+fn unavailable_actions(
+    merged: &Value,
+    robot_id: &str,
+    robot: Option<&StoredRobot>,
+) -> Vec<UnavailableAction> {
     let Some(actions) = merged.get("actions").and_then(Value::as_object) else { return Vec::new() };
     let document = robot.and_then(|r| r.document.as_ref());
     let mut unavailable = Vec::new();
@@ -156,8 +161,11 @@ fn unavailable_actions(merged: &Value, robot_id: &str, robot: Option<&StoredRobo
             (Some(document), Some(spec)) => reason_unavailable(document, spec, merged, robot_id),
         };
         if let Some(reason) = reason {
-            unavailable
-                .push(json!({ "action": action, "behavior": behavior_key, "reason": reason }));
+            unavailable.push(UnavailableAction {
+                action: action.clone(),
+                behavior: behavior_key.to_owned(),
+                reason,
+            });
         }
     }
     unavailable
@@ -219,6 +227,11 @@ mod tests {
         }
     }
 
+    /// The effective entry as robots read it.
+    fn json(effective: EffectiveEntry) -> Value {
+        serde_json::to_value(effective).unwrap()
+    }
+
     fn entry() -> Value {
         serde_json::from_str(include_str!("../../../seed_tags/drawer.json")).unwrap()
     }
@@ -233,8 +246,15 @@ mod tests {
         let learned =
             [Learned { pointer: "/behaviors/pull_open/pull_distance".into(), value: 0.31 }];
         let robot = robot(Some("el-e"), &["pull_back", "push"], 15.0);
-        let out =
-            merge("E", 3, &entry, "el-e-1", Some(&robot), &learned, &LearnedColours::default());
+        let out = json(merge(
+            "E",
+            3,
+            &entry,
+            "el-e-1",
+            Some(&robot),
+            &learned,
+            &LearnedColours::default(),
+        ));
         let pull = &out["entry"]["behaviors"]["pull_open"];
         assert_eq!(pull["pull_distance"], 0.31);
         assert_eq!(pull["grasp_force"], 3.0);
@@ -257,7 +277,7 @@ mod tests {
         entry["behaviors"]["pull_open"]["robots"] = json!({ "el-e": { "pull_distance": 0.2 } });
         let learned =
             [Learned { pointer: "/behaviors/pull_open/pull_distance".into(), value: 0.31 }];
-        let out = merge(
+        let out = json(merge(
             "E",
             1,
             &entry,
@@ -265,7 +285,7 @@ mod tests {
             Some(&robot(Some("el-e"), &["pull_back"], 15.0)),
             &learned,
             &LearnedColours::default(),
-        );
+        ));
         assert_eq!(out["entry"]["behaviors"]["pull_open"]["pull_distance"], 0.2);
         assert_eq!(out["provenance"]["/behaviors/pull_open/pull_distance"], "class:el-e");
     }
@@ -283,7 +303,7 @@ mod tests {
         let colours =
             LearnedColours { tag: Some(model(352.0, 4)), household: Some(model(350.0, 9)) };
         let robot = robot(Some("el-e"), &["pull_back", "push"], 15.0);
-        let out = merge("E", 1, &entry(), "el-e-1", Some(&robot), &[], &colours);
+        let out = json(merge("E", 1, &entry(), "el-e-1", Some(&robot), &[], &colours));
         let properties = &out["entry"]["properties"];
         assert_eq!(properties["color_segmentation"]["hue_deg"], json!([340, 20]));
         assert_eq!(properties["learned_color_segmentation"]["hue_deg"], json!([352.0, 9.0]));
@@ -300,7 +320,8 @@ mod tests {
     #[test]
     fn missing_capabilities_limits_and_registration_make_actions_unavailable() {
         let weak = robot(Some("tiny"), &["push"], 5.0);
-        let out = merge("E", 1, &entry(), "el-e-1", Some(&weak), &[], &LearnedColours::default());
+        let out =
+            json(merge("E", 1, &entry(), "el-e-1", Some(&weak), &[], &LearnedColours::default()));
         let reasons: Vec<(String, String)> = out["unavailable_actions"]
             .as_array()
             .unwrap()
@@ -313,7 +334,8 @@ mod tests {
         assert_eq!(reasons[1].0, "open");
         assert!(reasons[1].1.contains("pull_back"), "{reasons:?}");
 
-        let unknown = merge("E", 1, &entry(), "el-e-9", None, &[], &LearnedColours::default());
+        let unknown =
+            json(merge("E", 1, &entry(), "el-e-9", None, &[], &LearnedColours::default()));
         assert_eq!(unknown["unavailable_actions"].as_array().unwrap().len(), 2);
         assert!(
             unknown["unavailable_actions"][0]["reason"]

@@ -6,6 +6,7 @@ use serde_json::Value;
 use sqlx::AnyConnection;
 
 use crate::accept::accept;
+use crate::answers::tags::StoredTagAnswer;
 use crate::error::ApiError;
 use crate::store::WriteCondition;
 use crate::store::db::Db;
@@ -74,7 +75,8 @@ pub async fn reload(db: &Db) -> anyhow::Result<ImportReport> {
 /// Every tag with its read-only fields, as `export` prints it.
 pub async fn export(db: &Db) -> anyhow::Result<Value> {
     let all = tags::all(db.reader()).await?;
-    Ok(Value::Array(all.iter().map(tags::StoredTag::to_json).collect()))
+    let answers: Vec<StoredTagAnswer> = all.iter().map(StoredTagAnswer::from).collect();
+    Ok(serde_json::to_value(answers)?)
 }
 
 /// Imports entries (as exported, or plain entries): all are validated before anything is

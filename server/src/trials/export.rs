@@ -15,6 +15,7 @@ use std::path::{Path, PathBuf};
 use serde_json::Value;
 use sqlx::AnyPool;
 
+use crate::answers::trials::StoredTrialAnswer;
 use crate::store::pictures;
 use crate::store::trials::{self, TrialRow};
 use crate::trials::filter::TrialFilter;
@@ -143,7 +144,7 @@ impl<W: Write> Sink<W> {
     /// Writes one trial; `picture_file` is `None` when no pictures directory was asked for,
     /// else the file its picture went to, if it has one.
     fn write(&mut self, row: &TrialRow, picture_file: Option<Option<&str>>) -> anyhow::Result<()> {
-        let mut trial = row.to_json();
+        let mut trial = serde_json::to_value(StoredTrialAnswer::from(row))?;
         match self {
             Self::Jsonl(out) => {
                 if let (Some(file), Some(object)) = (picture_file, trial.as_object_mut()) {

@@ -1,13 +1,19 @@
 //! The schemas of the OpenAPI document: the contract's JSON Schemas, moved in so their `$ref`s
-//! resolve inside the document, and the shapes of the registry's own answers ([`answers`]).
+//! resolve inside the document, and the schemas of the registry's own answers, derived from the
+//! types that serialise them (`crate::answers`).
 //!
 //! The contract schemas are taken from `pps-schema` as they are served; nothing here may restate
 //! a rule of theirs.
 
+use schemars::generate::SchemaSettings;
+use schemars::{JsonSchema, SchemaGenerator};
 use serde_json::{Map, Value};
 
-/// Where the components live in the document.
-pub const SCHEMAS: &str = "#/components/schemas/";
+pub use crate::answers::contract::SCHEMAS;
+use crate::answers::{accounts, effective, inbox, meta, robots, stats, tags, tasks, trials};
+use crate::error::Problem;
+use crate::http;
+use crate::http::page::Page;
 
 /// Every schema of the document, by name.
 pub fn schemas() -> Map<String, Value> {
@@ -17,10 +23,74 @@ pub fn schemas() -> Map<String, Value> {
             schemas.insert((*name).to_owned(), contract_component(name, document));
         }
     }
-    for (name, schema) in super::answers::shapes() {
-        schemas.insert(name.to_owned(), schema);
-    }
+    schemas.extend(answers());
+    schemas.extend(request_bodies());
     schemas
+}
+
+/// A generator of components for what the registry sends (`for_serialize`) or reads.
+fn generator(settings: SchemaSettings) -> SchemaGenerator {
+    settings
+        .with(|settings| {
+            settings.definitions_path = "/components/schemas".into();
+            settings.meta_schema = None;
+        })
+        .into_generator()
+}
+
+/// The schemas of every answer the routes name, and of what those refer to, by name.
+fn answers() -> Map<String, Value> {
+    let mut generator = generator(SchemaSettings::draft2020_12().for_serialize());
+    add::<Problem<'static>>(&mut generator);
+    add::<tags::StoredTagAnswer>(&mut generator);
+    add::<tags::TagRevisionAnswer>(&mut generator);
+    add::<tags::ValidationResult>(&mut generator);
+    add::<stats::TagStats>(&mut generator);
+    add::<robots::StoredRobotAnswer>(&mut generator);
+    add::<effective::EffectiveEntry>(&mut generator);
+    add::<inbox::InboxAnswer>(&mut generator);
+    add::<trials::StoredTrialAnswer>(&mut generator);
+    add::<tasks::TaskAnswer>(&mut generator);
+    add::<accounts::TokenAnswer>(&mut generator);
+    add::<accounts::MintedTokenAnswer>(&mut generator);
+    add::<accounts::RevokedToken>(&mut generator);
+    add::<accounts::SessionAnswer>(&mut generator);
+    add::<accounts::UserAnswer>(&mut generator);
+    add::<meta::Health>(&mut generator);
+    add::<meta::HomeAssistantBridge>(&mut generator);
+    add::<meta::JsonSchemaDocument>(&mut generator);
+    add::<meta::OpenApiDocument>(&mut generator);
+    // The lists: `Reply::page` names each as `<item>_page`.
+    add::<Page<tags::StoredTagAnswer>>(&mut generator);
+    add::<Page<tags::TagRevisionAnswer>>(&mut generator);
+    add::<Page<robots::StoredRobotAnswer>>(&mut generator);
+    add::<Page<inbox::InboxAnswer>>(&mut generator);
+    add::<Page<trials::StoredTrialAnswer>>(&mut generator);
+    add::<Page<tasks::TaskAnswer>>(&mut generator);
+    add::<Page<accounts::TokenAnswer>>(&mut generator);
+    add::<Page<accounts::UserAnswer>>(&mut generator);
+    generator.take_definitions(true)
+}
+
+/// The schemas of the request bodies that are not contract documents, by name.
+fn request_bodies() -> Map<String, Value> {
+    let mut generator = generator(SchemaSettings::draft2020_12().for_deserialize());
+    add::<http::retag::RetagBody>(&mut generator);
+    add::<http::tasks::request::NewTask>(&mut generator);
+    add::<http::tasks::lease::Finish>(&mut generator);
+    add::<http::tasks::decline::DeclineBody>(&mut generator);
+    add::<http::trials::VerdictPatch>(&mut generator);
+    add::<http::tokens::NewToken>(&mut generator);
+    add::<http::session::Login>(&mut generator);
+    add::<http::users::NewUser>(&mut generator);
+    add::<http::users::PasswordChange>(&mut generator);
+    add::<http::users::UserNameText>(&mut generator);
+    generator.take_definitions(true)
+}
+
+/// Adds `T` (and what it refers to) to the generator's components.
+fn add<T: JsonSchema>(generator: &mut SchemaGenerator) {
+    generator.subschema_for::<T>();
 }
 
 /// A contract schema as a component: its own `$id` and `$schema` go (the document's dialect is

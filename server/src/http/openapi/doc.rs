@@ -199,7 +199,8 @@ impl Body {
 pub enum Content {
     /// `application/json` of a schema of the components.
     Json(&'static str),
-    /// `application/json` list page (`{"items", "next_cursor"}`) of a schema of the components.
+    /// `application/json` list page (`{"items", "next_cursor"}`) of a schema of the components:
+    /// the component `<item>_page`, which `components.rs` derives from `Page<item's type>`.
     Page(&'static str),
     /// `application/problem+json`.
     Problem,

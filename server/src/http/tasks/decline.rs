@@ -13,6 +13,7 @@ use pps_schema::{FieldError, RobotId, TaskState};
 use serde_json::Value;
 
 use super::{TASK_ID, find, outlook, targets};
+use crate::answers::tasks::TaskAnswer;
 use crate::error::ApiError;
 use crate::http::extract::{Caller, JsonBody};
 use crate::http::ids::{InPath, TaskId};
@@ -49,9 +50,9 @@ pub async fn decline(
     Caller(caller): Caller,
     InPath(TaskId(id)): InPath<TaskId>,
     JsonBody(body): JsonBody,
-) -> Result<Json<Value>, ApiError> {
+) -> Result<Json<TaskAnswer>, ApiError> {
     let robot = caller.own_robot()?;
-    let reason = parse_reason(&body)?;
+    let DeclineBody { reason } = parse_reason(&body)?;
     let class = robots::get(state.db.reader(), robot).await?.and_then(|r| r.class);
     let task = find(&state, &id).await?;
     if let Some(refused) = refusal(&task, robot, class.as_deref()) {
@@ -106,8 +107,23 @@ fn refusal(task: &TaskRow, robot: &RobotId, class: Option<&str>) -> Option<ApiEr
     }
 }
 
+/// Why a robot declines a task.
+// As `parse_reason` returns it.
+#[derive(Debug, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+#[schemars(rename = "task_decline")]
+pub struct DeclineBody {
+    /// Why this robot cannot do the task: one line of plain words.
+    #[schemars(length(min = 1, max = MAX_REASON_CHARS))]
+    #[schemars(regex(pattern = PLAIN_LINE))]
+    pub reason: String,
+}
+
+/// One line of text with at least one character that is neither a space nor a control one.
+const PLAIN_LINE: &str = "^[^\\u0000-\\u001f\\u007f-\\u009f]*[^\\s\\u0000-\\u001f\\u007f-\\u009f][^\\u0000-\\u001f\\u007f-\\u009f]*$";
+
 /// The decline body: `{"reason": "..."}`, a line of plain words of 1 to 500 characters.
-fn parse_reason(body: &Value) -> Result<String, ApiError> {
+fn parse_reason(body: &Value) -> Result<DeclineBody, ApiError> {
     let Some(object) = body.as_object() else {
         return Err(ApiError::invalid_at(
             "",
@@ -145,7 +161,7 @@ fn parse_reason(body: &Value) -> Result<String, ApiError> {
         Some(_) => {}
     }
     match reason {
-        Some(reason) if errors.is_empty() => Ok(reason.to_owned()),
+        Some(reason) if errors.is_empty() => Ok(DeclineBody { reason: reason.to_owned() }),
         _ => Err(ApiError::Invalid(errors)),
     }
 }
@@ -158,7 +174,10 @@ mod tests {
     #[test]
     fn a_reason_is_one_line_of_words_within_bounds() {
         let words = "no device in its room has this tag";
-        assert_eq!(parse_reason(&json!({ "reason": format!("  {words} ") })).unwrap(), words);
+        assert_eq!(
+            parse_reason(&json!({ "reason": format!("  {words} ") })).unwrap().reason,
+            words
+        );
         for bad in [
             json!({}),
             json!({ "reason": "  " }),
@@ -171,6 +190,6 @@ mod tests {
             assert!(matches!(parse_reason(&bad), Err(ApiError::Invalid(_))), "{bad} is refused");
         }
         let longest = "é".repeat(MAX_REASON_CHARS);
-        assert_eq!(parse_reason(&json!({ "reason": longest })).unwrap(), longest);
+        assert_eq!(parse_reason(&json!({ "reason": longest })).unwrap().reason, longest);
     }
 }

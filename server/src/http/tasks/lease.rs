@@ -13,11 +13,14 @@ use axum::extract::State;
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
 use pps_schema::{FieldError, Outcome, RobotId, TaskState};
+use schemars::JsonSchema;
 use serde::Deserialize;
 use serde_json::Value;
 use uuid::Uuid;
 
 use super::{TASK_ID, find, offer};
+use crate::answers::contract;
+use crate::answers::tasks::TaskAnswer;
 use crate::clock;
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, JsonBody};
@@ -106,7 +109,7 @@ pub async fn claim(
     loop {
         let generation = place.begin_look();
         if let Some(task) = offer::claim_next(&state, &place, &robot, class.as_deref()).await? {
-            return Ok(Json(task.to_json()).into_response());
+            return Ok(Json(TaskAnswer::from(&task)).into_response());
         }
         // Nothing for this robot: it waits, at no cost, until something changes.
         place.looked(generation);
@@ -158,14 +161,14 @@ pub async fn heartbeat(
     State(state): State<AppState>,
     Caller(caller): Caller,
     InPath(TaskId(id)): InPath<TaskId>,
-) -> Result<Json<Value>, ApiError> {
+) -> Result<Json<TaskAnswer>, ApiError> {
     let robot = caller.own_robot()?;
     let lease_until = clock::format(time::OffsetDateTime::now_utc() + state.tasks.lease());
     let mut tx = state.db.begin_write().await?;
     let extended = tasks::extend_lease(&mut tx, &id, robot, &lease_until).await?;
     tx.commit().await?;
     match extended {
-        Some(row) => Ok(Json(row.to_json())),
+        Some(row) => Ok(Json(TaskAnswer::from(&row))),
         None => Err(not_held(&find(&state, &id).await?, robot)),
     }
 }
@@ -199,9 +202,9 @@ pub async fn finish(
     Caller(caller): Caller,
     InPath(TaskId(id)): InPath<TaskId>,
     JsonBody(body): JsonBody,
-) -> Result<Json<Value>, ApiError> {
+) -> Result<Json<TaskAnswer>, ApiError> {
     let robot = caller.own_robot()?;
-    let (trial_id, outcome) = parse_finish(&body)?;
+    let Finish { trial: trial_id, outcome } = parse_finish(&body)?;
     let task = find(&state, &id).await?;
     if let Some(first) = task.trial.filter(|_| task.claimed_by.as_ref() == Some(robot)) {
         // A retry whose first answer was lost: it must say what the first finish said.
@@ -262,7 +265,7 @@ pub async fn finish(
     match ended {
         Some(row) => {
             state.feed.committed();
-            Ok(Json(row.to_json()))
+            Ok(Json(TaskAnswer::from(&row)))
         }
         // The lease ran out, or the trial finished another task, between the look and the
         // write.
@@ -281,10 +284,10 @@ async fn replayed(
     first: Uuid,
     trial_id: Uuid,
     outcome: Outcome,
-) -> Result<Json<Value>, ApiError> {
+) -> Result<Json<TaskAnswer>, ApiError> {
     let recorded = trials::get(state.db.reader(), &first).await?.map(|trial| trial.outcome);
     if trial_id == first && recorded.as_deref() == Some(outcome.as_str()) {
-        return Ok(Json(task.to_json()));
+        return Ok(Json(TaskAnswer::from(&task)));
     }
     Err(ApiError::Conflict(format!(
         "task {} is {} already: it was finished with trial {first}{}; a repeated finish must \
@@ -303,8 +306,19 @@ fn trial_used(trial: &Uuid, task: &Uuid) -> ApiError {
     ))
 }
 
+/// The finish body: the trial that did the task, and how it went.
+#[derive(Debug, JsonSchema)]
+#[serde(deny_unknown_fields)]
+#[schemars(rename = "task_finish")]
+pub struct Finish {
+    /// The recorded trial (its UUID) that did the task.
+    pub trial: Uuid,
+    #[schemars(with = "contract::Outcome")]
+    pub outcome: Outcome,
+}
+
 /// The finish body: `{"trial": UUID, "outcome"}`, every problem reported at once.
-fn parse_finish(body: &Value) -> Result<(Uuid, Outcome), ApiError> {
+fn parse_finish(body: &Value) -> Result<Finish, ApiError> {
     let Some(object) = body.as_object() else {
         return Err(ApiError::invalid_at(
             "",
@@ -338,7 +352,7 @@ fn parse_finish(body: &Value) -> Result<(Uuid, Outcome), ApiError> {
         }
     };
     match (trial, outcome) {
-        (Some(trial), Some(outcome)) if errors.is_empty() => Ok((trial, outcome)),
+        (Some(trial), Some(outcome)) if errors.is_empty() => Ok(Finish { trial, outcome }),
         _ => Err(ApiError::Invalid(errors)),
     }
 }

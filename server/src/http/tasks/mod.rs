@@ -15,9 +15,9 @@ use axum::http::header::LOCATION;
 use axum::response::{IntoResponse, Response};
 use pps_schema::{Epc, RobotId, TaskState};
 use serde::Deserialize;
-use serde_json::Value;
 use uuid::Uuid;
 
+use crate::answers::tasks::TaskAnswer;
 use crate::auth::Principal;
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, JsonBody};
@@ -136,7 +136,7 @@ pub async fn list(
     State(state): State<AppState>,
     Caller(caller): Caller,
     ApiQuery(params): ApiQuery<ListParams>,
-) -> Result<Json<page::Page<Value>>, ApiError> {
+) -> Result<Json<page::Page<TaskAnswer>>, ApiError> {
     let limit = page::limit(params.limit)?;
     let before = page::decode_position(params.cursor.as_deref())?;
     let asked_state = params
@@ -189,7 +189,7 @@ pub async fn get(
     State(state): State<AppState>,
     Caller(caller): Caller,
     InPath(TaskId(id)): InPath<TaskId>,
-) -> Result<Json<Value>, ApiError> {
+) -> Result<Json<TaskAnswer>, ApiError> {
     let row = find(&state, &id).await?;
     if let Some(robot) = caller.robot.as_ref().filter(|_| caller.role == Role::Robot)
         && !may_see(&state, robot, &row).await?
@@ -215,17 +215,17 @@ pub async fn cancel(
     State(state): State<AppState>,
     Caller(caller): Caller,
     InPath(TaskId(id)): InPath<TaskId>,
-) -> Result<Json<Value>, ApiError> {
+) -> Result<Json<TaskAnswer>, ApiError> {
     let mut tx = state.db.begin_write().await?;
     let cancelled = tasks::cancel(&mut tx, &id, &format!("cancelled by {}", caller.name)).await?;
     tx.commit().await?;
     if let Some(row) = cancelled {
         state.feed.committed();
-        return Ok(Json(row.to_json()));
+        return Ok(Json(TaskAnswer::from(&row)));
     }
     let row = find(&state, &id).await?;
     match row.state {
-        TaskState::Cancelled => Ok(Json(row.to_json())),
+        TaskState::Cancelled => Ok(Json(TaskAnswer::from(&row))),
         ended => Err(ApiError::Conflict(format!(
             "task {id} is {ended} already (trial {}); only queued or claimed tasks can be \
              cancelled — ask for a new task to undo it",

@@ -11,10 +11,10 @@ use std::collections::HashMap;
 use std::time::Duration;
 
 use pps_schema::{Epc, RobotId, TaskState};
-use serde_json::Value;
 
 use super::availability::why_not;
 use super::targets;
+use crate::answers::tasks::TaskAnswer;
 use crate::error::ApiError;
 use crate::robots::presence::ONLINE_WITHIN;
 use crate::state::AppState;
@@ -25,23 +25,16 @@ use crate::store::tasks::TaskRow;
 const MAX_ROBOTS: u32 = 10_000;
 
 /// The task as the API shows it to people: its row with `waiting_for` and `stuck`.
-pub async fn shown(state: &AppState, task: &TaskRow) -> Result<Value, ApiError> {
-    let mut shown = shown_all(state, std::slice::from_ref(task)).await?;
-    Ok(shown.pop().unwrap_or_default())
+pub async fn shown(state: &AppState, task: &TaskRow) -> Result<TaskAnswer, ApiError> {
+    Look::new(state, std::slice::from_ref(task)).await?.show(task).await
 }
 
 /// [`shown`] for many tasks, looking at the robots once.
-pub async fn shown_all(state: &AppState, tasks: &[TaskRow]) -> Result<Vec<Value>, ApiError> {
+pub async fn shown_all(state: &AppState, tasks: &[TaskRow]) -> Result<Vec<TaskAnswer>, ApiError> {
     let mut look = Look::new(state, tasks).await?;
     let mut shown = Vec::with_capacity(tasks.len());
     for task in tasks {
-        let mut json = task.to_json();
-        if task.state == TaskState::Queued {
-            let (waiting_for, stuck) = look.at(task).await?;
-            json["waiting_for"] = serde_json::json!(waiting_for);
-            json["stuck"] = stuck.map_or(Value::Null, Value::from);
-        }
-        shown.push(json);
+        shown.push(look.show(task).await?);
     }
     Ok(shown)
 }
@@ -61,6 +54,15 @@ impl<'a> Look<'a> {
             Vec::new()
         };
         Ok(Self { state, robots, can: HashMap::new() })
+    }
+
+    /// The task with, while it is queued, what it waits for.
+    async fn show(&mut self, task: &TaskRow) -> Result<TaskAnswer, ApiError> {
+        let mut shown = TaskAnswer::from(task);
+        if task.state == TaskState::Queued {
+            (shown.waiting_for, shown.stuck) = self.at(task).await?;
+        }
+        Ok(shown)
     }
 
     /// Why `robot` cannot run the task's action, or `None` when it can.

@@ -5,6 +5,7 @@ use pps_schema::{Epc, FieldError, RobotId};
 use serde_json::Value;
 
 use super::availability;
+use crate::answers::{contract, stamp};
 use crate::clock;
 use crate::error::ApiError;
 use crate::state::AppState;
@@ -16,6 +17,33 @@ const MAX_NOTE_CHARS: usize = 500;
 pub const DEFAULT_EXPIRY: time::Duration = time::Duration::days(1);
 /// The latest a task may expire: a wish older than a month is no longer a wish.
 pub const MAX_EXPIRY: time::Duration = time::Duration::days(30);
+
+/// A task to ask for: the tag and its action, optionally the robot or class to do it, a note
+/// and when it expires.
+// As `TaskRequest::parse` reads it before any field is checked (`None`: left out, null, or not
+// a string).
+#[derive(Debug, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+#[schemars(rename = "new_task")]
+pub struct NewTask {
+    #[schemars(required, with = "contract::Epc")]
+    pub epc: Option<String>,
+    /// One of the tag's actions.
+    #[schemars(required, with = "String", length(min = 1))]
+    pub action: Option<String>,
+    /// The one robot to do it; any robot that can when left out.
+    #[schemars(with = "Option<contract::RobotId>")]
+    pub robot: Option<String>,
+    /// The robot class to do it; any class when left out.
+    #[schemars(with = "Option<contract::RobotId>")]
+    pub class: Option<String>,
+    #[schemars(length(max = MAX_NOTE_CHARS))]
+    pub note: Option<String>,
+    /// When the task expires unless a robot took it: later than now and at most 30 days ahead.
+    /// Left out or null: a day after it is asked for.
+    #[schemars(with = "Option<stamp::DateTime>")]
+    pub expires_at: Option<String>,
+}
 
 /// A create request, parsed; every problem found is reported at once.
 pub(crate) struct TaskRequest {
@@ -64,14 +92,14 @@ impl TaskRequest {
                 None
             }
         };
-        let (epc, action, robot, class, note, expires_at) = (
-            text("epc", true),
-            text("action", true),
-            text("robot", false),
-            text("class", false),
-            text("note", false),
-            text("expires_at", false),
-        );
+        let NewTask { epc, action, robot, class, note, expires_at } = NewTask {
+            epc: text("epc", true),
+            action: text("action", true),
+            robot: text("robot", false),
+            class: text("class", false),
+            note: text("note", false),
+            expires_at: text("expires_at", false),
+        };
         let expires_at = expiry(expires_at.as_deref(), time::OffsetDateTime::now_utc())
             .map_err(|message| errors.push(FieldError::new("/expires_at", message)))
             .ok();

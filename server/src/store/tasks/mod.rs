@@ -61,34 +61,6 @@ pub struct Decline {
 }
 
 impl TaskRow {
-    /// The task as the API returns it.
-    pub fn to_json(&self) -> Value {
-        json!({
-            "id": self.id,
-            "epc": self.epc,
-            "action": self.action,
-            "robot": self.robot,
-            "class": self.class,
-            "note": self.note,
-            "state": self.state,
-            "created_by": self.created_by,
-            "created_at": self.created_at,
-            "claimed_by": self.claimed_by,
-            "lease_until": self.lease_until,
-            "attempts": self.attempts,
-            "holders": self.holders(),
-            "trial": self.trial,
-            "reason": self.reason,
-            "updated_at": self.updated_at,
-            "declined": self.declined(),
-            "expires_at": self.expires_at,
-            "expired": self.expired(),
-            // Worked out when people read a queued task (the HTTP layer's outlook).
-            "waiting_for": [],
-            "stuck": null,
-        })
-    }
-
     /// Every robot that declined the task, with its reason, in order.
     pub fn declined(&self) -> Vec<Decline> {
         serde_json::from_str(&self.declines).unwrap_or_default()
