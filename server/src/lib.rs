@@ -72,9 +72,9 @@ pub async fn serve_with(
     shutdown: impl Future<Output = ()> + Send + 'static,
 ) -> std::io::Result<()> {
     background::start(&state).await.map_err(std::io::Error::other)?;
-    retention::start_daily_pictures(state.db.clone(), state.pictures_per_tag);
+    retention::start_daily_pictures(state.db.clone(), state.clock.clone(), state.pictures_per_tag);
     if let Some(age) = options.thin_forces_after {
-        retention::start_daily(state.db.clone(), age);
+        retention::start_daily(state.db.clone(), state.clock.clone(), age);
     }
     let bridge = options.home_assistant.clone().map(|config| home_assistant::start(&state, config));
     let feed = state.feed.clone();

@@ -57,8 +57,9 @@ pub struct Presence {
 }
 
 impl Presence {
-    pub fn saw(&self, robot: &str) {
-        let now_ms = unix_ms(OffsetDateTime::now_utc());
+    /// Notes that `robot` was seen at `now`.
+    pub fn saw(&self, robot: &str, now: OffsetDateTime) {
+        let now_ms = unix_ms(now);
         if let Some(seen) = self.seen.read().unwrap_or_else(|e| e.into_inner()).get(robot) {
             seen.note(now_ms);
             return;
@@ -81,17 +82,17 @@ impl Presence {
         seen.get(robot).map(Seen::formatted)
     }
 
-    /// How long ago the robot was last seen; `None` when it never was.
-    pub fn seen_ago(&self, robot: &str) -> Option<Duration> {
+    /// How long before `now` the robot was last seen; `None` when it never was.
+    pub fn seen_ago(&self, robot: &str, now: OffsetDateTime) -> Option<Duration> {
         let seen = self.seen.read().unwrap_or_else(|e| e.into_inner());
         let at_ms = seen.get(robot)?.at_ms.load(Ordering::Relaxed);
-        let ago_ms = unix_ms(OffsetDateTime::now_utc()) - at_ms;
+        let ago_ms = unix_ms(now) - at_ms;
         Some(Duration::from_millis(u64::try_from(ago_ms).unwrap_or(0)))
     }
 
-    /// Whether the robot was seen within [`ONLINE_WITHIN`].
-    pub fn online(&self, robot: &str) -> bool {
-        self.seen_ago(robot).is_some_and(|ago| ago <= ONLINE_WITHIN)
+    /// Whether the robot was seen within [`ONLINE_WITHIN`] before `now`.
+    pub fn online(&self, robot: &str, now: OffsetDateTime) -> bool {
+        self.seen_ago(robot, now).is_some_and(|ago| ago <= ONLINE_WITHIN)
     }
 
     /// The sightings not yet flushed, marking them flushed.
@@ -115,27 +116,30 @@ mod tests {
     #[test]
     fn a_robot_seen_is_flushed_once_until_seen_again() {
         let presence = Presence::default();
+        let now = OffsetDateTime::now_utc();
         assert!(presence.take_unflushed().is_empty());
-        presence.saw("el-e-1");
+        presence.saw("el-e-1", now);
         let flushed = presence.take_unflushed();
         assert_eq!(flushed.len(), 1);
         assert_eq!(flushed[0].0, "el-e-1");
         assert!(clock::parse(&flushed[0].1).is_some(), "{}", flushed[0].1);
         assert!(presence.take_unflushed().is_empty(), "nothing new to flush");
         assert_eq!(presence.last_seen("el-e-1"), Some(flushed[0].1.clone()));
-        assert!(presence.online("el-e-1"));
-        assert!(!presence.online("pr2-1"), "never seen");
+        assert!(presence.online("el-e-1", now));
+        assert!(!presence.online("el-e-1", now + ONLINE_WITHIN + Duration::from_secs(1)));
+        assert!(!presence.online("pr2-1", now), "never seen");
     }
 
     #[test]
     fn stored_times_are_known_but_not_flushed_again() {
         let presence = Presence::default();
+        let now = OffsetDateTime::now_utc();
         presence.load(vec![("pr2-1".into(), "2026-11-22T10:00:00.000Z".into())]);
         assert_eq!(presence.last_seen("pr2-1").as_deref(), Some("2026-11-22T10:00:00.000Z"));
         assert!(presence.take_unflushed().is_empty());
-        assert!(!presence.online("pr2-1"), "seen long ago");
-        assert!(presence.seen_ago("pr2-1").is_some_and(|ago| ago > ONLINE_WITHIN));
-        presence.saw("pr2-1");
+        assert!(!presence.online("pr2-1", now), "seen long ago");
+        assert!(presence.seen_ago("pr2-1", now).is_some_and(|ago| ago > ONLINE_WITHIN));
+        presence.saw("pr2-1", now);
         assert_eq!(presence.take_unflushed().len(), 1, "seen now, a second and more later");
     }
 }

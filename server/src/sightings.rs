@@ -4,6 +4,8 @@
 use std::collections::HashMap;
 use std::sync::Mutex;
 
+use time::OffsetDateTime;
+
 use crate::clock;
 use crate::store::inbox::Sighting;
 
@@ -16,8 +18,9 @@ pub struct Sightings {
 const MAX_PENDING: usize = 10_000;
 
 impl Sightings {
-    pub fn note(&self, epc: &str, robot: &str) {
-        let now = clock::now();
+    /// Notes that `robot` read the unknown `epc` at `at`.
+    pub fn note(&self, epc: &str, robot: &str, at: OffsetDateTime) {
+        let now = clock::format(at);
         let mut pending = self.pending.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(sighting) = pending.get_mut(epc) {
             sighting.count += 1;

@@ -14,6 +14,7 @@ use sqlx::AnyConnection;
 use tokio::sync::{mpsc, oneshot};
 use uuid::Uuid;
 
+use crate::clock::{self, Clock};
 use crate::colour_learning;
 use crate::db::{Db, Unwritable};
 use crate::effective_cache::EffectiveCache;
@@ -21,7 +22,7 @@ use crate::feed::ChangeFeed;
 use crate::learning::{self, TrialGroup};
 use crate::store::events::{self, EventKind};
 use crate::store::trials::{self, NewTrial, TrialRow};
-use crate::{clock, retention, store};
+use crate::{retention, store};
 
 /// Trials committed together at most.
 const MAX_BATCH: usize = 512;
@@ -70,9 +71,9 @@ pub struct TrialWriter {
 
 impl TrialWriter {
     /// Starts the writing task (needs a Tokio runtime).
-    pub fn start(db: Db, feed: Arc<ChangeFeed>, cache: Arc<EffectiveCache>) -> Self {
+    pub fn start(db: Db, clock: Clock, feed: Arc<ChangeFeed>, cache: Arc<EffectiveCache>) -> Self {
         let (queue, incoming) = mpsc::channel(QUEUE);
-        tokio::spawn(run(db, incoming, feed, cache));
+        tokio::spawn(run(db, clock, incoming, feed, cache));
         Self { queue }
     }
 
@@ -86,6 +87,7 @@ impl TrialWriter {
 
 async fn run(
     db: Db,
+    clock: Clock,
     mut incoming: mpsc::Receiver<(CheckedTrial, Reply)>,
     feed: Arc<ChangeFeed>,
     cache: Arc<EffectiveCache>,
@@ -93,13 +95,13 @@ async fn run(
     let mut batch = Vec::with_capacity(MAX_BATCH);
     while incoming.recv_many(&mut batch, MAX_BATCH).await > 0 {
         let trials: Vec<&CheckedTrial> = batch.iter().map(|(trial, _)| trial).collect();
-        match commit(&db, &trials).await {
+        match commit(&db, &clock, &trials).await {
             Ok(stored) => answer(batch.drain(..), stored, &feed, &cache),
             // One trial's problem must stay its own: commit each alone, so only it fails.
             Err(error) if batch.len() > 1 && Unwritable::of(&error).is_none() => {
                 tracing::warn!(%error, trials = batch.len(), "a batch of trials failed; committing them one by one");
                 for (trial, reply) in batch.drain(..) {
-                    match commit(&db, &[&trial]).await {
+                    match commit(&db, &clock, &[&trial]).await {
                         Ok(stored) => answer([(trial, reply)].into_iter(), stored, &feed, &cache),
                         Err(error) => refuse([(trial, reply)].into_iter(), error),
                     }
@@ -143,11 +145,11 @@ fn refuse(batch: impl ExactSizeIterator<Item = (CheckedTrial, Reply)>, error: sq
 /// The batch's time is what every waiting robot pays, so it is kept to a few statements
 /// whatever its size: each tag and robot is looked up once, and all new trials and their
 /// events are inserted with one statement each.
-async fn commit(db: &Db, batch: &[&CheckedTrial]) -> sqlx::Result<Stored> {
+async fn commit(db: &Db, clock: &Clock, batch: &[&CheckedTrial]) -> sqlx::Result<Stored> {
     // Serialised before the write lock is taken.
     let bodies: Vec<String> = batch.iter().map(|checked| checked.body.to_string()).collect();
     let mut tx = db.begin_write().await?;
-    let received_at = clock::now();
+    let received_at = clock::format(clock.now());
     let known = Known::look_up(&mut tx, batch).await?;
     let seqs = insert_on_active_tags(&mut tx, batch, &bodies, &known, &received_at).await?;
     let sorted = sort_out(&mut tx, batch, bodies, &known, &seqs, &received_at).await?;

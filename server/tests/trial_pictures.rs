@@ -170,7 +170,10 @@ async fn a_tag_keeps_its_newest_pictures_and_every_trial() {
     problem(other, StatusCode::CONFLICT).await;
 
     // A lower limit, as after a restart with fewer pictures per tag, is applied by the pass.
-    assert_eq!(pps_server::retention::keep_newest_pictures(&server.db, 1).await.unwrap(), 1);
+    assert_eq!(
+        pps_server::retention::keep_newest_pictures(&server.db, 1, server.now()).await.unwrap(),
+        1
+    );
     let second = server.get(&picture_of(&trials[1]), &server.admin).await;
     assert_eq!(second.status(), StatusCode::NOT_FOUND);
     assert_eq!(server.get(&picture_of(&trials[2]), &server.admin).await.status(), StatusCode::OK);

@@ -7,6 +7,7 @@ use sqlx::AnyConnection;
 
 use crate::clock;
 use crate::db::Dialect;
+use crate::store::columns::At;
 
 /// The learned colour of a tag and of its household for a robot class, as stored.
 pub async fn learned(
@@ -95,7 +96,7 @@ pub async fn store(
     .bind(class)
     .bind(text)
     .bind(model.trials as i64)
-    .bind(clock::now())
+    .bind(At(clock::recorded_now()))
     .execute(conn)
     .await?;
     Ok(true)

@@ -4,7 +4,7 @@ use pps_schema::RobotId;
 use serde_json::{Value, json};
 use sqlx::AnyPool;
 
-use crate::store::columns::{Flag, Id};
+use crate::store::columns::{At, Flag, Id};
 
 use crate::clock;
 use crate::db::Db;
@@ -138,7 +138,7 @@ pub async fn put(db: &Db, id: &RobotId, document: &Value, by: &str) -> sqlx::Res
     .bind(id.as_str())
     .bind(class)
     .bind(document.to_string())
-    .bind(clock::now())
+    .bind(At(clock::recorded_now()))
     .bind(by)
     .execute(&mut *tx)
     .await?;

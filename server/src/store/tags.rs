@@ -182,7 +182,7 @@ pub async fn put_in(
         entry: entry.clone(),
         revision,
         archived: false,
-        updated_at: clock::now(),
+        updated_at: clock::format(clock::recorded_now()),
         updated_by: by.to_owned(),
     };
     write(tx, &stored, change).await?;
@@ -222,14 +222,14 @@ pub async fn archive_in(
     let stored = StoredTag {
         revision: current.revision + 1,
         archived: true,
-        updated_at: clock::now(),
+        updated_at: clock::format(clock::recorded_now()),
         updated_by: by.to_owned(),
         ..current
     };
     write(tx, &stored, "archive").await?;
     // No robot may record a trial on an archived tag, so nothing asked of it can be done.
     let reason = format!("the tag was archived by {by}");
-    crate::store::tasks::cancel_on_tag(tx, &stored.epc, &reason).await?;
+    crate::store::tasks::cancel_on_tag(tx, &stored.epc, &reason, clock::recorded_now()).await?;
     Ok(stored)
 }
 
@@ -382,7 +382,7 @@ pub async fn move_to(
         entry,
         revision: current.revision + 1,
         archived: current.archived,
-        updated_at: clock::now(),
+        updated_at: clock::format(clock::recorded_now()),
         updated_by: by.to_owned(),
     };
     write(tx, &moved, "retag").await?;

@@ -10,9 +10,11 @@ use serde_json::{Value, json};
 use sqlx::{AnyConnection, AnyPool};
 use uuid::Uuid;
 
+use time::OffsetDateTime;
+
 use crate::clock;
 use crate::db::Dialect;
-use crate::store::columns::{Id, MaybeId};
+use crate::store::columns::{At, Id, MaybeAt, MaybeId};
 use crate::store::events::{self, EventKind};
 
 /// A robot's lease running out this many times fails the task: a task that keeps killing (or
@@ -35,21 +37,25 @@ pub struct TaskRow {
     #[sqlx(try_from = "Id<TaskState>")]
     pub state: TaskState,
     pub created_by: String,
-    pub created_at: String,
+    #[sqlx(try_from = "At")]
+    pub created_at: OffsetDateTime,
     #[sqlx(try_from = "MaybeId<RobotId>")]
     pub claimed_by: Option<RobotId>,
-    pub lease_until: Option<String>,
+    #[sqlx(try_from = "MaybeAt")]
+    pub lease_until: Option<OffsetDateTime>,
     pub attempts: i64,
     /// JSON array of every robot that held the task, in order.
     pub holders: String,
     #[sqlx(try_from = "MaybeId<Uuid>")]
     pub trial: Option<Uuid>,
     pub reason: Option<String>,
-    pub updated_at: String,
+    #[sqlx(try_from = "At")]
+    pub updated_at: OffsetDateTime,
     /// JSON array of every decline, in order: `{"robot", "reason", "at"}`.
     pub declines: String,
     /// When it expires unless a robot took it; `None` for never.
-    pub expires_at: Option<String>,
+    #[sqlx(try_from = "MaybeAt")]
+    pub expires_at: Option<OffsetDateTime>,
 }
 
 /// A robot's word that it cannot do a task, and why.
@@ -72,16 +78,16 @@ impl TaskRow {
             "note": self.note,
             "state": self.state,
             "created_by": self.created_by,
-            "created_at": self.created_at,
+            "created_at": clock::format(self.created_at),
             "claimed_by": self.claimed_by,
-            "lease_until": self.lease_until,
+            "lease_until": self.lease_until.map(clock::format),
             "attempts": self.attempts,
             "holders": self.holders(),
             "trial": self.trial,
             "reason": self.reason,
-            "updated_at": self.updated_at,
+            "updated_at": clock::format(self.updated_at),
             "declined": self.declined(),
-            "expires_at": self.expires_at,
+            "expires_at": self.expires_at.map(clock::format),
             "expired": self.expired(),
             // Worked out when people read a queued task (the HTTP layer's outlook).
             "waiting_for": [],
@@ -107,7 +113,7 @@ impl TaskRow {
     /// Whether the task ended because it expired before a robot took it (or finished it).
     pub fn expired(&self) -> bool {
         self.state == TaskState::Cancelled
-            && self.expires_at.as_ref().is_some_and(|at| *at <= self.updated_at)
+            && self.expires_at.is_some_and(|at| at <= self.updated_at)
     }
 
     /// Whether the task can still change hands or be cancelled.
@@ -153,7 +159,7 @@ pub struct NewTask {
     pub note: Option<String>,
     pub created_by: String,
     /// When it expires unless a robot took it.
-    pub expires_at: String,
+    pub expires_at: OffsetDateTime,
 }
 
 async fn announce(tx: &mut AnyConnection, rows: &[TaskRow]) -> sqlx::Result<()> {
@@ -170,8 +176,11 @@ async fn announced(tx: &mut AnyConnection, row: Option<TaskRow>) -> sqlx::Result
 }
 
 #[tracing::instrument(skip_all)]
-pub async fn create(tx: &mut AnyConnection, task: &NewTask) -> sqlx::Result<TaskRow> {
-    let now = clock::now();
+pub async fn create(
+    tx: &mut AnyConnection,
+    task: &NewTask,
+    now: OffsetDateTime,
+) -> sqlx::Result<TaskRow> {
     let row: TaskRow = sqlx::query_as(concat!(
         "insert into tasks (id, epc, action, robot, class, note, state, created_by, created_at, \
          updated_at, expires_at) values ($1, $2, $3, $4, $5, $6, 'queued', $7, $8, $9, $10) \
@@ -185,9 +194,9 @@ pub async fn create(tx: &mut AnyConnection, task: &NewTask) -> sqlx::Result<Task
     .bind(&task.class)
     .bind(&task.note)
     .bind(&task.created_by)
-    .bind(&now)
-    .bind(&now)
-    .bind(&task.expires_at)
+    .bind(At(now))
+    .bind(At(now))
+    .bind(At(task.expires_at))
     .fetch_one(&mut *tx)
     .await?;
     announce(tx, std::slice::from_ref(&row)).await?;
@@ -270,8 +279,9 @@ pub async fn cancel(
     tx: &mut AnyConnection,
     id: &Uuid,
     reason: &str,
+    now: OffsetDateTime,
 ) -> sqlx::Result<Option<TaskRow>> {
-    let rows = cancel_where(tx, false, &id.hyphenated().to_string(), reason).await?;
+    let rows = cancel_where(tx, false, &id.hyphenated().to_string(), reason, now).await?;
     Ok(rows.into_iter().next())
 }
 
@@ -281,8 +291,9 @@ pub async fn cancel_on_tag(
     tx: &mut AnyConnection,
     epc: &Epc,
     reason: &str,
+    now: OffsetDateTime,
 ) -> sqlx::Result<Vec<TaskRow>> {
-    cancel_where(tx, true, epc.as_hex(), reason).await
+    cancel_where(tx, true, epc.as_hex(), reason, now).await
 }
 
 /// Cancels the open tasks with this id (`by_tag` false) or on this tag (`by_tag` true).
@@ -291,6 +302,7 @@ async fn cancel_where(
     by_tag: bool,
     key: &str,
     reason: &str,
+    now: OffsetDateTime,
 ) -> sqlx::Result<Vec<TaskRow>> {
     macro_rules! cancel_by {
         ($column:literal) => {
@@ -304,12 +316,8 @@ async fn cancel_where(
         };
     }
     let statement = if by_tag { cancel_by!("epc") } else { cancel_by!("id") };
-    let rows: Vec<TaskRow> = sqlx::query_as(statement)
-        .bind(reason)
-        .bind(key)
-        .bind(clock::now())
-        .fetch_all(&mut *tx)
-        .await?;
+    let rows: Vec<TaskRow> =
+        sqlx::query_as(statement).bind(reason).bind(key).bind(At(now)).fetch_all(&mut *tx).await?;
     announce(tx, &rows).await?;
     Ok(rows)
 }
