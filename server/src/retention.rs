@@ -152,12 +152,12 @@ fn submission_digest(trial: &Value) -> String {
 
 /// Thins every trial received longer ago than `age` at `now`; works while a server writes.
 pub async fn thin_forces(db: &Db, age: Age, now: OffsetDateTime) -> anyhow::Result<ThinReport> {
-    let cutoff = clock::format(age.cutoff(now));
+    let cutoff = age.cutoff(now);
     let thinned_at = clock::format(now);
     let mut report = ThinReport::default();
     let mut after = 0;
     loop {
-        let rows = trials::with_forces_received_before(db.reader(), &cutoff, after, BATCH).await?;
+        let rows = trials::with_forces_received_before(db.reader(), cutoff, after, BATCH).await?;
         let Some(last) = rows.last() else { break };
         after = last.0;
         let mut tx = db.begin_write().await?;

@@ -11,10 +11,11 @@ use std::sync::Arc;
 use pps_schema::{Epc, RobotId, Trial};
 use serde_json::{Value, json};
 use sqlx::AnyConnection;
+use time::OffsetDateTime;
 use tokio::sync::{mpsc, oneshot};
 use uuid::Uuid;
 
-use crate::clock::{self, Clock};
+use crate::clock::Clock;
 use crate::colour_learning;
 use crate::db::{Db, Unwritable};
 use crate::effective_cache::EffectiveCache;
@@ -149,10 +150,10 @@ async fn commit(db: &Db, clock: &Clock, batch: &[&CheckedTrial]) -> sqlx::Result
     // Serialised before the write lock is taken.
     let bodies: Vec<String> = batch.iter().map(|checked| checked.body.to_string()).collect();
     let mut tx = db.begin_write().await?;
-    let received_at = clock::format(clock.now());
+    let received_at = clock.now();
     let known = Known::look_up(&mut tx, batch).await?;
-    let seqs = insert_on_active_tags(&mut tx, batch, &bodies, &known, &received_at).await?;
-    let sorted = sort_out(&mut tx, batch, bodies, &known, &seqs, &received_at).await?;
+    let seqs = insert_on_active_tags(&mut tx, batch, &bodies, &known, received_at).await?;
+    let sorted = sort_out(&mut tx, batch, bodies, &known, &seqs, received_at).await?;
     announce(&mut tx, sorted.recorded).await?;
     let relearned = learning::update(&mut tx, &sorted.groups).await?;
     tx.commit().await?;
@@ -193,7 +194,7 @@ async fn insert_on_active_tags(
     batch: &[&CheckedTrial],
     bodies: &[String],
     known: &Known<'_>,
-    received_at: &str,
+    received_at: OffsetDateTime,
 ) -> sqlx::Result<HashMap<Uuid, i64>> {
     let insertable: Vec<NewTrial<'_>> = batch
         .iter()
@@ -227,7 +228,7 @@ async fn sort_out<'a>(
     bodies: Vec<String>,
     known: &Known<'_>,
     seqs: &HashMap<Uuid, i64>,
-    received_at: &str,
+    received_at: OffsetDateTime,
 ) -> sqlx::Result<Sorted<'a>> {
     let mut sorted = Sorted {
         results: Vec::with_capacity(batch.len()),
@@ -262,7 +263,7 @@ async fn sort_out<'a>(
             outcome: trial.outcome.as_str().to_owned(),
             confirmed: trial.confirmed,
             purpose: trial.purpose.as_str().to_owned(),
-            received_at: received_at.to_owned(),
+            received_at,
             body,
             has_picture: false,
         })));

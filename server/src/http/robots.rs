@@ -82,5 +82,5 @@ pub async fn put(
 }
 
 fn with_presence(state: &AppState, robot: &StoredRobot) -> Value {
-    robot.to_json(state.presence.last_seen(robot.id.as_str()).as_deref())
+    robot.to_json(state.presence.last_seen(robot.id.as_str()).map(crate::clock::format).as_deref())
 }

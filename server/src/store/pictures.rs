@@ -7,14 +7,15 @@ use uuid::Uuid;
 
 use crate::db::Dialect;
 use crate::picture::Picture;
-use crate::store::columns::At;
+use crate::store::columns::{At, MaybeAt};
 
 /// A stored picture's description, without its bytes.
 #[derive(Debug, Clone, PartialEq, Eq, sqlx::FromRow)]
 pub struct PictureRow {
     pub media_type: String,
     pub sha256: String,
-    pub removed_at: Option<String>,
+    #[sqlx(try_from = "MaybeAt")]
+    pub removed_at: Option<OffsetDateTime>,
 }
 
 /// A stored picture with its bytes; `bytes` is `None` once retention removed them.

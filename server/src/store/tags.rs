@@ -6,11 +6,12 @@
 use pps_schema::Epc;
 use serde_json::{Map, Value, json};
 use sqlx::AnyPool;
+use time::OffsetDateTime;
 
 use super::WriteCondition;
 use crate::clock;
 use crate::db::Db;
-use crate::store::columns::{Flag, Id, JsonText};
+use crate::store::columns::{At, Flag, Id, JsonText};
 use crate::store::events::{self, EventKind};
 use crate::store::{inbox, retired};
 
@@ -21,7 +22,7 @@ pub struct StoredTag {
     pub entry: Value,
     pub revision: i64,
     pub archived: bool,
-    pub updated_at: String,
+    pub updated_at: OffsetDateTime,
     pub updated_by: String,
 }
 
@@ -36,7 +37,7 @@ impl StoredTag {
             object.insert("epc_uri".into(), uri.into());
         }
         object.insert("revision".into(), self.revision.into());
-        object.insert("updated_at".into(), self.updated_at.clone().into());
+        object.insert("updated_at".into(), clock::format(self.updated_at).into());
         object.insert("updated_by".into(), self.updated_by.clone().into());
         object.insert("archived".into(), self.archived.into());
         Value::Object(object)
@@ -51,7 +52,8 @@ struct TagRow {
     revision: i64,
     #[sqlx(try_from = "Flag")]
     archived: bool,
-    updated_at: String,
+    #[sqlx(try_from = "At")]
+    updated_at: OffsetDateTime,
     updated_by: String,
 }
 
@@ -182,7 +184,7 @@ pub async fn put_in(
         entry: entry.clone(),
         revision,
         archived: false,
-        updated_at: clock::format(clock::recorded_now()),
+        updated_at: clock::recorded_now(),
         updated_by: by.to_owned(),
     };
     write(tx, &stored, change).await?;
@@ -222,7 +224,7 @@ pub async fn archive_in(
     let stored = StoredTag {
         revision: current.revision + 1,
         archived: true,
-        updated_at: clock::format(clock::recorded_now()),
+        updated_at: clock::recorded_now(),
         updated_by: by.to_owned(),
         ..current
     };
@@ -284,7 +286,7 @@ async fn write(tx: &mut sqlx::AnyConnection, tag: &StoredTag, change: &str) -> s
     .bind(text("name"))
     .bind(tag.revision)
     .bind(i64::from(tag.archived))
-    .bind(&tag.updated_at)
+    .bind(At(tag.updated_at))
     .bind(&tag.updated_by)
     .execute(&mut *tx)
     .await?;
@@ -297,7 +299,7 @@ async fn write(tx: &mut sqlx::AnyConnection, tag: &StoredTag, change: &str) -> s
     .bind(change)
     .bind(&entry)
     .bind(i64::from(tag.archived))
-    .bind(&tag.updated_at)
+    .bind(At(tag.updated_at))
     .bind(&tag.updated_by)
     .execute(&mut *tx)
     .await?;
@@ -317,7 +319,9 @@ pub struct Revision {
     pub change: String,
     #[sqlx(try_from = "Flag")]
     pub archived: bool,
-    pub changed_at: String,
+    #[serde(with = "clock::stored")]
+    #[sqlx(try_from = "At")]
+    pub changed_at: OffsetDateTime,
     pub changed_by: String,
     #[sqlx(try_from = "JsonText")]
     pub entry: Value,
@@ -382,7 +386,7 @@ pub async fn move_to(
         entry,
         revision: current.revision + 1,
         archived: current.archived,
-        updated_at: clock::format(clock::recorded_now()),
+        updated_at: clock::recorded_now(),
         updated_by: by.to_owned(),
     };
     write(tx, &moved, "retag").await?;

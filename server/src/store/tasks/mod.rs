@@ -63,7 +63,8 @@ pub struct TaskRow {
 pub struct Decline {
     pub robot: RobotId,
     pub reason: String,
-    pub at: String,
+    #[serde(with = "clock::stored")]
+    pub at: OffsetDateTime,
 }
 
 impl TaskRow {
