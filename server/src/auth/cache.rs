@@ -26,8 +26,11 @@ struct Cached {
 }
 
 impl Cached {
+    /// Checked less than [`RECHECK_AFTER`] before `now`; a clock set back does not stretch
+    /// that.
     fn fresh_at(&self, now: OffsetDateTime) -> bool {
-        now - self.checked_at < RECHECK_AFTER
+        let age = now - self.checked_at;
+        !age.is_negative() && age < RECHECK_AFTER
     }
 }
 
@@ -64,5 +67,29 @@ impl TokenCache {
     /// Forgets every cached token, e.g. after a revocation through the API.
     pub fn clear(&self) {
         self.entries.write().unwrap_or_else(|e| e.into_inner()).clear();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::identity::Role;
+
+    fn nurse() -> Arc<Principal> {
+        Arc::new(Principal { role: Role::Caretaker, name: "nurse".into(), robot: None })
+    }
+
+    #[test]
+    fn a_token_is_trusted_from_memory_only_briefly_and_never_past_its_expiry() {
+        let cache = TokenCache::default();
+        let checked = time::macros::datetime!(2026-12-05 10:00 UTC);
+        let expires = checked + Duration::from_secs(1);
+        cache.insert([1; 32], nurse(), checked, None);
+        cache.insert([2; 32], nurse(), checked, Some(expires));
+        assert!(cache.get(&[1; 32], checked + Duration::from_millis(1999)).is_some());
+        assert!(cache.get(&[1; 32], checked + RECHECK_AFTER).is_none(), "checked again");
+        assert!(cache.get(&[1; 32], checked - Duration::from_secs(3600)).is_none(), "set back");
+        assert!(cache.get(&[2; 32], checked).is_some());
+        assert!(cache.get(&[2; 32], expires).is_none(), "expired");
     }
 }
