@@ -61,17 +61,18 @@ impl<'r> Decode<'r, Any> for MaybeFlag {
     }
 }
 
-impl From<Flag> for bool {
-    fn from(flag: Flag) -> Self {
-        flag.0
-    }
+/// `From` a column type to the value it holds, which rows decode through `try_from`.
+macro_rules! holds {
+    ($($column:ty => $value:ty),* $(,)?) => {$(
+        impl From<$column> for $value {
+            fn from(column: $column) -> Self {
+                column.0
+            }
+        }
+    )*};
 }
 
-impl From<MaybeFlag> for Option<bool> {
-    fn from(flag: MaybeFlag) -> Self {
-        flag.0
-    }
-}
+holds!(Flag => bool, MaybeFlag => Option<bool>);
 
 /// A JSON document stored as text.
 #[derive(Debug, Clone, PartialEq)]
@@ -86,11 +87,7 @@ impl<'r> Decode<'r, Any> for JsonText {
     }
 }
 
-impl From<JsonText> for serde_json::Value {
-    fn from(text: JsonText) -> Self {
-        text.0
-    }
-}
+holds!(JsonText => serde_json::Value);
 
 /// A non-null id column, parsed as it is read.
 #[derive(Debug, Clone, PartialEq)]
@@ -194,14 +191,4 @@ impl Encode<'_, Any> for MaybeAt {
     }
 }
 
-impl From<At> for OffsetDateTime {
-    fn from(column: At) -> Self {
-        column.0
-    }
-}
-
-impl From<MaybeAt> for Option<OffsetDateTime> {
-    fn from(column: MaybeAt) -> Self {
-        column.0
-    }
-}
+holds!(At => OffsetDateTime, MaybeAt => Option<OffsetDateTime>);
