@@ -35,12 +35,15 @@ pub async fn start(state: &AppState) -> anyhow::Result<()> {
         let mut presence = tokio::time::interval(PRESENCE_EVERY);
         let mut prune = tokio::time::interval(PRUNE_EVERY);
         let mut leases = tokio::time::interval(flusher.tasks.sweep_every());
+        // A test that moves the clock past a lease need not wait for the next sweep.
+        let mut clock_moves = flusher.clock.moves();
         loop {
             tokio::select! {
                 _ = sightings.tick() => flush_sightings(&flusher).await,
                 _ = presence.tick() => flush_presence(&flusher).await,
                 _ = prune.tick() => prune_events(&flusher).await,
                 _ = leases.tick() => expire_leases(&flusher).await,
+                () = clock_moves.next() => expire_leases(&flusher).await,
             }
         }
     });
@@ -134,17 +137,17 @@ async fn prune_events(state: &AppState) {
 /// its stored expiry, so also for leases given before a restart) to the queue, or fails them
 /// after their last attempt.
 pub async fn expire_leases(state: &AppState) {
-    let now = crate::clock::now();
+    let now = state.clock.now();
     // A look on the read pool first: the sweep takes the write lock only when it has work.
-    match tasks::any_overdue(state.db.reader(), &now).await {
+    match tasks::any_overdue(state.db.reader(), now).await {
         Ok(true) => {}
         Ok(false) => return,
         Err(error) => return tracing::warn!(%error, "cannot look for leases that ran out"),
     }
     let result = async {
         let mut tx = state.db.begin_write().await?;
-        let expired = tasks::expire(&mut tx, &now).await?;
-        let changed = tasks::expire_leases(&mut tx, &now).await?;
+        let expired = tasks::expire(&mut tx, now).await?;
+        let changed = tasks::expire_leases(&mut tx, now).await?;
         tx.commit().await?;
         Ok::<_, sqlx::Error>((expired, changed))
     }

@@ -69,9 +69,13 @@ pub async fn serve_with(
     shutdown: impl Future<Output = ()> + Send + 'static,
 ) -> std::io::Result<()> {
     background::start(&state).await.map_err(std::io::Error::other)?;
-    trials::retention::start_daily_pictures(state.db.clone(), state.pictures_per_tag);
+    trials::retention::start_daily_pictures(
+        state.db.clone(),
+        state.clock.clone(),
+        state.pictures_per_tag,
+    );
     if let Some(age) = options.thin_forces_after {
-        trials::retention::start_daily(state.db.clone(), age);
+        trials::retention::start_daily(state.db.clone(), state.clock.clone(), age);
     }
     let bridge = options.home_assistant.clone().map(|config| home_assistant::start(&state, config));
     let feed = state.feed.clone();

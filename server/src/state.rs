@@ -4,6 +4,7 @@ use std::sync::Arc;
 
 use crate::auth::TokenCache;
 use crate::auth::login_throttle::LoginThrottle;
+use crate::clock::Clock;
 use crate::feed::ChangeFeed;
 use crate::home_assistant::BridgeStatus;
 use crate::ops::metrics::Metrics;
@@ -23,6 +24,8 @@ pub struct AppState(Arc<Shared>);
 #[derive(Debug)]
 pub struct Shared {
     pub db: Db,
+    /// The time every decision reads: leases, expiry, throttles, sessions, presence.
+    pub clock: Clock,
     pub tokens: Arc<TokenCache>,
     /// Recent failed password logins, to slow down guessing.
     pub login_throttle: Arc<LoginThrottle>,
@@ -51,13 +54,20 @@ impl std::ops::Deref for AppState {
 }
 
 impl AppState {
-    /// The state for a registry on `db`; starts the trial writer, so it needs a Tokio runtime.
+    /// The state for a registry on `db` on the system clock; starts the trial writer, so it
+    /// needs a Tokio runtime.
     pub fn new(db: Db) -> Self {
+        Self::on_clock(db, Clock::System)
+    }
+
+    /// [`Self::new`] reading the time from `clock` (tests move a manual one).
+    pub fn on_clock(db: Db, clock: Clock) -> Self {
         let feed = Arc::new(ChangeFeed::default());
         let effective = Arc::new(EffectiveCache::default());
-        let trials = TrialWriter::start(db.clone(), feed.clone(), effective.clone());
+        let trials = TrialWriter::start(db.clone(), clock.clone(), feed.clone(), effective.clone());
         Self(Arc::new(Shared {
             db,
+            clock,
             tokens: Arc::default(),
             login_throttle: Arc::default(),
             effective,

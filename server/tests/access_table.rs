@@ -269,8 +269,7 @@ struct Credentials {
 
 impl Credentials {
     async fn mint(server: &TestServer) -> Self {
-        let yesterday =
-            pps_server::clock::format(time::OffsetDateTime::now_utc() - time::Duration::days(1));
+        let yesterday = server.now() - time::Duration::days(1);
         let expired = tokens::create(&server.db, Role::Admin, "expired", Some(yesterday));
         // Revoked before its first use, so no cache has seen it.
         let revoked = tokens::create(&server.db, Role::Admin, "revoked", None).await.unwrap();

@@ -225,11 +225,12 @@ async fn one_caretaker_logged_in_five_times_holds_one_share_of_the_feed() {
     let server = TestServer::start().await;
     let anna = pps_server::identity::UserName::parse("anna").unwrap();
     pps_server::store::users::create(&server.db, &anna, Role::Caretaker, "unused").await.unwrap();
-    let expires = pps_server::clock::format(time::OffsetDateTime::now_utc() + session::LIFETIME);
+    let now = server.now();
     let mut cookies = Vec::new();
     for _ in 0..5 {
         let login = session::mint_secret();
-        pps_server::store::sessions::create(&server.db, &secret::hash(&login), &anna, &expires)
+        let hash = secret::hash(&login);
+        pps_server::store::sessions::create(&server.db, &hash, &anna, now, now + session::LIFETIME)
             .await
             .unwrap();
         cookies.push(format!("cookie: {}={login}", session::COOKIE_NAME));

@@ -168,11 +168,13 @@ async fn one_robot_holds_two_tasks_at_most_and_the_next_goes_to_another() {
 
 #[tokio::test]
 async fn a_task_nobody_did_in_time_expires_and_says_so() {
-    let server = TestServer::start_with_lease(Duration::from_millis(1500)).await;
+    let server = TestServer::start().await;
     register_robot(&server, "el-e-1", "el-e", ALL, 40.0).await;
     register_robot(&server, "el-e-2", "el-e", ALL, 40.0).await;
     let token = server.token(Role::Robot, "el-e-1").await;
-    let soon = pps_server::clock::format(time::OffsetDateTime::now_utc() + time::Duration::SECOND);
+    let to_expiry = Duration::from_secs(10);
+    assert!(server.lease > to_expiry, "the lease outlives the expiry");
+    let soon = pps_server::clock::format(server.now() + to_expiry);
     let mut feed = SseClient::connect(&server, &server.admin, None).await;
     let untaken = asked(
         &server,
@@ -189,35 +191,48 @@ async fn a_task_nobody_did_in_time_expires_and_says_so() {
     let later = asked(&server, json!({ "epc": LAMP, "action": "off", "robot": "el-e-1" })).await;
     let created = pps_server::clock::parse(later["created_at"].as_str().unwrap()).unwrap();
     let expires = pps_server::clock::parse(later["expires_at"].as_str().unwrap()).unwrap();
-    let off = (expires - created - time::Duration::DAY).abs();
-    assert!(off < time::Duration::SECOND, "a day unless asked otherwise: {expires} {created}");
+    assert_eq!(expires - created, time::Duration::DAY, "a day unless asked otherwise");
 
-    // el-e-1 takes one and goes quiet: its lease outlives the expiry, then runs out.
+    // el-e-1 takes one and goes quiet: the other one expires untaken; the one it holds does
+    // not expire while its lease lives, and does once the lease runs out.
     let response = claim(&server, &token, "el-e-1", 0.0).await;
     assert_eq!(response.json::<Value>().await.unwrap()["id"], abandoned["id"]);
-    for (task, words) in [
-        (&untaken, "it expired: no robot took it by"),
-        (&abandoned, "it expired: no robot finished it by"),
-    ] {
-        let event = loop {
-            let event = feed.until("task_changed", "task", id(task)).await;
-            if event.data["state"] != "queued" && event.data["state"] != "claimed" {
-                break event;
-            }
-        };
-        assert_eq!(event.data["state"], "cancelled");
-        let read = server.get_json(&format!("/api/v1/tasks/{}", id(task))).await;
-        assert_eq!(
-            (read["state"].as_str(), read["expired"].as_bool()),
-            (Some("cancelled"), Some(true))
-        );
-        assert!(read["reason"].as_str().unwrap().starts_with(words), "{read}");
-    }
+    server.advance(to_expiry);
+    let expired = |task: &Value, words: &'static str| {
+        let (id, server) = (id(task).to_owned(), &server);
+        async move {
+            let read = server.get_json(&format!("/api/v1/tasks/{id}")).await;
+            assert_eq!(
+                (read["state"].as_str(), read["expired"].as_bool()),
+                (Some("cancelled"), Some(true))
+            );
+            assert!(read["reason"].as_str().unwrap().starts_with(words), "{read}");
+        }
+    };
+    let event = loop {
+        let event = feed.until("task_changed", "task", id(&untaken)).await;
+        if event.data["state"] != "queued" {
+            break event;
+        }
+    };
+    assert_eq!(event.data["state"], "cancelled");
+    expired(&untaken, "it expired: no robot took it by").await;
+    let held = server.get_json(&format!("/api/v1/tasks/{}", id(&abandoned))).await;
+    assert_eq!(held["state"], "claimed", "held under a live lease past its expiry");
+    server.advance(server.lease - to_expiry);
+    let event = loop {
+        let event = feed.until("task_changed", "task", id(&abandoned)).await;
+        if event.data["state"] != "queued" && event.data["state"] != "claimed" {
+            break event;
+        }
+    };
+    assert_eq!(event.data["state"], "cancelled");
+    expired(&abandoned, "it expired: no robot finished it by").await;
     let response = claim(&server, &token, "el-e-1", 0.0).await;
     assert_eq!(response.json::<Value>().await.unwrap()["id"], later["id"], "not an expired one");
 
     let past = "2001-01-01T00:00:00Z";
-    let far = pps_server::clock::format(time::OffsetDateTime::now_utc() + time::Duration::days(31));
+    let far = pps_server::clock::format(server.now() + time::Duration::days(31));
     for expires_at in [json!(past), json!(far), json!("tomorrow"), json!(7)] {
         let body = json!({ "epc": LAMP, "action": "on", "expires_at": expires_at });
         let refused = problem(ask(&server, body).await, StatusCode::UNPROCESSABLE_ENTITY).await;

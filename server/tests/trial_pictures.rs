@@ -171,7 +171,9 @@ async fn a_tag_keeps_its_newest_pictures_and_every_trial() {
 
     // A lower limit, as after a restart with fewer pictures per tag, is applied by the pass.
     assert_eq!(
-        pps_server::trials::retention::keep_newest_pictures(&server.db, 1).await.unwrap(),
+        pps_server::trials::retention::keep_newest_pictures(&server.db, 1, server.now())
+            .await
+            .unwrap(),
         1
     );
     let second = server.get(&picture_of(&trials[1]), &server.admin).await;

@@ -8,7 +8,7 @@ mod common;
 
 use std::io::{BufRead, BufReader, Write};
 use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use common::*;
 use pps_server::auth::{password, session};
@@ -201,21 +201,24 @@ async fn logout_ends_the_session_and_clears_the_cookie() {
 async fn an_expired_session_no_longer_authenticates() {
     let server = TestServer::start().await;
     add_user(&server, "anna", Role::Caretaker).await;
-    let live = session::mint_secret();
-    let expired = session::mint_secret();
+    let short = session::mint_secret();
+    let long = session::mint_secret();
     let name = UserName::parse("anna").unwrap();
-    let now = time::OffsetDateTime::now_utc();
-    let later = pps_server::clock::format(now + time::Duration::minutes(5));
-    let earlier = pps_server::clock::format(now - time::Duration::seconds(1));
-    sessions::create(&server.db, &secret::hash(&live), &name, &later).await.unwrap();
-    sessions::create(&server.db, &secret::hash(&expired), &name, &earlier).await.unwrap();
-    let status = |secret: String| {
+    let now = server.now();
+    let five_minutes = Duration::from_secs(5 * 60);
+    let (soon, later) = (now + five_minutes, now + 2 * five_minutes);
+    sessions::create(&server.db, &secret::hash(&short), &name, now, soon).await.unwrap();
+    sessions::create(&server.db, &secret::hash(&long), &name, now, later).await.unwrap();
+    let status = |secret: &str| {
         let request = server.request(Method::GET, "/api/v1/tags", None);
-        async move { request.header(COOKIE, format!("pps_session={secret}")).send().await.unwrap() }
+        let cookie = format!("pps_session={secret}");
+        async move { request.header(COOKIE, cookie).send().await.unwrap() }
     };
-    assert_eq!(status(live).await.status(), StatusCode::OK);
-    let body = problem(status(expired).await, StatusCode::UNAUTHORIZED).await;
+    assert_eq!(status(&short).await.status(), StatusCode::OK);
+    server.advance(five_minutes);
+    let body = problem(status(&short).await, StatusCode::UNAUTHORIZED).await;
     assert!(body["detail"].as_str().unwrap().contains("log in again"), "{body}");
+    assert_eq!(status(&long).await.status(), StatusCode::OK, "the other one still lives");
 }
 
 #[tokio::test]
@@ -311,16 +314,13 @@ async fn repeated_wrong_passwords_slow_login_down_but_never_tokens() {
         let read = server.get(&format!("/api/v1/tags/{ADA_SWITCH}"), &robot).await;
         assert_eq!(read.status(), StatusCode::OK, "token calls are never rate limited");
     }
-    let deadline = Instant::now() + Duration::from_secs(retry_after + 5);
-    loop {
-        let status = login_response(&server, "anna", PASSWORD).await.status();
-        if status == StatusCode::OK {
-            break;
-        }
-        assert_eq!(status, StatusCode::TOO_MANY_REQUESTS);
-        assert!(Instant::now() < deadline, "the wait never ended");
-        tokio::time::sleep(Duration::from_millis(200)).await;
-    }
+    // Not a moment before the time it gave...
+    server.advance(Duration::from_secs(retry_after) - Duration::from_millis(500));
+    let early = login_response(&server, "anna", PASSWORD).await;
+    problem(early, StatusCode::TOO_MANY_REQUESTS).await;
+    // ...and then the right password works at once.
+    server.advance(Duration::from_millis(500));
+    assert_eq!(login_response(&server, "anna", PASSWORD).await.status(), StatusCode::OK);
 }
 
 #[tokio::test]

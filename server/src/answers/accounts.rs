@@ -56,9 +56,9 @@ pub struct TokenAnswer {
 impl From<TokenRecord> for TokenAnswer {
     fn from(record: TokenRecord) -> Self {
         Self {
-            created_at: stamp::stored(&record.created_at),
-            expires_at: stamp::stored_option(record.expires_at.as_deref()),
-            revoked_at: stamp::stored_option(record.revoked_at.as_deref()),
+            created_at: record.created_at,
+            expires_at: record.expires_at,
+            revoked_at: record.revoked_at,
             id: record.id,
             name: record.name,
             role: record.role,
@@ -150,8 +150,8 @@ impl From<&UserRecord> for UserAnswer {
         Self {
             name: record.name.clone(),
             role: record.role.clone(),
-            created_at: stamp::stored(&record.created_at),
-            password_changed_at: stamp::stored(&record.password_changed_at),
+            created_at: record.created_at,
+            password_changed_at: record.password_changed_at,
         }
     }
 }

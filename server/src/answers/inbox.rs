@@ -34,8 +34,8 @@ pub struct InboxAnswer {
 impl From<InboxItem> for InboxAnswer {
     fn from(item: InboxItem) -> Self {
         Self {
-            first_seen: stamp::stored(&item.first_seen),
-            last_seen: stamp::stored(&item.last_seen),
+            first_seen: item.first_seen,
+            last_seen: item.last_seen,
             epc: item.epc,
             epc_uri: item.epc_uri,
             robots: item.robots,

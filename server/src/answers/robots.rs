@@ -25,14 +25,11 @@ pub struct StoredRobotAnswer {
 
 impl StoredRobotAnswer {
     /// `robot` with `last_seen`, as presence keeps it.
-    pub fn new(robot: &StoredRobot, last_seen: Option<&str>) -> Self {
+    pub fn new(robot: &StoredRobot, last_seen: Option<OffsetDateTime>) -> Self {
         let document = robot.document.clone().unwrap_or_else(|| {
             // Minted a token before an admin registered it: it shows up without a class.
             json!({ "id": robot.id, "class": null, "name": robot.id, "capabilities": [] })
         });
-        Self {
-            document: document_without(&document, &["last_seen"]),
-            last_seen: stamp::stored_option(last_seen),
-        }
+        Self { document: document_without(&document, &["last_seen"]), last_seen }
     }
 }

@@ -41,7 +41,7 @@ impl From<&StoredTag> for StoredTagAnswer {
             entry: document_without(&tag.entry, &READ_ONLY),
             epc_uri: tag.epc.pure_identity_uri(),
             revision: tag.revision,
-            updated_at: stamp::stored(&tag.updated_at),
+            updated_at: tag.updated_at,
             updated_by: tag.updated_by.clone(),
             archived: tag.archived,
         }
@@ -81,7 +81,7 @@ impl From<Revision> for TagRevisionAnswer {
     fn from(revision: Revision) -> Self {
         Self {
             revision: revision.revision,
-            changed_at: stamp::stored(&revision.changed_at),
+            changed_at: revision.changed_at,
             change: revision.change,
             archived: revision.archived,
             changed_by: revision.changed_by,
@@ -125,7 +125,7 @@ mod tests {
             entry,
             revision: 4,
             archived: false,
-            updated_at: "2026-03-04T05:06:07.089Z".into(),
+            updated_at: time::macros::datetime!(2026-03-04 05:06:07.089 UTC),
             updated_by: "nurse".into(),
         };
         let text = serde_json::to_string(&StoredTagAnswer::from(&tag)).unwrap();

@@ -81,7 +81,7 @@ pub struct Declined {
 
 impl From<Decline> for Declined {
     fn from(decline: Decline) -> Self {
-        Self { at: stamp::stored(&decline.at), robot: decline.robot, reason: decline.reason }
+        Self { at: decline.at, robot: decline.robot, reason: decline.reason }
     }
 }
 
@@ -98,16 +98,16 @@ impl From<&TaskRow> for TaskAnswer {
             note: task.note.clone(),
             state: task.state,
             created_by: task.created_by.clone(),
-            created_at: stamp::stored(&task.created_at),
+            created_at: task.created_at,
             claimed_by: task.claimed_by.clone(),
-            lease_until: stamp::stored_option(task.lease_until.as_deref()),
+            lease_until: task.lease_until,
             attempts: task.attempts,
             holders: task.holders(),
             trial: task.trial,
             reason: task.reason.clone(),
-            updated_at: stamp::stored(&task.updated_at),
+            updated_at: task.updated_at,
             declined: task.declined().into_iter().map(Declined::from).collect(),
-            expires_at: stamp::stored_option(task.expires_at.as_deref()),
+            expires_at: task.expires_at,
             expired: task.expired(),
             waiting_for: Vec::new(),
             stuck: None,
@@ -133,14 +133,14 @@ mod tests {
             note: None,
             state: TaskState::Claimed,
             created_by: "nurse".into(),
-            created_at: "2026-03-04T05:06:07.089Z".into(),
+            created_at: time::macros::datetime!(2026-03-04 05:06:07.089 UTC),
             claimed_by: Some(RobotId::parse("el-e-1").unwrap()),
-            lease_until: Some("2026-03-04T05:07:07.089Z".into()),
+            lease_until: Some(time::macros::datetime!(2026-03-04 05:07:07.089 UTC)),
             attempts: 1,
             holders: r#"["el-e-1"]"#.into(),
             trial: None,
             reason: None,
-            updated_at: "2026-03-04T05:06:08.000Z".into(),
+            updated_at: time::macros::datetime!(2026-03-04 05:06:08.000 UTC),
             declines:
                 r#"[{"robot": "pr2-1", "reason": "no arm", "at": "2026-03-04T05:06:07.500Z"}]"#
                     .into(),

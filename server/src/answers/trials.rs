@@ -40,7 +40,7 @@ impl From<&TrialRow> for StoredTrialAnswer {
             submitted: document_without(&submitted, &REGISTRY_FIELDS),
             confirmed: row.confirmed,
             purpose: row.purpose.clone(),
-            received_at: stamp::stored(&row.received_at),
+            received_at: row.received_at,
             seq: row.seq,
             picture: row.has_picture.then(|| picture_path(&row.id)),
         }

@@ -9,7 +9,9 @@
 
 use std::collections::{HashMap, HashSet};
 use std::sync::{Arc, Mutex};
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+use time::OffsetDateTime;
 
 /// Failures allowed before any waiting: enough for a typo or two on a phone keyboard.
 pub const FREE_FAILURES: u32 = 3;
@@ -31,12 +33,12 @@ pub const BUSY_WAIT: Duration = Duration::from_secs(1);
 #[derive(Debug, Clone, Copy)]
 struct Failures {
     count: u32,
-    last: Instant,
+    last: OffsetDateTime,
 }
 
 impl Failures {
     /// When the next attempt on `key` may be made.
-    fn next_allowed(&self, key: &str) -> Instant {
+    fn next_allowed(&self, key: &str) -> OffsetDateTime {
         let free = if key.starts_with("address:") { ADDRESS_FREE_FAILURES } else { FREE_FAILURES };
         self.last + wait_after(self.count, free)
     }
@@ -78,9 +80,9 @@ pub struct Attempt {
 }
 
 impl Attempt {
-    /// The password was wrong.
-    pub fn failed(self) {
-        self.throttle.failed(&self.keys);
+    /// The password was wrong, as found at `now`.
+    pub fn failed(self, now: OffsetDateTime) {
+        self.throttle.failed(&self.keys, now);
     }
 
     /// The password was right.
@@ -99,10 +101,14 @@ impl Drop for Attempt {
 }
 
 impl LoginThrottle {
-    /// Claims an attempt on `keys`, or says how long to wait: while they must wait after
-    /// failures, or while another attempt on any of them is being checked.
-    pub fn begin(self: &Arc<Self>, keys: Vec<String>) -> Result<Attempt, Duration> {
-        if let Some(wait) = self.must_wait(&keys) {
+    /// Claims an attempt on `keys` at `now`, or says how long to wait: while they must wait
+    /// after failures, or while another attempt on any of them is being checked.
+    pub fn begin(
+        self: &Arc<Self>,
+        keys: Vec<String>,
+        now: OffsetDateTime,
+    ) -> Result<Attempt, Duration> {
+        if let Some(wait) = self.must_wait(&keys, now) {
             return Err(wait);
         }
         let mut in_flight = self.in_flight.lock().unwrap_or_else(|e| e.into_inner());
@@ -113,23 +119,22 @@ impl LoginThrottle {
         Ok(Attempt { throttle: self.clone(), keys })
     }
 
-    /// How much longer an attempt on these keys must wait; `None` when it may go ahead.
-    fn must_wait(&self, keys: &[String]) -> Option<Duration> {
+    /// How much longer after `now` an attempt on these keys must wait; `None` when it may go
+    /// ahead.
+    fn must_wait(&self, keys: &[String], now: OffsetDateTime) -> Option<Duration> {
         let failures = self.failures.lock().unwrap_or_else(|e| e.into_inner());
-        let now = Instant::now();
         keys.iter()
             .filter_map(|key| failures.get(key).map(|f| f.next_allowed(key)))
-            .map(|allowed| allowed.saturating_duration_since(now))
+            .filter_map(|allowed| Duration::try_from(allowed - now).ok())
             .filter(|wait| !wait.is_zero())
             .max()
     }
 
-    /// Records a failed attempt on every key.
-    fn failed(&self, keys: &[String]) {
+    /// Records a failed attempt on every key at `now`.
+    fn failed(&self, keys: &[String], now: OffsetDateTime) {
         let mut failures = self.failures.lock().unwrap_or_else(|e| e.into_inner());
-        let now = Instant::now();
         if failures.len() + keys.len() > CAPACITY {
-            failures.retain(|_, f| now.duration_since(f.last) < FORGET_AFTER);
+            failures.retain(|_, f| now - f.last < FORGET_AFTER);
         }
         if failures.len() + keys.len() > CAPACITY {
             // Under a flood of made-up keys, forget rather than grow without bound.
@@ -137,7 +142,7 @@ impl LoginThrottle {
         }
         for key in keys {
             let entry = failures.entry(key.clone()).or_insert(Failures { count: 0, last: now });
-            if now.duration_since(entry.last) >= FORGET_AFTER {
+            if now - entry.last >= FORGET_AFTER {
                 entry.count = 0;
             }
             entry.count = entry.count.saturating_add(1);
@@ -170,41 +175,67 @@ mod tests {
     #[test]
     fn failures_on_any_key_slow_down_and_success_clears() {
         let throttle = LoginThrottle::default();
+        let now = OffsetDateTime::now_utc();
         let keys = vec![user_key("Anna"), address_key([10, 0, 0, 2].into())];
         for _ in 0..FREE_FAILURES - 1 {
-            throttle.failed(&keys);
+            throttle.failed(&keys, now);
         }
-        assert_eq!(throttle.must_wait(&keys), None);
-        throttle.failed(&keys);
-        assert!(throttle.must_wait(&keys).is_some());
-        assert!(throttle.must_wait(&[user_key("anna")]).is_some());
-        assert_eq!(throttle.must_wait(&[user_key("bert")]), None);
+        assert_eq!(throttle.must_wait(&keys, now), None);
+        throttle.failed(&keys, now);
+        assert!(throttle.must_wait(&keys, now).is_some());
+        assert!(throttle.must_wait(&[user_key("anna")], now).is_some());
+        assert_eq!(throttle.must_wait(&[user_key("bert")], now), None);
         throttle.succeeded(&keys);
-        assert_eq!(throttle.must_wait(&keys), None);
+        assert_eq!(throttle.must_wait(&keys, now), None);
     }
 
     #[test]
     fn one_address_guessing_many_names_is_slowed_too() {
         let throttle = LoginThrottle::default();
+        let now = OffsetDateTime::now_utc();
         let address = address_key([10, 0, 0, 3].into());
         for n in 0..ADDRESS_FREE_FAILURES {
             let keys = vec![user_key(&format!("name{n}")), address.clone()];
-            assert_eq!(throttle.must_wait(&keys), None, "attempt {n}");
-            throttle.failed(&keys);
+            assert_eq!(throttle.must_wait(&keys, now), None, "attempt {n}");
+            throttle.failed(&keys, now);
         }
-        assert!(throttle.must_wait(&[user_key("someone else"), address]).is_some());
+        assert!(throttle.must_wait(&[user_key("someone else"), address], now).is_some());
     }
 
     #[test]
     fn one_attempt_at_a_time_per_key() {
         let throttle = Arc::new(LoginThrottle::default());
+        let now = OffsetDateTime::now_utc();
         let address = address_key([10, 0, 0, 4].into());
-        let first = throttle.begin(vec![user_key("anna"), address.clone()]).unwrap();
-        assert_eq!(throttle.begin(vec![user_key("Anna")]).unwrap_err(), BUSY_WAIT);
-        assert!(throttle.begin(vec![user_key("bert"), address.clone()]).is_err());
-        assert!(throttle.begin(vec![user_key("bert")]).is_ok());
-        first.failed();
-        assert!(throttle.begin(vec![user_key("anna"), address]).is_ok(), "claim released");
+        let first = throttle.begin(vec![user_key("anna"), address.clone()], now).unwrap();
+        assert_eq!(throttle.begin(vec![user_key("Anna")], now).unwrap_err(), BUSY_WAIT);
+        assert!(throttle.begin(vec![user_key("bert"), address.clone()], now).is_err());
+        assert!(throttle.begin(vec![user_key("bert")], now).is_ok());
+        first.failed(now);
+        assert!(throttle.begin(vec![user_key("anna"), address], now).is_ok(), "claim released");
+    }
+
+    #[test]
+    fn the_wait_ends_when_its_time_has_passed_and_old_failures_are_forgotten() {
+        let throttle = LoginThrottle::default();
+        let now = OffsetDateTime::now_utc();
+        let keys = vec![user_key("anna")];
+        for _ in 0..FREE_FAILURES + 1 {
+            throttle.failed(&keys, now);
+        }
+        assert_eq!(throttle.must_wait(&keys, now), Some(Duration::from_secs(2)));
+        assert_eq!(
+            throttle.must_wait(&keys, now + Duration::from_millis(1500)),
+            Some(Duration::from_millis(500))
+        );
+        assert_eq!(throttle.must_wait(&keys, now + Duration::from_secs(2)), None);
+        let much_later = now + FORGET_AFTER;
+        throttle.failed(&keys, much_later);
+        assert_eq!(
+            throttle.must_wait(&keys, much_later),
+            None,
+            "one failure after a long pause is free"
+        );
     }
 
     #[test]

@@ -79,8 +79,7 @@ pub fn check_in_memory(state: &AppState, headers: &HeaderMap) -> Check {
         return Check::Done(Err(invalid_token()));
     }
     let digest = secret::digest(token);
-    let now = time::OffsetDateTime::now_utc().unix_timestamp();
-    match state.tokens.get(&digest, now) {
+    match state.tokens.get(&digest, state.clock.now()) {
         Some(principal) => Check::Done(Ok(principal)),
         None => Check::Token(digest),
     }
@@ -88,7 +87,8 @@ pub fn check_in_memory(state: &AppState, headers: &HeaderMap) -> Check {
 
 /// Confirms a token with the database and remembers it for a while.
 async fn look_up_token(state: &AppState, digest: [u8; 32]) -> Result<Arc<Principal>, ApiError> {
-    let record = store::tokens::find_live(state.db.reader(), &hex::encode(digest))
+    let now = state.clock.now();
+    let record = store::tokens::find_live(state.db.reader(), &hex::encode(digest), now)
         .await?
         .ok_or_else(invalid_token)?;
     let role = Role::parse(&record.role).ok_or_else(|| {
@@ -97,9 +97,7 @@ async fn look_up_token(state: &AppState, digest: [u8; 32]) -> Result<Arc<Princip
     // A robot token's name passed as a robot id when it was minted (`tokens::name_problem`).
     let robot = record.robot_id.as_deref().and_then(|id| pps_schema::RobotId::parse(id).ok());
     let principal = Arc::new(Principal { role, name: record.name, robot });
-    let expires_at =
-        record.expires_at.as_deref().and_then(crate::clock::parse).map(|at| at.unix_timestamp());
-    state.tokens.insert(digest, principal.clone(), expires_at);
+    state.tokens.insert(digest, principal.clone(), now, record.expires_at);
     Ok(principal)
 }
 

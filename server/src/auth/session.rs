@@ -84,7 +84,8 @@ pub fn clear_cookie() -> HeaderValue {
 
 /// The user of a live session.
 pub async fn authenticate(state: &AppState, session_secret: &str) -> Result<Principal, ApiError> {
-    let user = store::sessions::find_live(state.db.reader(), &secret::hash(session_secret))
+    let hash = secret::hash(session_secret);
+    let user = store::sessions::find_live(state.db.reader(), &hash, state.clock.now())
         .await?
         .ok_or_else(|| {
             ApiError::Unauthorized(

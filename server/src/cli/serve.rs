@@ -64,7 +64,7 @@ pub(super) async fn serve(location: &Location, args: ServeArgs) -> anyhow::Resul
     }
     let address = listener.local_addr()?;
     let url = format!("{}://{address}/", transport.scheme());
-    if let Some(minted) = tokens::create_first_admin(&db).await? {
+    if let Some(minted) = tokens::create_first_admin(&db, time::OffsetDateTime::now_utc()).await? {
         print_first_admin_banner(&url, &minted.token);
     }
     tracing::info!(%url, "serving the PPS-tag registry");

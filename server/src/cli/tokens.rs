@@ -42,14 +42,11 @@ pub(super) async fn token(db: &Db, command: TokenCommand) -> anyhow::Result<()> 
             }
             let expires_at = expires_in
                 .map(|lifetime| {
-                    time::OffsetDateTime::now_utc()
-                        .checked_add(lifetime)
-                        .map(clock::format)
-                        .ok_or_else(|| {
-                            anyhow::anyhow!(
-                                "--expires-in reaches beyond the year 9999; give a shorter lifetime"
-                            )
-                        })
+                    time::OffsetDateTime::now_utc().checked_add(lifetime).ok_or_else(|| {
+                        anyhow::anyhow!(
+                            "--expires-in reaches beyond the year 9999; give a shorter lifetime"
+                        )
+                    })
                 })
                 .transpose()?;
             let minted = tokens::create(db, role, &name, expires_at).await?;
@@ -75,9 +72,9 @@ pub(super) async fn token(db: &Db, command: TokenCommand) -> anyhow::Result<()> 
                         t.role,
                         // Names from before control characters were refused print escaped.
                         t.name.escape_debug().to_string(),
-                        t.created_at,
-                        t.expires_at.as_deref().unwrap_or("never"),
-                        t.revoked_at.as_deref().unwrap_or("-")
+                        clock::format(t.created_at),
+                        t.expires_at.map_or_else(|| "never".into(), clock::format),
+                        t.revoked_at.map_or_else(|| "-".into(), clock::format)
                     )?;
                 }
             }

@@ -51,7 +51,7 @@ pub(super) async fn export_trials(db: &Db, args: ExportTrialsArgs) -> anyhow::Re
 }
 
 pub(super) async fn thin_forces(db: &Db, days: u32) -> anyhow::Result<()> {
-    let report = retention::thin_forces(db, Age { days }).await?;
+    let report = retention::thin_forces(db, Age { days }, time::OffsetDateTime::now_utc()).await?;
     eprintln!(
         "thinned {} trials received more than {days} days ago ({} force samples replaced by \
          their summary)",

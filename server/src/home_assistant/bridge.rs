@@ -117,7 +117,7 @@ pub async fn run(state: &AppState, config: &Config, lease: &Lease) -> Ended {
                 Err(RecvError::Lagged(_)) => bridge.announce_all().await,
                 Err(RecvError::Closed) => break Ended::Shutdown,
             },
-            _ = renew.tick() => match lease.take(&state.db).await {
+            _ = renew.tick() => match lease.take(&state.db, state.clock.now()).await {
                 Ok(true) => {}
                 Ok(false) => break Ended::LeaseLost,
                 Err(error) => tracing::warn!(%error, "cannot renew the Home Assistant bridge's lease"),
@@ -399,10 +399,11 @@ impl Bridge<'_> {
 
     async fn online_robots(&self) -> sqlx::Result<Vec<RobotId>> {
         let known = robots::list(self.state.db.reader(), None, 10_000).await?;
+        let now = self.state.clock.now();
         Ok(known
             .into_iter()
             .map(|robot| robot.id)
-            .filter(|id| self.state.presence.online(id.as_str()))
+            .filter(|id| self.state.presence.online(id.as_str(), now))
             .collect())
     }
 }

@@ -5,7 +5,6 @@ use std::time::Duration;
 
 use super::bridge::{self, Ended};
 use super::{Config, Status};
-use crate::clock;
 use crate::state::AppState;
 use crate::store::db::Db;
 use crate::store::home_assistant;
@@ -32,11 +31,10 @@ impl Lease {
         &self.holder
     }
 
-    /// Takes the lease or renews it; true while this process holds it.
-    pub async fn take(&self, db: &Db) -> sqlx::Result<bool> {
-        let until = time::OffsetDateTime::now_utc() + LEASE;
+    /// Takes the lease at `now` or renews it; true while this process holds it.
+    pub async fn take(&self, db: &Db, now: time::OffsetDateTime) -> sqlx::Result<bool> {
         let mut tx = db.begin_write().await?;
-        let held = home_assistant::take_lease(&mut tx, &self.holder, &clock::format(until)).await?;
+        let held = home_assistant::take_lease(&mut tx, &self.holder, now, now + LEASE).await?;
         tx.commit().await?;
         Ok(held)
     }
@@ -58,7 +56,7 @@ pub async fn run(state: AppState, config: Config) {
     let lease = Lease::new();
     let mut standing_by = false;
     loop {
-        match lease.take(&state.db).await {
+        match lease.take(&state.db, state.clock.now()).await {
             Ok(true) => {
                 standing_by = false;
                 tracing::info!(broker = %config.broker, "running the Home Assistant bridge");

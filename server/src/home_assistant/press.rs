@@ -68,7 +68,9 @@ impl<'a> Presses<'a> {
                 ),
             );
         }
-        match home_assistant::credential(self.state.db.reader(), CREDENTIAL).await {
+        match home_assistant::credential(self.state.db.reader(), CREDENTIAL, self.state.clock.now())
+            .await
+        {
             Ok(Credential::Live) => {}
             Ok(_) => {
                 return self.once(
@@ -88,6 +90,7 @@ impl<'a> Presses<'a> {
             device.epc.clone(),
             action.to_owned(),
             Some("pressed in Home Assistant".into()),
+            self.state.clock.now(),
         );
         match tasks::ask(self.state, asked, CREDENTIAL, Some(self.lease.holder())).await {
             Ok(task) => tracing::info!(
@@ -116,7 +119,7 @@ impl<'a> Presses<'a> {
 
 /// Mints the bridge's credential the first time it runs; a revoked one stays revoked.
 pub async fn mint_credential_once(state: &AppState) {
-    match home_assistant::credential(state.db.reader(), CREDENTIAL).await {
+    match home_assistant::credential(state.db.reader(), CREDENTIAL, state.clock.now()).await {
         Ok(Credential::Missing) => {
             match tokens::create(&state.db, Role::Caretaker, CREDENTIAL, None).await {
                 Ok(minted) => tracing::info!(

@@ -138,7 +138,7 @@ fn admit(
         )));
     }
     if let Some(robot) = &principal.robot {
-        state.presence.saw(robot.as_str());
+        state.presence.saw(robot.as_str(), state.clock.now());
     }
     request.extensions_mut().insert(principal);
     Ok(())

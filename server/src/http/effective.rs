@@ -116,7 +116,7 @@ async fn unknown(state: &AppState, epc: &Epc, robot: &RobotId) -> Result<ApiErro
             "the EPC {epc} was retired when its worn tag was replaced; the tag now has the EPC {successor}"
         )));
     }
-    state.sightings.note(epc.as_hex(), robot.as_str());
+    state.sightings.note(epc.as_hex(), robot.as_str(), state.clock.now());
     Ok(ApiError::NotFound(format!(
         "no tag has the EPC {epc}; it is now in the inbox for a caretaker to register"
     )))

@@ -11,7 +11,6 @@ use pps_schema::Epc;
 use serde_json::json;
 
 use crate::answers::trials::StoredTrialAnswer;
-use crate::clock;
 use crate::error::ApiError;
 use crate::http::extract::{Caller, body_error};
 use crate::http::ids::{InPath, TrialId};
@@ -89,8 +88,8 @@ pub async fn put(
     }
     let picture = Picture::parse(kind, &bytes).map_err(problem)?;
     let mut tx = state.db.begin_write().await?;
-    let received_at = clock::now();
-    let stored = pictures::insert_new(&mut tx, &id, &picture, &bytes, &received_at).await?;
+    let now = state.clock.now();
+    let stored = pictures::insert_new(&mut tx, &id, &picture, &bytes, now).await?;
     if !stored {
         let existing = pictures::describe(&mut tx, &id).await?;
         tx.commit().await?;
@@ -106,7 +105,7 @@ pub async fn put(
         };
     }
     let epc = trial.epc.as_hex();
-    let removed = pictures::keep_newest(&mut tx, epc, state.pictures_per_tag, &received_at).await?;
+    let removed = pictures::keep_newest(&mut tx, epc, state.pictures_per_tag, now).await?;
     let path = trials::picture_path(&id);
     events::append(
         &mut tx,

@@ -83,5 +83,5 @@ pub async fn put(
 }
 
 fn with_presence(state: &AppState, robot: &StoredRobot) -> StoredRobotAnswer {
-    StoredRobotAnswer::new(robot, state.presence.last_seen(robot.id.as_str()).as_deref())
+    StoredRobotAnswer::new(robot, state.presence.last_seen(robot.id.as_str()))
 }

@@ -13,9 +13,7 @@ use axum::response::{IntoResponse, Response};
 use serde::Deserialize;
 
 use crate::answers::accounts::{Credential, SessionAnswer};
-use crate::answers::stamp;
 use crate::auth::{login_throttle, password, session};
-use crate::clock;
 use crate::error::ApiError;
 use crate::http::extract::Caller;
 use crate::http::typed_json::TypedJson;
@@ -48,7 +46,7 @@ pub async fn login(
         throttle_keys.push(login_throttle::address_key(address.ip()));
     }
     // Claimed before anything is looked up or hashed, so parallel guesses wait like serial ones.
-    let attempt = match state.login_throttle.begin(throttle_keys) {
+    let attempt = match state.login_throttle.begin(throttle_keys, state.clock.now()) {
         Ok(attempt) => attempt,
         Err(wait) => return Ok(too_many_attempts(wait)),
     };
@@ -62,15 +60,15 @@ pub async fn login(
     let candidate = if too_long { String::new() } else { login.password };
     let right = password::verify_off_runtime(candidate, stored_hash).await? && !too_long;
     let (Some(name), Some((user, _)), true) = (name, found, right) else {
-        attempt.failed();
+        attempt.failed(state.clock.now());
         return Err(ApiError::Unauthorized("wrong user name or password".into()));
     };
     attempt.succeeded();
 
     let session_secret = session::mint_secret();
-    let expires_at = time::OffsetDateTime::now_utc() + session::LIFETIME;
-    let stored_expiry = clock::format(expires_at);
-    store::sessions::create(&state.db, &secret::hash(&session_secret), &name, &stored_expiry)
+    let now = state.clock.now();
+    let expires_at = now + session::LIFETIME;
+    store::sessions::create(&state.db, &secret::hash(&session_secret), &name, now, expires_at)
         .await?;
     let body = SessionAnswer {
         name: user.name,
@@ -97,12 +95,13 @@ pub async fn current(
     let body = match session::browser_secret(&headers) {
         Some(session_secret) => {
             let hash = secret::hash(&session_secret);
-            let live =
-                store::sessions::find_live(state.db.reader(), &hash).await?.ok_or_else(|| {
+            let live = store::sessions::find_live(state.db.reader(), &hash, state.clock.now())
+                .await?
+                .ok_or_else(|| {
                     ApiError::Unauthorized("your session has ended; log in again".into())
                 })?;
             Credential::Session {
-                expires_at: stamp::stored(&live.expires_at),
+                expires_at: live.expires_at,
                 csrf_token: session::csrf_token(&session_secret),
             }
         }

@@ -236,7 +236,7 @@ fn write_error(
             current.revision,
             precondition::tag_etag(current.revision),
             current.updated_by,
-            current.updated_at
+            crate::clock::format(current.updated_at)
         )),
         TagWriteError::Retired { successor } => ApiError::Conflict(format!(
             "the EPC {epc} was retired when its worn tag was replaced by {successor}; a retired \

@@ -63,9 +63,7 @@ pub async fn create(
                 "expires_in_days is more than 0 and at most 3650",
             ));
         }
-        Some(days) => Some(crate::clock::format(
-            time::OffsetDateTime::now_utc() + time::Duration::seconds_f64(days * 86_400.0),
-        )),
+        Some(days) => Some(state.clock.now() + time::Duration::seconds_f64(days * 86_400.0)),
         None => None,
     };
     let minted = tokens::create(&state.db, request.role, name, expires_at).await?;

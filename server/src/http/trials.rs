@@ -102,7 +102,7 @@ fn rejection_error(epc: &pps_schema::Epc, rejection: TrialRejection) -> ApiError
         TrialRejection::Conflict(existing) => ApiError::Conflict(format!(
             "another trial is already stored under this id (received {}); a retry must send \
              exactly the same body, and a new attempt needs a new UUID",
-            existing.received_at
+            crate::clock::format(existing.received_at)
         )),
         TrialRejection::UnknownTag => ApiError::invalid_at(
             "/epc",

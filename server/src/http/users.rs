@@ -205,7 +205,7 @@ async fn check_current_password(
     };
     let attempt = state
         .login_throttle
-        .begin(vec![login_throttle::user_key(name.as_str())])
+        .begin(vec![login_throttle::user_key(name.as_str())], state.clock.now())
         .map_err(too_many_attempts)?;
     let right = password::verify_off_runtime(current, Some(stored))
         .await
@@ -214,7 +214,7 @@ async fn check_current_password(
         attempt.succeeded();
         Ok(())
     } else {
-        attempt.failed();
+        attempt.failed(state.clock.now());
         Err(ApiError::invalid_at("/current_password", "this is not your current password")
             .into_response())
     }

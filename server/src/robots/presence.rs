@@ -13,8 +13,6 @@ use std::time::Duration;
 
 use time::OffsetDateTime;
 
-use crate::clock;
-
 /// How finely a robot's last-seen time is kept.
 const RESOLUTION_MS: i64 = 1000;
 
@@ -42,11 +40,9 @@ impl Seen {
         Self { at_ms: AtomicI64::new(at_ms), unflushed: AtomicBool::new(false) }
     }
 
-    fn formatted(&self) -> String {
-        let at = OffsetDateTime::from_unix_timestamp_nanos(
-            i128::from(self.at_ms.load(Ordering::Relaxed)) * 1_000_000,
-        );
-        at.map(clock::format).unwrap_or_default()
+    fn moment(&self) -> OffsetDateTime {
+        let ns = i128::from(self.at_ms.load(Ordering::Relaxed)) * 1_000_000;
+        OffsetDateTime::from_unix_timestamp_nanos(ns).unwrap_or(OffsetDateTime::UNIX_EPOCH)
     }
 }
 
@@ -57,8 +53,9 @@ pub struct Presence {
 }
 
 impl Presence {
-    pub fn saw(&self, robot: &str) {
-        let now_ms = unix_ms(OffsetDateTime::now_utc());
+    /// Notes that `robot` was seen at `now`.
+    pub fn saw(&self, robot: &str, now: OffsetDateTime) {
+        let now_ms = unix_ms(now);
         if let Some(seen) = self.seen.read().unwrap_or_else(|e| e.into_inner()).get(robot) {
             seen.note(now_ms);
             return;
@@ -68,38 +65,37 @@ impl Presence {
     }
 
     /// Seeds the memory with what the database holds, at start.
-    pub fn load(&self, stored: Vec<(String, String)>) {
+    pub fn load(&self, stored: Vec<(String, OffsetDateTime)>) {
         let mut seen = self.seen.write().unwrap_or_else(|e| e.into_inner());
         for (robot, at) in stored {
-            let Some(at) = clock::parse(&at) else { continue };
             seen.entry(robot).or_insert_with(|| Seen::at(unix_ms(at)));
         }
     }
 
-    pub fn last_seen(&self, robot: &str) -> Option<String> {
+    pub fn last_seen(&self, robot: &str) -> Option<OffsetDateTime> {
         let seen = self.seen.read().unwrap_or_else(|e| e.into_inner());
-        seen.get(robot).map(Seen::formatted)
+        seen.get(robot).map(Seen::moment)
     }
 
-    /// How long ago the robot was last seen; `None` when it never was.
-    pub fn seen_ago(&self, robot: &str) -> Option<Duration> {
+    /// How long before `now` the robot was last seen; `None` when it never was.
+    pub fn seen_ago(&self, robot: &str, now: OffsetDateTime) -> Option<Duration> {
         let seen = self.seen.read().unwrap_or_else(|e| e.into_inner());
         let at_ms = seen.get(robot)?.at_ms.load(Ordering::Relaxed);
-        let ago_ms = unix_ms(OffsetDateTime::now_utc()) - at_ms;
+        let ago_ms = unix_ms(now) - at_ms;
         Some(Duration::from_millis(u64::try_from(ago_ms).unwrap_or(0)))
     }
 
-    /// Whether the robot was seen within [`ONLINE_WITHIN`].
-    pub fn online(&self, robot: &str) -> bool {
-        self.seen_ago(robot).is_some_and(|ago| ago <= ONLINE_WITHIN)
+    /// Whether the robot was seen within [`ONLINE_WITHIN`] before `now`.
+    pub fn online(&self, robot: &str, now: OffsetDateTime) -> bool {
+        self.seen_ago(robot, now).is_some_and(|ago| ago <= ONLINE_WITHIN)
     }
 
     /// The sightings not yet flushed, marking them flushed.
-    pub fn take_unflushed(&self) -> Vec<(String, String)> {
+    pub fn take_unflushed(&self) -> Vec<(String, OffsetDateTime)> {
         let seen = self.seen.read().unwrap_or_else(|e| e.into_inner());
         seen.iter()
             .filter(|(_, seen)| seen.unflushed.swap(false, Ordering::Acquire))
-            .map(|(robot, seen)| (robot.clone(), seen.formatted()))
+            .map(|(robot, seen)| (robot.clone(), seen.moment()))
             .collect()
     }
 }
@@ -115,27 +111,30 @@ mod tests {
     #[test]
     fn a_robot_seen_is_flushed_once_until_seen_again() {
         let presence = Presence::default();
+        let now = time::macros::datetime!(2026-11-22 10:00:00.250 UTC);
         assert!(presence.take_unflushed().is_empty());
-        presence.saw("el-e-1");
-        let flushed = presence.take_unflushed();
-        assert_eq!(flushed.len(), 1);
-        assert_eq!(flushed[0].0, "el-e-1");
-        assert!(clock::parse(&flushed[0].1).is_some(), "{}", flushed[0].1);
+        presence.saw("el-e-1", now);
+        assert_eq!(presence.take_unflushed(), [("el-e-1".to_owned(), now)]);
         assert!(presence.take_unflushed().is_empty(), "nothing new to flush");
-        assert_eq!(presence.last_seen("el-e-1"), Some(flushed[0].1.clone()));
-        assert!(presence.online("el-e-1"));
-        assert!(!presence.online("pr2-1"), "never seen");
+        presence.saw("el-e-1", now + Duration::from_millis(500));
+        assert!(presence.take_unflushed().is_empty(), "kept to the second");
+        assert_eq!(presence.last_seen("el-e-1"), Some(now));
+        assert!(presence.online("el-e-1", now));
+        assert!(!presence.online("el-e-1", now + ONLINE_WITHIN + Duration::from_secs(1)));
+        assert!(!presence.online("pr2-1", now), "never seen");
     }
 
     #[test]
     fn stored_times_are_known_but_not_flushed_again() {
         let presence = Presence::default();
-        presence.load(vec![("pr2-1".into(), "2026-11-22T10:00:00.000Z".into())]);
-        assert_eq!(presence.last_seen("pr2-1").as_deref(), Some("2026-11-22T10:00:00.000Z"));
+        let now = OffsetDateTime::now_utc();
+        let long_ago = time::macros::datetime!(2026-11-22 10:00 UTC);
+        presence.load(vec![("pr2-1".into(), long_ago)]);
+        assert_eq!(presence.last_seen("pr2-1"), Some(long_ago));
         assert!(presence.take_unflushed().is_empty());
-        assert!(!presence.online("pr2-1"), "seen long ago");
-        assert!(presence.seen_ago("pr2-1").is_some_and(|ago| ago > ONLINE_WITHIN));
-        presence.saw("pr2-1");
+        assert!(!presence.online("pr2-1", now), "seen long ago");
+        assert!(presence.seen_ago("pr2-1", now).is_some_and(|ago| ago > ONLINE_WITHIN));
+        presence.saw("pr2-1", now);
         assert_eq!(presence.take_unflushed().len(), 1, "seen now, a second and more later");
     }
 }

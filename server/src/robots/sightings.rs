@@ -4,7 +4,8 @@
 use std::collections::HashMap;
 use std::sync::Mutex;
 
-use crate::clock;
+use time::OffsetDateTime;
+
 use crate::store::inbox::Sighting;
 
 #[derive(Debug, Default)]
@@ -16,12 +17,12 @@ pub struct Sightings {
 const MAX_PENDING: usize = 10_000;
 
 impl Sightings {
-    pub fn note(&self, epc: &str, robot: &str) {
-        let now = clock::now();
+    /// Notes that `robot` read the unknown `epc` at `at`.
+    pub fn note(&self, epc: &str, robot: &str, at: OffsetDateTime) {
         let mut pending = self.pending.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(sighting) = pending.get_mut(epc) {
             sighting.count += 1;
-            sighting.last_seen = now;
+            sighting.last_seen = at;
             if !sighting.robots.iter().any(|r| r == robot) {
                 sighting.robots.push(robot.to_owned());
             }
@@ -31,8 +32,8 @@ impl Sightings {
                 Sighting {
                     epc: epc.to_owned(),
                     robots: vec![robot.to_owned()],
-                    first_seen: now.clone(),
-                    last_seen: now,
+                    first_seen: at,
+                    last_seen: at,
                     count: 1,
                 },
             );

@@ -6,12 +6,18 @@
 //! entry, a trial) are JSON text, parsed by [`JsonText`]. Ids (an EPC in hex, a robot id, a
 //! UUID, a task's state) are text, parsed as they are read through [`Id`] and [`MaybeId`]
 //! (`#[sqlx(try_from = "Id<Epc>")]`), so a row hands out the same types the API parsed.
+//! Moments are text too, in [`crate::clock::format`]'s fixed width so they sort as text; rows
+//! read them through [`At`] and [`MaybeAt`], and statements bind `At(moment)`.
 
 use sqlx::any::AnyValueRef;
 use sqlx::decode::Decode;
+use sqlx::encode::{Encode, IsNull};
 use sqlx::error::BoxDynError;
 use sqlx::types::Type;
 use sqlx::{Any, ValueRef};
+use time::OffsetDateTime;
+
+use crate::clock;
 
 /// The column type a decoded type is stored as (`, for T` when the type is generic in `T`).
 macro_rules! stored_as {
@@ -55,17 +61,18 @@ impl<'r> Decode<'r, Any> for MaybeFlag {
     }
 }
 
-impl From<Flag> for bool {
-    fn from(flag: Flag) -> Self {
-        flag.0
-    }
+/// `From` a column type to the value it holds, which rows decode through `try_from`.
+macro_rules! holds {
+    ($($column:ty => $value:ty),* $(,)?) => {$(
+        impl From<$column> for $value {
+            fn from(column: $column) -> Self {
+                column.0
+            }
+        }
+    )*};
 }
 
-impl From<MaybeFlag> for Option<bool> {
-    fn from(flag: MaybeFlag) -> Self {
-        flag.0
-    }
-}
+holds!(Flag => bool, MaybeFlag => Option<bool>);
 
 /// A JSON document stored as text.
 #[derive(Debug, Clone, PartialEq)]
@@ -80,11 +87,7 @@ impl<'r> Decode<'r, Any> for JsonText {
     }
 }
 
-impl From<JsonText> for serde_json::Value {
-    fn from(text: JsonText) -> Self {
-        text.0
-    }
-}
+holds!(JsonText => serde_json::Value);
 
 /// A non-null id column, parsed as it is read.
 #[derive(Debug, Clone, PartialEq)]
@@ -138,3 +141,54 @@ macro_rules! id_column {
 }
 
 id_column!(pps_schema::Epc, pps_schema::RobotId, pps_schema::TaskState, uuid::Uuid);
+
+/// A moment column, non-null, stored as [`clock::format`] writes it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct At(pub OffsetDateTime);
+
+/// A moment column that may be null (a lease not given, a token that never expires).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MaybeAt(pub Option<OffsetDateTime>);
+
+stored_as!(At, String);
+stored_as!(MaybeAt, String);
+
+/// A stored moment, or an error quoting the text that is not one.
+fn parse_moment(text: &str) -> Result<OffsetDateTime, BoxDynError> {
+    clock::parse(text).ok_or_else(|| format!("{text:?} is not an RFC 3339 timestamp").into())
+}
+
+impl<'r> Decode<'r, Any> for At {
+    fn decode(value: AnyValueRef<'r>) -> Result<Self, BoxDynError> {
+        Ok(Self(parse_moment(<&str as Decode<Any>>::decode(value)?)?))
+    }
+}
+
+impl<'r> Decode<'r, Any> for MaybeAt {
+    fn decode(value: AnyValueRef<'r>) -> Result<Self, BoxDynError> {
+        if value.is_null() {
+            return Ok(Self(None));
+        }
+        Ok(Self(Some(parse_moment(<&str as Decode<Any>>::decode(value)?)?)))
+    }
+}
+
+impl Encode<'_, Any> for At {
+    fn encode_by_ref(
+        &self,
+        buf: &mut <Any as sqlx::Database>::ArgumentBuffer,
+    ) -> Result<IsNull, BoxDynError> {
+        <String as Encode<Any>>::encode(clock::format(self.0), buf)
+    }
+}
+
+impl Encode<'_, Any> for MaybeAt {
+    fn encode_by_ref(
+        &self,
+        buf: &mut <Any as sqlx::Database>::ArgumentBuffer,
+    ) -> Result<IsNull, BoxDynError> {
+        <Option<String> as Encode<Any>>::encode(self.0.map(clock::format), buf)
+    }
+}
+
+holds!(At => OffsetDateTime, MaybeAt => Option<OffsetDateTime>);

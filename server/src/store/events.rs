@@ -5,6 +5,7 @@ use serde_json::Value;
 use sqlx::{AnyConnection, AnyPool};
 
 use crate::clock;
+use crate::store::columns::At;
 use crate::store::placeholders;
 
 /// What changed.
@@ -83,7 +84,7 @@ pub async fn append(tx: &mut AnyConnection, kind: EventKind, data: Value) -> sql
     )
     .bind(kind.as_str())
     .bind(data.to_string())
-    .bind(clock::now())
+    .bind(At(clock::recorded_now()))
     .fetch_one(&mut *tx)
     .await?;
     Ok(id)
@@ -95,7 +96,7 @@ pub async fn append_all(
     kind: EventKind,
     data: &[Value],
 ) -> sqlx::Result<()> {
-    let now = clock::now();
+    let now = At(clock::recorded_now());
     for chunk in data.chunks(500) {
         let statement = format!(
             "insert into events (kind, data, created_at) values {}",
@@ -103,7 +104,7 @@ pub async fn append_all(
         );
         let mut insert = sqlx::query(sqlx::AssertSqlSafe(statement));
         for item in chunk {
-            insert = insert.bind(kind.as_str()).bind(item.to_string()).bind(&now);
+            insert = insert.bind(kind.as_str()).bind(item.to_string()).bind(now);
         }
         insert.execute(&mut *tx).await?;
     }

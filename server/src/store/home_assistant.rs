@@ -4,41 +4,51 @@
 
 use pps_schema::Epc;
 use sqlx::{AnyConnection, AnyPool};
+use time::OffsetDateTime;
 
-use crate::clock;
 use crate::identity::Role;
-use crate::store::columns::MaybeFlag;
+use crate::store::columns::{At, MaybeFlag};
 
 /// The lease row's key.
 const BRIDGE: &str = "home_assistant";
 
-/// Takes the lease for `holder` until `until`, or renews it; true when `holder` holds it now.
+/// Takes the lease for `holder` from `now` until `until`, or renews it; true when `holder`
+/// holds it then.
 /// Another holder's lease is taken over only once it ran out. Runs inside a write transaction,
 /// so of two replicas asking at once exactly one gets it.
 #[tracing::instrument(skip_all)]
-pub async fn take_lease(tx: &mut AnyConnection, holder: &str, until: &str) -> sqlx::Result<bool> {
+pub async fn take_lease(
+    tx: &mut AnyConnection,
+    holder: &str,
+    now: OffsetDateTime,
+    until: OffsetDateTime,
+) -> sqlx::Result<bool> {
     sqlx::query(
         "insert into bridge_lease (bridge, holder, until) values ($1, $2, $3)
          on conflict (bridge) do update set holder = excluded.holder, until = excluded.until
-         where bridge_lease.holder = excluded.holder or bridge_lease.until < $4",
+         where bridge_lease.holder = excluded.holder or bridge_lease.until <= $4",
     )
     .bind(BRIDGE)
     .bind(holder)
-    .bind(until)
-    .bind(clock::now())
+    .bind(At(until))
+    .bind(At(now))
     .execute(&mut *tx)
     .await?;
-    holds_lease(tx, holder).await
+    holds_lease(tx, holder, now).await
 }
 
-/// Whether `holder` holds a lease that has not run out.
-pub async fn holds_lease(conn: &mut AnyConnection, holder: &str) -> sqlx::Result<bool> {
+/// Whether `holder` holds a lease that has not run out by `now`.
+pub async fn holds_lease(
+    conn: &mut AnyConnection,
+    holder: &str,
+    now: OffsetDateTime,
+) -> sqlx::Result<bool> {
     let held: Option<String> = sqlx::query_scalar(
         "select holder from bridge_lease where bridge = $1 and holder = $2 and until > $3",
     )
     .bind(BRIDGE)
     .bind(holder)
-    .bind(clock::now())
+    .bind(At(now))
     .fetch_optional(&mut *conn)
     .await?;
     Ok(held.is_some())
@@ -65,9 +75,13 @@ pub enum Credential {
     Missing,
 }
 
-/// Where the caretaker tokens named `name` stand.
+/// Where the caretaker tokens named `name` stand at `now`.
 #[tracing::instrument(skip_all)]
-pub async fn credential(pool: &AnyPool, name: &str) -> sqlx::Result<Credential> {
+pub async fn credential(
+    pool: &AnyPool,
+    name: &str,
+    now: OffsetDateTime,
+) -> sqlx::Result<Credential> {
     let (minted, live): (i64, i64) = sqlx::query_as(
         "select count(*),
                 coalesce(sum(case when revoked_at is null
@@ -77,7 +91,7 @@ pub async fn credential(pool: &AnyPool, name: &str) -> sqlx::Result<Credential> 
     )
     .bind(name)
     .bind(Role::Caretaker.as_str())
-    .bind(clock::now())
+    .bind(At(now))
     .fetch_one(pool)
     .await?;
     Ok(match (minted, live) {

@@ -4,8 +4,10 @@ use pps_schema::Epc;
 use serde::Serialize;
 use serde_json::{Value, json};
 use sqlx::{AnyConnection, AnyPool};
+use time::OffsetDateTime;
 
-use crate::store::columns::Flag;
+use crate::clock;
+use crate::store::columns::{At, Flag};
 
 use crate::store::events::{self, EventKind};
 
@@ -14,8 +16,8 @@ use crate::store::events::{self, EventKind};
 pub struct Sighting {
     pub epc: String,
     pub robots: Vec<String>,
-    pub first_seen: String,
-    pub last_seen: String,
+    pub first_seen: OffsetDateTime,
+    pub last_seen: OffsetDateTime,
     pub count: i64,
 }
 
@@ -26,8 +28,10 @@ pub struct InboxItem {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub epc_uri: Option<String>,
     pub robots: Vec<String>,
-    pub first_seen: String,
-    pub last_seen: String,
+    #[serde(with = "clock::stored")]
+    pub first_seen: OffsetDateTime,
+    #[serde(with = "clock::stored")]
+    pub last_seen: OffsetDateTime,
     pub count: i64,
 }
 
@@ -53,13 +57,13 @@ pub async fn record(tx: &mut AnyConnection, sightings: &[Sighting]) -> sqlx::Res
         if registered.into() {
             continue;
         }
-        let existing: Option<(String, String, i64)> =
+        let existing: Option<(String, At, i64)> =
             sqlx::query_as("select robots, first_seen, count from inbox where epc = $1")
                 .bind(&sighting.epc)
                 .fetch_optional(&mut *tx)
                 .await?;
         let (robots, first_seen, count) = match existing {
-            Some((robots, first_seen, count)) => {
+            Some((robots, At(first_seen), count)) => {
                 let mut known: Vec<String> = serde_json::from_str(&robots).unwrap_or_default();
                 for robot in &sighting.robots {
                     if !known.contains(robot) {
@@ -68,7 +72,7 @@ pub async fn record(tx: &mut AnyConnection, sightings: &[Sighting]) -> sqlx::Res
                 }
                 (known, first_seen, count + sighting.count)
             }
-            None => (sighting.robots.clone(), sighting.first_seen.clone(), sighting.count),
+            None => (sighting.robots.clone(), sighting.first_seen, sighting.count),
         };
         sqlx::query(
             "insert into inbox (epc, robots, first_seen, last_seen, count) values ($1, $2, $3, $4, $5)
@@ -77,8 +81,8 @@ pub async fn record(tx: &mut AnyConnection, sightings: &[Sighting]) -> sqlx::Res
         )
         .bind(&sighting.epc)
         .bind(Value::from(robots).to_string())
-        .bind(first_seen)
-        .bind(&sighting.last_seen)
+        .bind(At(first_seen))
+        .bind(At(sighting.last_seen))
         .bind(count)
         .execute(&mut *tx)
         .await?;
@@ -123,7 +127,7 @@ pub async fn forget(tx: &mut AnyConnection, epc: &Epc) -> sqlx::Result<()> {
 /// Inbox rows after the EPC `after`, most recently seen first would reorder under writes, so
 /// the list is in EPC order like every other cursor list.
 pub async fn list(pool: &AnyPool, after: Option<&str>, limit: u32) -> sqlx::Result<Vec<InboxItem>> {
-    let rows: Vec<(String, String, String, String, i64)> = sqlx::query_as(
+    let rows: Vec<(String, String, At, At, i64)> = sqlx::query_as(
         "select epc, robots, first_seen, last_seen, count from inbox
          where ($1 is null or epc > $1) order by epc limit $2",
     )
@@ -133,7 +137,7 @@ pub async fn list(pool: &AnyPool, after: Option<&str>, limit: u32) -> sqlx::Resu
     .await?;
     Ok(rows
         .into_iter()
-        .map(|(epc, robots, first_seen, last_seen, count)| InboxItem {
+        .map(|(epc, robots, At(first_seen), At(last_seen), count)| InboxItem {
             epc_uri: pps_schema::Epc::parse(&epc).ok().and_then(|e| e.pure_identity_uri()),
             robots: serde_json::from_str(&robots).unwrap_or_default(),
             epc,

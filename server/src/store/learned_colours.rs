@@ -6,6 +6,7 @@ use pps_schema::{Epc, LearnedColor, TagColor};
 use sqlx::AnyConnection;
 
 use crate::clock;
+use crate::store::columns::At;
 use crate::store::db::Dialect;
 
 /// The learned colour of a tag and of its household for a robot class, as stored.
@@ -95,7 +96,7 @@ pub async fn store(
     .bind(class)
     .bind(text)
     .bind(model.trials as i64)
-    .bind(clock::now())
+    .bind(At(clock::recorded_now()))
     .execute(conn)
     .await?;
     Ok(true)

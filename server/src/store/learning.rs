@@ -4,7 +4,7 @@
 use pps_schema::Epc;
 use sqlx::{AnyConnection, AnyPool};
 
-use crate::store::columns::MaybeFlag;
+use crate::store::columns::{At, MaybeFlag};
 use crate::store::db::Dialect;
 use crate::store::trial_counts::{GroupKey, groups_parameter};
 
@@ -80,7 +80,7 @@ pub async fn store_learned(
     .bind(pointer)
     .bind(value)
     .bind(trials)
-    .bind(clock::now())
+    .bind(At(clock::recorded_now()))
     .execute(conn)
     .await?;
     Ok(previous != Some(value))

@@ -2,8 +2,10 @@
 //! retention rule removes them (the row and its digest stay, so a resend is still a retry).
 
 use sqlx::{AnyConnection, AnyPool};
+use time::OffsetDateTime;
 use uuid::Uuid;
 
+use crate::store::columns::{At, MaybeAt};
 use crate::store::db::Dialect;
 use crate::trials::picture::Picture;
 
@@ -12,7 +14,8 @@ use crate::trials::picture::Picture;
 pub struct PictureRow {
     pub media_type: String,
     pub sha256: String,
-    pub removed_at: Option<String>,
+    #[sqlx(try_from = "MaybeAt")]
+    pub removed_at: Option<OffsetDateTime>,
 }
 
 /// A stored picture with its bytes; `bytes` is `None` once retention removed them.
@@ -30,7 +33,7 @@ pub async fn insert_new(
     trial: &Uuid,
     picture: &Picture,
     bytes: &[u8],
-    received_at: &str,
+    received_at: OffsetDateTime,
 ) -> sqlx::Result<bool> {
     let done = sqlx::query(
         "insert into trial_pictures
@@ -45,7 +48,7 @@ pub async fn insert_new(
     .bind(bytes.len() as i64)
     .bind(i64::from(picture.width))
     .bind(i64::from(picture.height))
-    .bind(received_at)
+    .bind(At(received_at))
     .execute(conn)
     .await?;
     Ok(done.rows_affected() == 1)
@@ -90,7 +93,7 @@ pub async fn keep_newest(
     conn: &mut AnyConnection,
     epc: &str,
     keep: u32,
-    now: &str,
+    now: OffsetDateTime,
 ) -> sqlx::Result<u64> {
     let done = sqlx::query(Dialect::of(conn).pick(
         "update trial_pictures set bytes = null, removed_at = $3
@@ -106,7 +109,7 @@ pub async fn keep_newest(
     ))
     .bind(epc)
     .bind(i64::from(keep))
-    .bind(now)
+    .bind(At(now))
     .execute(conn)
     .await?;
     Ok(done.rows_affected())

@@ -4,6 +4,7 @@ use pps_schema::Epc;
 use sqlx::AnyConnection;
 
 use crate::clock;
+use crate::store::columns::At;
 
 /// The EPC that replaced `epc`, following the chain of replacements, however long, to the
 /// current one.
@@ -78,7 +79,7 @@ pub async fn retire(
     )
     .bind(epc.as_hex())
     .bind(successor.as_hex())
-    .bind(clock::now())
+    .bind(At(clock::recorded_now()))
     .bind(by)
     .execute(conn)
     .await?;

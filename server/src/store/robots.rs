@@ -3,8 +3,9 @@
 use pps_schema::RobotId;
 use serde_json::{Value, json};
 use sqlx::AnyPool;
+use time::OffsetDateTime;
 
-use crate::store::columns::{Flag, Id};
+use crate::store::columns::{At, Flag, Id};
 
 use crate::clock;
 use crate::store::db::Db;
@@ -124,7 +125,7 @@ pub async fn put(db: &Db, id: &RobotId, document: &Value, by: &str) -> sqlx::Res
     .bind(id.as_str())
     .bind(class)
     .bind(document.to_string())
-    .bind(clock::now())
+    .bind(At(clock::recorded_now()))
     .bind(by)
     .execute(&mut *tx)
     .await?;
@@ -134,12 +135,14 @@ pub async fn put(db: &Db, id: &RobotId, document: &Value, by: &str) -> sqlx::Res
 }
 
 /// When each robot was last seen, as last flushed.
-pub async fn presence(pool: &AnyPool) -> sqlx::Result<Vec<(String, String)>> {
-    sqlx::query_as("select robot, last_seen from robot_presence").fetch_all(pool).await
+pub async fn presence(pool: &AnyPool) -> sqlx::Result<Vec<(String, OffsetDateTime)>> {
+    let rows: Vec<(String, At)> =
+        sqlx::query_as("select robot, last_seen from robot_presence").fetch_all(pool).await?;
+    Ok(rows.into_iter().map(|(robot, At(at))| (robot, at)).collect())
 }
 
 /// Stores last-seen times gathered in memory.
-pub async fn record_presence(db: &Db, seen: &[(String, String)]) -> sqlx::Result<()> {
+pub async fn record_presence(db: &Db, seen: &[(String, OffsetDateTime)]) -> sqlx::Result<()> {
     let mut tx = db.begin_write().await?;
     for (robot, at) in seen {
         sqlx::query(
@@ -149,7 +152,7 @@ pub async fn record_presence(db: &Db, seen: &[(String, String)]) -> sqlx::Result
                  else robot_presence.last_seen end",
         )
         .bind(robot)
-        .bind(at)
+        .bind(At(*at))
         .execute(&mut *tx)
         .await?;
     }

@@ -3,9 +3,10 @@
 //! Reading a session writes nothing: the expiry is set at login and never extended.
 
 use sqlx::AnyPool;
+use time::OffsetDateTime;
 
-use crate::clock;
 use crate::identity::UserName;
+use crate::store::columns::At;
 use crate::store::db::Db;
 
 /// A live session's user, as the access check needs it.
@@ -13,42 +14,50 @@ use crate::store::db::Db;
 pub struct SessionUser {
     pub name: String,
     pub role: String,
-    pub expires_at: String,
+    #[sqlx(try_from = "At")]
+    pub expires_at: OffsetDateTime,
 }
 
-/// Stores a new session, and clears out sessions that have expired on the way.
+/// Stores a new session made `now`, and clears out sessions that have expired on the way.
 #[tracing::instrument(skip_all, fields(user = %user))]
 pub async fn create(
     db: &Db,
     secret_hash: &str,
     user: &UserName,
-    expires_at: &str,
+    now: OffsetDateTime,
+    expires_at: OffsetDateTime,
 ) -> sqlx::Result<()> {
-    let now = clock::now();
     let mut tx = db.begin_write().await?;
-    sqlx::query("delete from sessions where expires_at <= $1").bind(&now).execute(&mut *tx).await?;
+    sqlx::query("delete from sessions where expires_at <= $1")
+        .bind(At(now))
+        .execute(&mut *tx)
+        .await?;
     sqlx::query(
         "insert into sessions (secret_hash, user_name, created_at, expires_at) values ($1, $2, $3, $4)",
     )
     .bind(secret_hash)
     .bind(user.as_str())
-    .bind(&now)
-    .bind(expires_at)
+    .bind(At(now))
+    .bind(At(expires_at))
     .execute(&mut *tx)
     .await?;
     tx.commit().await
 }
 
-/// The user of the unexpired session with this secret hash.
+/// The user of the session with this secret hash, unless it expired by `now`.
 #[tracing::instrument(skip_all)]
-pub async fn find_live(pool: &AnyPool, secret_hash: &str) -> sqlx::Result<Option<SessionUser>> {
+pub async fn find_live(
+    pool: &AnyPool,
+    secret_hash: &str,
+    now: OffsetDateTime,
+) -> sqlx::Result<Option<SessionUser>> {
     sqlx::query_as(
         "select users.name, users.role, sessions.expires_at
          from sessions join users on users.name = sessions.user_name
          where sessions.secret_hash = $1 and sessions.expires_at > $2",
     )
     .bind(secret_hash)
-    .bind(clock::now())
+    .bind(At(now))
     .fetch_optional(pool)
     .await
 }

@@ -6,10 +6,11 @@
 use pps_schema::Epc;
 use serde_json::{Value, json};
 use sqlx::AnyPool;
+use time::OffsetDateTime;
 
 use super::WriteCondition;
 use crate::clock;
-use crate::store::columns::{Flag, Id, JsonText};
+use crate::store::columns::{At, Flag, Id, JsonText};
 use crate::store::db::Db;
 use crate::store::events::{self, EventKind};
 use crate::store::{inbox, retired};
@@ -21,7 +22,7 @@ pub struct StoredTag {
     pub entry: Value,
     pub revision: i64,
     pub archived: bool,
-    pub updated_at: String,
+    pub updated_at: OffsetDateTime,
     pub updated_by: String,
 }
 
@@ -33,7 +34,8 @@ struct TagRow {
     revision: i64,
     #[sqlx(try_from = "Flag")]
     archived: bool,
-    updated_at: String,
+    #[sqlx(try_from = "At")]
+    updated_at: OffsetDateTime,
     updated_by: String,
 }
 
@@ -164,7 +166,7 @@ pub async fn put_in(
         entry: entry.clone(),
         revision,
         archived: false,
-        updated_at: clock::now(),
+        updated_at: clock::recorded_now(),
         updated_by: by.to_owned(),
     };
     write(tx, &stored, change).await?;
@@ -204,14 +206,14 @@ pub async fn archive_in(
     let stored = StoredTag {
         revision: current.revision + 1,
         archived: true,
-        updated_at: clock::now(),
+        updated_at: clock::recorded_now(),
         updated_by: by.to_owned(),
         ..current
     };
     write(tx, &stored, "archive").await?;
     // No robot may record a trial on an archived tag, so nothing asked of it can be done.
     let reason = format!("the tag was archived by {by}");
-    crate::store::tasks::cancel_on_tag(tx, &stored.epc, &reason).await?;
+    crate::store::tasks::cancel_on_tag(tx, &stored.epc, &reason, clock::recorded_now()).await?;
     Ok(stored)
 }
 
@@ -266,7 +268,7 @@ async fn write(tx: &mut sqlx::AnyConnection, tag: &StoredTag, change: &str) -> s
     .bind(text("name"))
     .bind(tag.revision)
     .bind(i64::from(tag.archived))
-    .bind(&tag.updated_at)
+    .bind(At(tag.updated_at))
     .bind(&tag.updated_by)
     .execute(&mut *tx)
     .await?;
@@ -279,7 +281,7 @@ async fn write(tx: &mut sqlx::AnyConnection, tag: &StoredTag, change: &str) -> s
     .bind(change)
     .bind(&entry)
     .bind(i64::from(tag.archived))
-    .bind(&tag.updated_at)
+    .bind(At(tag.updated_at))
     .bind(&tag.updated_by)
     .execute(&mut *tx)
     .await?;
@@ -299,7 +301,9 @@ pub struct Revision {
     pub change: String,
     #[sqlx(try_from = "Flag")]
     pub archived: bool,
-    pub changed_at: String,
+    #[serde(with = "clock::stored")]
+    #[sqlx(try_from = "At")]
+    pub changed_at: OffsetDateTime,
     pub changed_by: String,
     #[sqlx(try_from = "JsonText")]
     pub entry: Value,
@@ -364,7 +368,7 @@ pub async fn move_to(
         entry,
         revision: current.revision + 1,
         archived: current.archived,
-        updated_at: clock::now(),
+        updated_at: clock::recorded_now(),
         updated_by: by.to_owned(),
     };
     write(tx, &moved, "retag").await?;

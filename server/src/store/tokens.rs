@@ -2,8 +2,9 @@
 
 use serde::Serialize;
 use sqlx::AnyPool;
+use time::OffsetDateTime;
 
-use crate::store::columns::Flag;
+use crate::store::columns::{At, Flag, MaybeAt};
 
 use crate::clock;
 use crate::identity::{Role, secret};
@@ -17,9 +18,15 @@ pub struct TokenRecord {
     pub name: String,
     pub role: String,
     pub robot_id: Option<String>,
-    pub created_at: String,
-    pub expires_at: Option<String>,
-    pub revoked_at: Option<String>,
+    #[serde(with = "clock::stored")]
+    #[sqlx(try_from = "At")]
+    pub created_at: OffsetDateTime,
+    #[serde(with = "clock::stored::option")]
+    #[sqlx(try_from = "MaybeAt")]
+    pub expires_at: Option<OffsetDateTime>,
+    #[serde(with = "clock::stored::option")]
+    #[sqlx(try_from = "MaybeAt")]
+    pub revoked_at: Option<OffsetDateTime>,
 }
 
 /// A token just minted: the record plus the secret, which exists nowhere else.
@@ -54,7 +61,7 @@ pub async fn create(
     db: &Db,
     role: Role,
     name: &str,
-    expires_at: Option<String>,
+    expires_at: Option<OffsetDateTime>,
 ) -> sqlx::Result<MintedToken> {
     let mut tx = db.begin_write().await?;
     let minted = insert(&mut tx, role, name, expires_at).await?;
@@ -65,9 +72,9 @@ pub async fn create(
 /// Mints the first admin token, unless an admin credential exists (a live admin token, or an
 /// admin user of the web UI). Looked for and minted under the write lock, so of several
 /// replicas starting together on one new database exactly one mints it.
-pub async fn create_first_admin(db: &Db) -> sqlx::Result<Option<MintedToken>> {
+pub async fn create_first_admin(db: &Db, now: OffsetDateTime) -> sqlx::Result<Option<MintedToken>> {
     let mut tx = db.begin_write().await?;
-    if live_admin_exists(&mut *tx).await? || users::admin_exists(&mut *tx).await? {
+    if live_admin_exists(&mut *tx, now).await? || users::admin_exists(&mut *tx).await? {
         return Ok(None);
     }
     let minted = insert(&mut tx, Role::Admin, "first admin", None).await?;
@@ -79,7 +86,7 @@ async fn insert(
     tx: &mut sqlx::AnyConnection,
     role: Role,
     name: &str,
-    expires_at: Option<String>,
+    expires_at: Option<OffsetDateTime>,
 ) -> sqlx::Result<MintedToken> {
     let token = secret::mint_token();
     let record = TokenRecord {
@@ -87,7 +94,7 @@ async fn insert(
         name: name.to_owned(),
         role: role.as_str().to_owned(),
         robot_id: (role == Role::Robot).then(|| name.to_owned()),
-        created_at: clock::now(),
+        created_at: clock::recorded_now(),
         expires_at,
         revoked_at: None,
     };
@@ -100,8 +107,8 @@ async fn insert(
     .bind(&record.role)
     .bind(&record.robot_id)
     .bind(secret::hash(&token))
-    .bind(&record.created_at)
-    .bind(&record.expires_at)
+    .bind(At(record.created_at))
+    .bind(MaybeAt(record.expires_at))
     .execute(&mut *tx)
     .await?;
     Ok(MintedToken { record, token })
@@ -123,7 +130,7 @@ pub async fn revoke(db: &Db, id: &str) -> sqlx::Result<bool> {
     let mut tx = db.begin_write().await?;
     let done =
         sqlx::query("update tokens set revoked_at = $1 where id = $2 and revoked_at is null")
-            .bind(clock::now())
+            .bind(At(clock::recorded_now()))
             .bind(id)
             .execute(&mut *tx)
             .await?
@@ -133,28 +140,35 @@ pub async fn revoke(db: &Db, id: &str) -> sqlx::Result<bool> {
     Ok(done)
 }
 
-/// The live (not revoked, not expired) token with this secret hash.
+/// The live (not revoked, not expired by `now`) token with this secret hash.
 #[tracing::instrument(skip_all)]
-pub async fn find_live(pool: &AnyPool, secret_hash: &str) -> sqlx::Result<Option<TokenRecord>> {
+pub async fn find_live(
+    pool: &AnyPool,
+    secret_hash: &str,
+    now: OffsetDateTime,
+) -> sqlx::Result<Option<TokenRecord>> {
     sqlx::query_as(
         "select id, name, role, robot_id, created_at, expires_at, revoked_at
          from tokens
          where secret_hash = $1 and revoked_at is null and (expires_at is null or expires_at > $2)",
     )
     .bind(secret_hash)
-    .bind(clock::now())
+    .bind(At(now))
     .fetch_optional(pool)
     .await
 }
 
-/// Whether any admin credential that still works exists.
-pub async fn live_admin_exists(executor: impl sqlx::AnyExecutor<'_>) -> sqlx::Result<bool> {
+/// Whether any admin credential that still works at `now` exists.
+pub async fn live_admin_exists(
+    executor: impl sqlx::AnyExecutor<'_>,
+    now: OffsetDateTime,
+) -> sqlx::Result<bool> {
     let found: Flag = sqlx::query_scalar(
         "select case when exists (select 1 from tokens where role = 'admin' and revoked_at is null
                                   and (expires_at is null or expires_at > $1))
                 then 1 else 0 end",
     )
-    .bind(clock::now())
+    .bind(At(now))
     .fetch_one(executor)
     .await?;
     Ok(found.into())

@@ -3,10 +3,10 @@
 use pps_schema::{Epc, Outcome, Purpose, RobotId, Trial};
 use serde_json::Value;
 use sqlx::{AnyConnection, AnyPool};
+use time::OffsetDateTime;
 use uuid::Uuid;
 
-use crate::clock;
-use crate::store::columns::{Flag, Id, MaybeFlag};
+use crate::store::columns::{At, Flag, Id, MaybeAt, MaybeFlag};
 use crate::store::db::Dialect;
 use crate::store::placeholders;
 use crate::trials::filter::TrialFilter;
@@ -27,7 +27,8 @@ pub struct TrialRow {
     #[sqlx(try_from = "MaybeFlag")]
     pub confirmed: Option<bool>,
     pub purpose: String,
-    pub received_at: String,
+    #[sqlx(try_from = "At")]
+    pub received_at: OffsetDateTime,
     pub body: String,
     /// Whether the trial's picture is held (sent, and not removed by retention).
     #[sqlx(try_from = "Flag")]
@@ -52,7 +53,7 @@ pub struct NewTrial<'a> {
     pub trial: &'a Trial,
     /// The robot's class as it is now; the trial keeps it.
     pub robot_class: Option<&'a str>,
-    pub received_at: &'a str,
+    pub received_at: OffsetDateTime,
     /// `trial` as submitted, serialised.
     pub body: &'a str,
 }
@@ -85,9 +86,9 @@ pub async fn insert_new(
             .bind(&trial.behavior)
             .bind(trial.outcome.as_str())
             .bind(trial.confirmed.map(i64::from))
-            .bind(clock::format(trial.started_at))
-            .bind(clock::format(trial.finished_at))
-            .bind(new.received_at)
+            .bind(At(trial.started_at))
+            .bind(At(trial.finished_at))
+            .bind(At(new.received_at))
             .bind(new.body)
             .bind(trial.purpose.as_str());
     }
@@ -180,7 +181,7 @@ pub async fn list(
     .bind(filter.robot.as_ref().map(RobotId::as_str))
     .bind(filter.action.as_deref())
     .bind(filter.outcome.map(Outcome::as_str))
-    .bind(filter.since.map(clock::format))
+    .bind(MaybeAt(filter.since))
     .bind(i64::from(window.limit))
     .bind(window.forces)
     .bind(filter.purpose.map(Purpose::as_str))
@@ -225,7 +226,7 @@ pub async fn move_to(conn: &mut AnyConnection, from: &Epc, to: &Epc) -> sqlx::Re
 #[tracing::instrument(skip_all)]
 pub async fn with_forces_received_before(
     pool: &AnyPool,
-    cutoff: &str,
+    cutoff: OffsetDateTime,
     after: i64,
     limit: u32,
 ) -> sqlx::Result<Vec<(i64, String)>> {
@@ -242,7 +243,7 @@ pub async fn with_forces_received_before(
          limit $3",
     ))
     .bind(after)
-    .bind(cutoff)
+    .bind(At(cutoff))
     .bind(i64::from(limit))
     .fetch_all(pool)
     .await

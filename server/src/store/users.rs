@@ -2,8 +2,9 @@
 
 use serde::Serialize;
 use sqlx::AnyPool;
+use time::OffsetDateTime;
 
-use crate::store::columns::Flag;
+use crate::store::columns::{At, Flag};
 
 use crate::clock;
 use crate::identity::{Role, UserName};
@@ -14,8 +15,12 @@ use crate::store::db::Db;
 pub struct UserRecord {
     pub name: String,
     pub role: String,
-    pub created_at: String,
-    pub password_changed_at: String,
+    #[serde(with = "clock::stored")]
+    #[sqlx(try_from = "At")]
+    pub created_at: OffsetDateTime,
+    #[serde(with = "clock::stored")]
+    #[sqlx(try_from = "At")]
+    pub password_changed_at: OffsetDateTime,
 }
 
 /// Creates a user; a name that exists already is a unique violation the caller maps.
@@ -26,11 +31,11 @@ pub async fn create(
     role: Role,
     password_hash: &str,
 ) -> sqlx::Result<UserRecord> {
-    let now = clock::now();
+    let now = clock::recorded_now();
     let record = UserRecord {
         name: name.as_str().to_owned(),
         role: role.as_str().to_owned(),
-        created_at: now.clone(),
+        created_at: now,
         password_changed_at: now,
     };
     let mut tx = db.begin_write().await?;
@@ -41,8 +46,8 @@ pub async fn create(
     .bind(&record.name)
     .bind(&record.role)
     .bind(password_hash)
-    .bind(&record.created_at)
-    .bind(&record.password_changed_at)
+    .bind(At(record.created_at))
+    .bind(At(record.password_changed_at))
     .execute(&mut *tx)
     .await?;
     tx.commit().await?;
@@ -72,7 +77,7 @@ pub async fn find_with_hash(
     pool: &AnyPool,
     name: &UserName,
 ) -> sqlx::Result<Option<(UserRecord, String)>> {
-    let row: Option<(String, String, String, String, String)> = sqlx::query_as(
+    let row: Option<(String, String, At, At, String)> = sqlx::query_as(
         "select name, role, created_at, password_changed_at, password_hash from users
          where name = $1",
     )
@@ -80,6 +85,7 @@ pub async fn find_with_hash(
     .fetch_optional(pool)
     .await?;
     Ok(row.map(|(name, role, created_at, password_changed_at, hash)| {
+        let (At(created_at), At(password_changed_at)) = (created_at, password_changed_at);
         (UserRecord { name, role, created_at, password_changed_at }, hash)
     }))
 }
@@ -92,7 +98,7 @@ pub async fn set_password(db: &Db, name: &UserName, password_hash: &str) -> sqlx
         "update users set password_hash = $1, password_changed_at = $2 where name = $3",
     )
     .bind(password_hash)
-    .bind(clock::now())
+    .bind(At(clock::recorded_now()))
     .bind(name.as_str())
     .execute(&mut *tx)
     .await?

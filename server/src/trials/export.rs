@@ -188,7 +188,7 @@ fn csv_row(row: &TrialRow, trial: &Value, picture_file: &str) -> [String; CSV_CO
         row.confirmed.map(|c| c.to_string()).unwrap_or_default(),
         started_at,
         finished_at,
-        row.received_at.clone(),
+        crate::clock::format(row.received_at),
         row.seq.to_string(),
         number(duration),
         forces.samples.to_string(),

@@ -17,9 +17,10 @@ use serde::Serialize;
 use serde_json::{Value, json};
 use sha2::{Digest, Sha256};
 
-use crate::clock;
+use crate::clock::{self, Clock};
 use crate::store::db::Db;
 use crate::store::{pictures, trials};
+use time::OffsetDateTime;
 
 /// The key in `measurements` that marks a thinned trial and holds its summary.
 pub const THINNED_KEY: &str = "forces_thinned";
@@ -37,12 +38,11 @@ pub struct Age {
 }
 
 impl Age {
-    /// Trials received before this moment are old enough.
-    fn cutoff(self) -> String {
+    /// Trials received before this moment are old enough at `now`.
+    fn cutoff(self, now: OffsetDateTime) -> OffsetDateTime {
         let ago = time::Duration::days(self.days.into());
         // Beyond the calendar nothing is that old: the epoch is as good a cutoff as any.
-        let cutoff = time::OffsetDateTime::now_utc().checked_sub(ago);
-        clock::format(cutoff.unwrap_or(time::OffsetDateTime::UNIX_EPOCH))
+        now.checked_sub(ago).unwrap_or(OffsetDateTime::UNIX_EPOCH)
     }
 }
 
@@ -149,16 +149,16 @@ fn submission_digest(trial: &Value) -> String {
     hex::encode(Sha256::digest(canonical.to_string().as_bytes()))
 }
 
-/// Thins every trial received longer ago than `age`; works while a server writes.
-pub async fn thin_forces(db: &Db, age: Age) -> anyhow::Result<ThinReport> {
-    let cutoff = age.cutoff();
+/// Thins every trial received longer ago than `age` at `now`; works while a server writes.
+pub async fn thin_forces(db: &Db, age: Age, now: OffsetDateTime) -> anyhow::Result<ThinReport> {
+    let cutoff = age.cutoff(now);
+    let thinned_at = clock::format(now);
     let mut report = ThinReport::default();
     let mut after = 0;
     loop {
-        let rows = trials::with_forces_received_before(db.reader(), &cutoff, after, BATCH).await?;
+        let rows = trials::with_forces_received_before(db.reader(), cutoff, after, BATCH).await?;
         let Some(last) = rows.last() else { break };
         after = last.0;
-        let thinned_at = clock::now();
         let mut tx = db.begin_write().await?;
         for (seq, stored) in &rows {
             let Ok(mut trial) = serde_json::from_str::<Value>(stored) else { continue };
@@ -177,23 +177,23 @@ pub async fn thin_forces(db: &Db, age: Age) -> anyhow::Result<ThinReport> {
 
 /// Removes the bytes of every tag's pictures beyond its newest `keep`; returns how many. New
 /// pictures apply the rule as they arrive, so this pass matters when `keep` was lowered.
-pub async fn keep_newest_pictures(db: &Db, keep: u32) -> anyhow::Result<u64> {
+pub async fn keep_newest_pictures(db: &Db, keep: u32, now: OffsetDateTime) -> anyhow::Result<u64> {
     let mut removed = 0;
     for epc in pictures::tags_over(db.reader(), keep).await? {
         let mut tx = db.begin_write().await?;
-        removed += pictures::keep_newest(&mut tx, &epc, keep, &clock::now()).await?;
+        removed += pictures::keep_newest(&mut tx, &epc, keep, now).await?;
         tx.commit().await?;
     }
     Ok(removed)
 }
 
 /// Applies the picture rule once now and then once a day, for as long as the runtime runs.
-pub fn start_daily_pictures(db: Db, keep: u32) {
+pub fn start_daily_pictures(db: Db, clock: Clock, keep: u32) {
     tokio::spawn(async move {
         let mut daily = tokio::time::interval(EVERY);
         loop {
             daily.tick().await;
-            match keep_newest_pictures(&db, keep).await {
+            match keep_newest_pictures(&db, keep, clock.now()).await {
                 Ok(0) => {}
                 Ok(removed) => tracing::info!(removed, keep, "removed tags' older pictures"),
                 Err(error) => tracing::warn!(%error, "could not remove tags' older pictures"),
@@ -203,12 +203,12 @@ pub fn start_daily_pictures(db: Db, keep: u32) {
 }
 
 /// Thins once now and then once a day, for as long as the runtime runs.
-pub fn start_daily(db: Db, age: Age) {
+pub fn start_daily(db: Db, clock: Clock, age: Age) {
     tokio::spawn(async move {
         let mut daily = tokio::time::interval(EVERY);
         loop {
             daily.tick().await;
-            match thin_forces(&db, age).await {
+            match thin_forces(&db, age, clock.now()).await {
                 Ok(report) if report.trials > 0 => tracing::info!(
                     trials = report.trials,
                     samples = report.samples,

@@ -11,9 +11,11 @@ use std::sync::Arc;
 use pps_schema::{Epc, RobotId, Trial};
 use serde_json::{Value, json};
 use sqlx::AnyConnection;
+use time::OffsetDateTime;
 use tokio::sync::{mpsc, oneshot};
 use uuid::Uuid;
 
+use crate::clock::Clock;
 use crate::feed::ChangeFeed;
 use crate::learning::colour;
 use crate::learning::{self, TrialGroup};
@@ -21,7 +23,7 @@ use crate::store::db::{Db, Unwritable};
 use crate::store::events::{self, EventKind};
 use crate::store::trials::{self, NewTrial, TrialRow};
 use crate::tags::effective_cache::EffectiveCache;
-use crate::{clock, store, trials::retention};
+use crate::{store, trials::retention};
 
 /// Trials committed together at most.
 const MAX_BATCH: usize = 512;
@@ -70,9 +72,9 @@ pub struct TrialWriter {
 
 impl TrialWriter {
     /// Starts the writing task (needs a Tokio runtime).
-    pub fn start(db: Db, feed: Arc<ChangeFeed>, cache: Arc<EffectiveCache>) -> Self {
+    pub fn start(db: Db, clock: Clock, feed: Arc<ChangeFeed>, cache: Arc<EffectiveCache>) -> Self {
         let (queue, incoming) = mpsc::channel(QUEUE);
-        tokio::spawn(run(db, incoming, feed, cache));
+        tokio::spawn(run(db, clock, incoming, feed, cache));
         Self { queue }
     }
 
@@ -86,6 +88,7 @@ impl TrialWriter {
 
 async fn run(
     db: Db,
+    clock: Clock,
     mut incoming: mpsc::Receiver<(CheckedTrial, Reply)>,
     feed: Arc<ChangeFeed>,
     cache: Arc<EffectiveCache>,
@@ -93,13 +96,13 @@ async fn run(
     let mut batch = Vec::with_capacity(MAX_BATCH);
     while incoming.recv_many(&mut batch, MAX_BATCH).await > 0 {
         let trials: Vec<&CheckedTrial> = batch.iter().map(|(trial, _)| trial).collect();
-        match commit(&db, &trials).await {
+        match commit(&db, &clock, &trials).await {
             Ok(stored) => answer(batch.drain(..), stored, &feed, &cache),
             // One trial's problem must stay its own: commit each alone, so only it fails.
             Err(error) if batch.len() > 1 && Unwritable::of(&error).is_none() => {
                 tracing::warn!(%error, trials = batch.len(), "a batch of trials failed; committing them one by one");
                 for (trial, reply) in batch.drain(..) {
-                    match commit(&db, &[&trial]).await {
+                    match commit(&db, &clock, &[&trial]).await {
                         Ok(stored) => answer([(trial, reply)].into_iter(), stored, &feed, &cache),
                         Err(error) => refuse([(trial, reply)].into_iter(), error),
                     }
@@ -143,14 +146,14 @@ fn refuse(batch: impl ExactSizeIterator<Item = (CheckedTrial, Reply)>, error: sq
 /// The batch's time is what every waiting robot pays, so it is kept to a few statements
 /// whatever its size: each tag and robot is looked up once, and all new trials and their
 /// events are inserted with one statement each.
-async fn commit(db: &Db, batch: &[&CheckedTrial]) -> sqlx::Result<Stored> {
+async fn commit(db: &Db, clock: &Clock, batch: &[&CheckedTrial]) -> sqlx::Result<Stored> {
     // Serialised before the write lock is taken.
     let bodies: Vec<String> = batch.iter().map(|checked| checked.body.to_string()).collect();
     let mut tx = db.begin_write().await?;
-    let received_at = clock::now();
+    let received_at = clock.now();
     let known = Known::look_up(&mut tx, batch).await?;
-    let seqs = insert_on_active_tags(&mut tx, batch, &bodies, &known, &received_at).await?;
-    let sorted = sort_out(&mut tx, batch, bodies, &known, &seqs, &received_at).await?;
+    let seqs = insert_on_active_tags(&mut tx, batch, &bodies, &known, received_at).await?;
+    let sorted = sort_out(&mut tx, batch, bodies, &known, &seqs, received_at).await?;
     announce(&mut tx, sorted.recorded).await?;
     let relearned = learning::update(&mut tx, &sorted.groups).await?;
     tx.commit().await?;
@@ -191,7 +194,7 @@ async fn insert_on_active_tags(
     batch: &[&CheckedTrial],
     bodies: &[String],
     known: &Known<'_>,
-    received_at: &str,
+    received_at: OffsetDateTime,
 ) -> sqlx::Result<HashMap<Uuid, i64>> {
     let insertable: Vec<NewTrial<'_>> = batch
         .iter()
@@ -225,7 +228,7 @@ async fn sort_out<'a>(
     bodies: Vec<String>,
     known: &Known<'_>,
     seqs: &HashMap<Uuid, i64>,
-    received_at: &str,
+    received_at: OffsetDateTime,
 ) -> sqlx::Result<Sorted<'a>> {
     let mut sorted = Sorted {
         results: Vec::with_capacity(batch.len()),
@@ -259,7 +262,7 @@ async fn sort_out<'a>(
             outcome: trial.outcome.as_str().to_owned(),
             confirmed: trial.confirmed,
             purpose: trial.purpose.as_str().to_owned(),
-            received_at: received_at.to_owned(),
+            received_at,
             body,
             has_picture: false,
         })));

@@ -6,10 +6,12 @@
 //! for SQLite by name.
 #![allow(dead_code)] // each test binary uses its own part of the harness
 
+mod clock;
 pub mod postgres;
 
 use std::path::PathBuf;
 
+use pps_server::clock::ManualClock;
 use pps_server::identity::Role;
 use pps_server::store::db::Location;
 use pps_server::store::tokens;
@@ -34,6 +36,8 @@ pub struct TestServer {
     /// Pictures the registry keeps per tag.
     pub pictures_per_tag: u32,
     pub client: reqwest::Client,
+    /// The registry's clock: [`TestServer::advance`] moves it instead of waiting.
+    clock: ManualClock,
     _dir: TempDir,
 }
 
@@ -84,10 +88,22 @@ impl TestServer {
         let db = Db::open(&location).await.unwrap();
         pps_server::tags::seed::seed_if_empty(&db).await.unwrap();
         let admin = tokens::create(&db, Role::Admin, "test admin", None).await.unwrap().token;
-        let (url, shutdown) = Self::serve(db.clone(), lease, pictures_per_tag).await;
+        let clock = ManualClock::default();
+        let (url, shutdown) = Self::serve(db.clone(), &clock, lease, pictures_per_tag).await;
         std::mem::forget(shutdown);
         let client = reqwest::Client::new();
-        Self { url, db, location, db_path, admin, lease, pictures_per_tag, client, _dir: dir }
+        Self {
+            url,
+            db,
+            location,
+            db_path,
+            admin,
+            lease,
+            pictures_per_tag,
+            client,
+            clock,
+            _dir: dir,
+        }
     }
 
     /// The database as the command line's `--db` takes it.
@@ -98,6 +114,7 @@ impl TestServer {
     /// Serves `db` on a new port until the returned sender is dropped.
     async fn serve(
         db: Db,
+        clock: &ManualClock,
         lease: std::time::Duration,
         pictures_per_tag: u32,
     ) -> (String, tokio::sync::oneshot::Sender<()>) {
@@ -107,8 +124,9 @@ impl TestServer {
         let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
         let url = format!("http://{}", listener.local_addr().unwrap());
         let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
-        let state =
-            AppState::new(db).with_task_lease(lease).with_pictures_per_tag(pictures_per_tag);
+        let state = AppState::on_clock(db, clock.clone().into())
+            .with_task_lease(lease)
+            .with_pictures_per_tag(pictures_per_tag);
         tokio::spawn(pps_server::serve(listener, state, async move {
             let _ = stopped.await;
         }));
@@ -118,7 +136,7 @@ impl TestServer {
     /// A second server on the same database file, as after a restart; stops when dropped.
     pub async fn restarted(&self) -> (String, tokio::sync::oneshot::Sender<()>) {
         let db = Db::open(&self.location).await.unwrap();
-        Self::serve(db, self.lease, self.pictures_per_tag).await
+        Self::serve(db, &self.clock, self.lease, self.pictures_per_tag).await
     }
 
     /// Mints a token as the CLI would, straight into the database.

@@ -59,7 +59,7 @@ pub async fn decline(
         return Err(refused);
     }
     let mut tx = state.db.begin_write().await?;
-    let declined = tasks::decline(&mut tx, &id, robot, &reason).await?;
+    let declined = tasks::decline(&mut tx, &id, robot, &reason, state.clock.now()).await?;
     tx.commit().await?;
     let task = match declined {
         Some(task) => {

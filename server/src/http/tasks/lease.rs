@@ -98,7 +98,7 @@ pub async fn claim(
     if waits && state.tasks.waiting_claims(&robot) >= MAX_WAITING_PER_ROBOT {
         return Ok(too_many_waiting(&robot));
     }
-    let held = tasks::held_by(state.db.reader(), &robot, &clock::now()).await?;
+    let held = tasks::held_by(state.db.reader(), &robot, state.clock.now()).await?;
     if held.len() >= state.tasks.max_held() {
         return Err(holds_enough(&robot, &held));
     }
@@ -163,9 +163,9 @@ pub async fn heartbeat(
     InPath(TaskId(id)): InPath<TaskId>,
 ) -> Result<Json<TaskAnswer>, ApiError> {
     let robot = caller.own_robot()?;
-    let lease_until = clock::format(time::OffsetDateTime::now_utc() + state.tasks.lease());
+    let now = state.clock.now();
     let mut tx = state.db.begin_write().await?;
-    let extended = tasks::extend_lease(&mut tx, &id, robot, &lease_until).await?;
+    let extended = tasks::extend_lease(&mut tx, &id, robot, now, now + state.tasks.lease()).await?;
     tx.commit().await?;
     match extended {
         Some(row) => Ok(Json(TaskAnswer::from(&row))),
@@ -260,7 +260,9 @@ pub async fn finish(
     let succeeded = outcome == Outcome::Success;
     let reason = (!succeeded).then(|| format!("the robot's trial ended in {}", outcome.as_str()));
     let mut tx = state.db.begin_write().await?;
-    let ended = tasks::finish(&mut tx, &id, robot, &trial_id, succeeded, reason.as_deref()).await?;
+    let now = state.clock.now();
+    let ended =
+        tasks::finish(&mut tx, &id, robot, &trial_id, succeeded, reason.as_deref(), now).await?;
     tx.commit().await?;
     match ended {
         Some(row) => {
@@ -370,7 +372,7 @@ fn not_held(task: &TaskRow, robot: &RobotId) -> ApiError {
     let now = match (task.state, task.claimed_by.as_ref()) {
         (TaskState::Claimed, Some(holder)) if holder == robot => format!(
             "its lease ran out at {}; it goes back to the queue",
-            task.lease_until.as_deref().unwrap_or("?")
+            task.lease_until.map(clock::format).as_deref().unwrap_or("?")
         ),
         (TaskState::Claimed, Some(other)) => format!("robot {other} holds it now"),
         (TaskState::Queued, _) => "it is back in the queue".to_owned(),

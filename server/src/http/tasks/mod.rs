@@ -56,7 +56,7 @@ pub async fn create(
     Caller(caller): Caller,
     JsonBody(body): JsonBody,
 ) -> Result<Response, ApiError> {
-    let asked = TaskRequest::parse(&body)?;
+    let asked = TaskRequest::parse(&body, state.clock.now())?;
     let row = ask(&state, asked, &caller.name, None).await?;
     let location = format!("/api/v1/tasks/{}", row.id);
     let shown = outlook::shown(&state, &row).await?;
@@ -85,16 +85,17 @@ pub(crate) async fn ask(
         created_by: asker.to_owned(),
         expires_at: asked.expires_at,
     };
+    let now = state.clock.now();
     let mut tx = state.db.begin_write().await?;
     if let Some(holder) = bridge_lease
-        && !home_assistant::holds_lease(&mut tx, holder).await?
+        && !home_assistant::holds_lease(&mut tx, holder, now).await?
     {
         return Err(ApiError::Conflict(
             "this replica no longer runs the Home Assistant bridge; another one took it over"
                 .into(),
         ));
     }
-    let row = tasks::create(&mut tx, &task).await?;
+    let row = tasks::create(&mut tx, &task, now).await?;
     tx.commit().await?;
     // The feed's pump wakes the robots waiting for a task.
     state.feed.committed();
@@ -217,7 +218,8 @@ pub async fn cancel(
     InPath(TaskId(id)): InPath<TaskId>,
 ) -> Result<Json<TaskAnswer>, ApiError> {
     let mut tx = state.db.begin_write().await?;
-    let cancelled = tasks::cancel(&mut tx, &id, &format!("cancelled by {}", caller.name)).await?;
+    let reason = format!("cancelled by {}", caller.name);
+    let cancelled = tasks::cancel(&mut tx, &id, &reason, state.clock.now()).await?;
     tx.commit().await?;
     if let Some(row) = cancelled {
         state.feed.committed();

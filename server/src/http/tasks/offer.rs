@@ -12,11 +12,9 @@
 use std::collections::HashMap;
 
 use pps_schema::{Epc, RobotId};
-use time::OffsetDateTime;
 
 use super::availability::why_not;
 use super::targets;
-use crate::clock;
 use crate::error::ApiError;
 use crate::robots::waiting_line::{Place, Waiter};
 use crate::state::AppState;
@@ -102,16 +100,15 @@ pub async fn claim_next(
     class: Option<&str>,
 ) -> Result<Option<TaskRow>, ApiError> {
     let reader = state.db.reader();
-    let now = OffsetDateTime::now_utc();
-    let at = clock::format(now);
+    let now = state.clock.now();
     let mut memo = Memo::default();
     let mut doable = Vec::new();
-    for (epc, action) in tasks::claimable_kinds(reader, robot, class, &at).await? {
+    for (epc, action) in tasks::claimable_kinds(reader, robot, class, now).await? {
         if memo.can_run(state, &epc, &action, robot).await? {
             doable.push((epc, action));
         }
     }
-    let candidates = tasks::claimable(reader, robot, class, &at, &doable, CANDIDATES).await?;
+    let candidates = tasks::claimable(reader, robot, class, now, &doable, CANDIDATES).await?;
     if candidates.is_empty() {
         return Ok(None);
     }
@@ -128,10 +125,10 @@ pub async fn claim_next(
             state.tasks.stepped_aside();
             continue;
         }
-        let lease_until = clock::format(now + state.tasks.lease());
+        let lease_until = now + state.tasks.lease();
         let mut tx = state.db.begin_write().await?;
         let max_held = state.tasks.max_held();
-        let claimed = tasks::claim(&mut tx, &task.id, robot, &lease_until, max_held).await?;
+        let claimed = tasks::claim(&mut tx, &task.id, robot, now, lease_until, max_held).await?;
         tx.commit().await?;
         if let Some(claimed) = claimed {
             state.feed.committed();

@@ -85,6 +85,7 @@ impl<'a> Look<'a> {
         let mut online = Vec::new();
         let mut offline = Vec::new();
         let mut cannot = Vec::new();
+        let now = self.state.clock.now();
         let meant_for: Vec<RobotId> = self
             .robots
             .iter()
@@ -95,9 +96,9 @@ impl<'a> Look<'a> {
         for robot in meant_for {
             match self.why_not(task, &robot).await? {
                 Some(why) => cannot.push(format!("{robot}: {why}")),
-                None if self.state.presence.online(robot.as_str()) => online.push(robot),
+                None if self.state.presence.online(robot.as_str(), now) => online.push(robot),
                 None => {
-                    let seen = self.state.presence.seen_ago(robot.as_str());
+                    let seen = self.state.presence.seen_ago(robot.as_str(), now);
                     offline.push(match seen {
                         Some(ago) => format!("{robot} was last seen {}", ago_in_words(ago)),
                         None => format!("{robot} has not been seen yet"),

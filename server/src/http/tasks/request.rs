@@ -53,18 +53,24 @@ pub(crate) struct TaskRequest {
     pub(super) class: Option<String>,
     pub(super) note: Option<String>,
     /// When the task expires unless a robot took it.
-    pub(super) expires_at: String,
+    pub(super) expires_at: time::OffsetDateTime,
 }
 
 impl TaskRequest {
     /// A request for `action` on `epc` by any robot that can, with a note, expiring after the
-    /// default time.
-    pub(crate) fn action_on(epc: Epc, action: String, note: Option<String>) -> Self {
-        let expires_at = clock::format(time::OffsetDateTime::now_utc() + DEFAULT_EXPIRY);
+    /// default time from `now`.
+    pub(crate) fn action_on(
+        epc: Epc,
+        action: String,
+        note: Option<String>,
+        now: time::OffsetDateTime,
+    ) -> Self {
+        let expires_at = now + DEFAULT_EXPIRY;
         Self { epc, action, robot: None, class: None, note, expires_at }
     }
 
-    pub(super) fn parse(body: &Value) -> Result<Self, ApiError> {
+    /// Parses a request made at `now` (its expiry must lie ahead of it).
+    pub(super) fn parse(body: &Value, now: time::OffsetDateTime) -> Result<Self, ApiError> {
         let Some(object) = body.as_object() else {
             return Err(ApiError::invalid_at(
                 "",
@@ -100,7 +106,7 @@ impl TaskRequest {
             note: text("note", false),
             expires_at: text("expires_at", false),
         };
-        let expires_at = expiry(expires_at.as_deref(), time::OffsetDateTime::now_utc())
+        let expires_at = expiry(expires_at.as_deref(), now)
             .map_err(|message| errors.push(FieldError::new("/expires_at", message)))
             .ok();
         let epc = epc.and_then(|raw| {
@@ -215,9 +221,9 @@ impl TaskRequest {
 
 /// When a task asked for `now` expires: the time asked for (RFC 3339, later than now and at
 /// most [`MAX_EXPIRY`] ahead), or [`DEFAULT_EXPIRY`] from now when none was.
-fn expiry(asked: Option<&str>, now: time::OffsetDateTime) -> Result<String, String> {
+fn expiry(asked: Option<&str>, now: time::OffsetDateTime) -> Result<time::OffsetDateTime, String> {
     let Some(text) = asked else {
-        return Ok(clock::format(now + DEFAULT_EXPIRY));
+        return Ok(now + DEFAULT_EXPIRY);
     };
     let Some(at) = clock::parse(text) else {
         return Err(format!(
@@ -234,7 +240,7 @@ fn expiry(asked: Option<&str>, now: time::OffsetDateTime) -> Result<String, Stri
             MAX_EXPIRY.whole_days()
         ));
     }
-    Ok(clock::format(at))
+    Ok(at)
 }
 
 #[cfg(test)]
@@ -244,9 +250,9 @@ mod tests {
     #[test]
     fn a_task_expires_in_a_day_unless_asked_otherwise_within_a_month() {
         let now = clock::parse("2030-01-01T12:00:00Z").unwrap();
-        assert_eq!(expiry(None, now).unwrap(), clock::format(now + time::Duration::days(1)));
+        assert_eq!(expiry(None, now).unwrap(), now + time::Duration::days(1));
         let asked = expiry(Some("2030-01-01T13:30:00+01:00"), now).unwrap();
-        assert_eq!(clock::parse(&asked), Some(now + time::Duration::minutes(30)));
+        assert_eq!(asked, now + time::Duration::minutes(30));
         for refused in ["2030-01-01T12:00:00Z", "2030-02-01T12:00:01Z", "tomorrow", ""] {
             assert!(expiry(Some(refused), now).is_err(), "{refused}");
         }

@@ -3,10 +3,11 @@
 
 use pps_schema::RobotId;
 use sqlx::AnyConnection;
+use time::OffsetDateTime;
 use uuid::Uuid;
 
 use super::{TaskRow, announced};
-use crate::clock;
+use crate::store::columns::At;
 use crate::store::db::Dialect;
 
 /// Notes that `robot` declined the task for `reason` and puts it back in the queue, if it is
@@ -20,6 +21,7 @@ pub async fn decline(
     id: &Uuid,
     robot: &RobotId,
     reason: &str,
+    now: OffsetDateTime,
 ) -> sqlx::Result<Option<TaskRow>> {
     macro_rules! decline_appending {
         ($appended:literal, $declined_before:literal) => {
@@ -53,7 +55,7 @@ pub async fn decline(
     let row: Option<TaskRow> = sqlx::query_as(statement)
         .bind(robot.as_str())
         .bind(reason)
-        .bind(clock::now())
+        .bind(At(now))
         .bind(id.hyphenated().to_string())
         .fetch_optional(&mut *tx)
         .await?;

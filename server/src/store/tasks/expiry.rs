@@ -4,18 +4,19 @@
 //! back to the queue.
 
 use sqlx::{AnyConnection, AnyPool};
+use time::OffsetDateTime;
 
 use super::{TaskRow, announce};
-use crate::store::columns::Flag;
+use crate::store::columns::{At, Flag};
 
 /// Whether the sweep has work: a queued task expired, or a lease ran out.
-pub async fn any_overdue(pool: &AnyPool, now: &str) -> sqlx::Result<bool> {
+pub async fn any_overdue(pool: &AnyPool, now: OffsetDateTime) -> sqlx::Result<bool> {
     let found: Flag = sqlx::query_scalar(
         "select case when exists (select 1 from tasks where state = 'queued' and expires_at <= $1)
              or exists (select 1 from tasks where state = 'claimed' and lease_until <= $1)
              then 1 else 0 end",
     )
-    .bind(now)
+    .bind(At(now))
     .fetch_one(pool)
     .await?;
     Ok(found.into())
@@ -24,7 +25,7 @@ pub async fn any_overdue(pool: &AnyPool, now: &str) -> sqlx::Result<bool> {
 /// Cancels the tasks that expired by `now`: queued ones, and claimed ones whose lease ran out
 /// after their expiry. Returns them.
 #[tracing::instrument(skip_all)]
-pub async fn expire(tx: &mut AnyConnection, now: &str) -> sqlx::Result<Vec<TaskRow>> {
+pub async fn expire(tx: &mut AnyConnection, now: OffsetDateTime) -> sqlx::Result<Vec<TaskRow>> {
     let expired: Vec<TaskRow> = sqlx::query_as(concat!(
         "update tasks set state = 'cancelled', lease_until = null, updated_at = $1,
              reason = case when state = 'queued'
@@ -36,7 +37,7 @@ pub async fn expire(tx: &mut AnyConnection, now: &str) -> sqlx::Result<Vec<TaskR
          returning ",
         columns!()
     ))
-    .bind(now)
+    .bind(At(now))
     .fetch_all(&mut *tx)
     .await?;
     announce(tx, &expired).await?;

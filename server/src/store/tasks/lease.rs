@@ -8,25 +8,29 @@ use sqlx::{AnyConnection, AnyPool};
 use uuid::Uuid;
 
 use super::{MAX_ATTEMPTS, TaskRow, announce, announced};
-use crate::clock;
-use crate::store::columns::Id;
+use crate::store::columns::{At, Id};
 use crate::store::db::Dialect;
+use time::OffsetDateTime;
 
 /// The tasks `robot` holds now under a live lease, oldest first.
 #[tracing::instrument(skip_all)]
-pub async fn held_by(pool: &AnyPool, robot: &RobotId, now: &str) -> sqlx::Result<Vec<Uuid>> {
+pub async fn held_by(
+    pool: &AnyPool,
+    robot: &RobotId,
+    now: OffsetDateTime,
+) -> sqlx::Result<Vec<Uuid>> {
     let held: Vec<Id<Uuid>> = sqlx::query_scalar(
         "select id from tasks where state = 'claimed' and claimed_by = $1 and lease_until > $2
          order by seq",
     )
     .bind(robot.as_str())
-    .bind(now)
+    .bind(At(now))
     .fetch_all(pool)
     .await?;
     Ok(held.into_iter().map(|Id(id)| id).collect())
 }
 
-/// Gives the task to `robot` until `lease_until`, if it is still there for the taking (queued,
+/// Gives the task to `robot` from `now` until `lease_until`, if it is still there for the taking (queued,
 /// or its holder's lease ran out with attempts left, and not expired) and `robot` holds fewer
 /// than `max_held` tasks; `None` when another robot was faster.
 #[tracing::instrument(skip_all)]
@@ -34,10 +38,10 @@ pub async fn claim(
     tx: &mut AnyConnection,
     id: &Uuid,
     robot: &RobotId,
-    lease_until: &str,
+    now: OffsetDateTime,
+    lease_until: OffsetDateTime,
     max_held: usize,
 ) -> sqlx::Result<Option<TaskRow>> {
-    let now = clock::now();
     macro_rules! claim_appending {
         ($holders:literal) => {
             concat!(
@@ -62,8 +66,8 @@ pub async fn claim(
     );
     let row: Option<TaskRow> = sqlx::query_as(statement)
         .bind(robot.as_str())
-        .bind(lease_until)
-        .bind(&now)
+        .bind(At(lease_until))
+        .bind(At(now))
         .bind(id.hyphenated().to_string())
         .bind(MAX_ATTEMPTS)
         .bind(i64::try_from(max_held).unwrap_or(i64::MAX))
@@ -72,13 +76,14 @@ pub async fn claim(
     announced(tx, row).await
 }
 
-/// Extends `robot`'s lease on a task it holds and whose lease has not run out.
+/// Extends `robot`'s lease on a task it holds and whose lease has not run out by `now`.
 #[tracing::instrument(skip_all)]
 pub async fn extend_lease(
     tx: &mut AnyConnection,
     id: &Uuid,
     robot: &RobotId,
-    lease_until: &str,
+    now: OffsetDateTime,
+    lease_until: OffsetDateTime,
 ) -> sqlx::Result<Option<TaskRow>> {
     // Not announced: only the lease moved, and every holder's heartbeat would flood the feed.
     sqlx::query_as(concat!(
@@ -87,10 +92,10 @@ pub async fn extend_lease(
          returning ",
         columns!()
     ))
-    .bind(lease_until)
+    .bind(At(lease_until))
     .bind(id.hyphenated().to_string())
     .bind(robot.as_str())
-    .bind(clock::now())
+    .bind(At(now))
     .fetch_optional(&mut *tx)
     .await
 }
@@ -115,8 +120,8 @@ pub async fn finish(
     trial: &Uuid,
     succeeded: bool,
     reason: Option<&str>,
+    now: OffsetDateTime,
 ) -> sqlx::Result<Option<TaskRow>> {
-    let now = clock::now();
     let row: Option<TaskRow> = sqlx::query_as(concat!(
         "update tasks set state = $1, trial = $2, reason = $3, lease_until = null, updated_at = $4
          where id = $5 and state = 'claimed' and claimed_by = $6 and lease_until > $4
@@ -127,7 +132,7 @@ pub async fn finish(
     .bind(if succeeded { TaskState::Done } else { TaskState::Failed }.as_str())
     .bind(trial.hyphenated().to_string())
     .bind(reason)
-    .bind(&now)
+    .bind(At(now))
     .bind(id.hyphenated().to_string())
     .bind(robot.as_str())
     .fetch_optional(&mut *tx)
@@ -138,7 +143,10 @@ pub async fn finish(
 /// Tasks whose holder's lease ran out by `now`: back in the queue, or `failed` once
 /// [`MAX_ATTEMPTS`] leases have run out. Returns what changed.
 #[tracing::instrument(skip_all)]
-pub async fn expire_leases(tx: &mut AnyConnection, now: &str) -> sqlx::Result<Vec<TaskRow>> {
+pub async fn expire_leases(
+    tx: &mut AnyConnection,
+    now: OffsetDateTime,
+) -> sqlx::Result<Vec<TaskRow>> {
     macro_rules! fail_naming {
         ($holders:literal) => {
             concat!(
@@ -160,14 +168,14 @@ pub async fn expire_leases(tx: &mut AnyConnection, now: &str) -> sqlx::Result<Ve
         ),
     );
     let mut changed: Vec<TaskRow> =
-        sqlx::query_as(statement).bind(now).bind(MAX_ATTEMPTS).fetch_all(&mut *tx).await?;
+        sqlx::query_as(statement).bind(At(now)).bind(MAX_ATTEMPTS).fetch_all(&mut *tx).await?;
     let requeued: Vec<TaskRow> = sqlx::query_as(concat!(
         "update tasks set state = 'queued', claimed_by = null, lease_until = null, updated_at = $1
          where state = 'claimed' and lease_until <= $1
          returning ",
         columns!()
     ))
-    .bind(now)
+    .bind(At(now))
     .fetch_all(&mut *tx)
     .await?;
     changed.extend(requeued);

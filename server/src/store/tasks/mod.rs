@@ -10,8 +10,10 @@ use serde_json::{Value, json};
 use sqlx::{AnyConnection, AnyPool};
 use uuid::Uuid;
 
+use time::OffsetDateTime;
+
 use crate::clock;
-use crate::store::columns::{Id, MaybeId};
+use crate::store::columns::{At, Id, MaybeAt, MaybeId};
 use crate::store::db::Dialect;
 use crate::store::events::{self, EventKind};
 
@@ -35,21 +37,25 @@ pub struct TaskRow {
     #[sqlx(try_from = "Id<TaskState>")]
     pub state: TaskState,
     pub created_by: String,
-    pub created_at: String,
+    #[sqlx(try_from = "At")]
+    pub created_at: OffsetDateTime,
     #[sqlx(try_from = "MaybeId<RobotId>")]
     pub claimed_by: Option<RobotId>,
-    pub lease_until: Option<String>,
+    #[sqlx(try_from = "MaybeAt")]
+    pub lease_until: Option<OffsetDateTime>,
     pub attempts: i64,
     /// JSON array of every robot that held the task, in order.
     pub holders: String,
     #[sqlx(try_from = "MaybeId<Uuid>")]
     pub trial: Option<Uuid>,
     pub reason: Option<String>,
-    pub updated_at: String,
+    #[sqlx(try_from = "At")]
+    pub updated_at: OffsetDateTime,
     /// JSON array of every decline, in order: `{"robot", "reason", "at"}`.
     pub declines: String,
     /// When it expires unless a robot took it; `None` for never.
-    pub expires_at: Option<String>,
+    #[sqlx(try_from = "MaybeAt")]
+    pub expires_at: Option<OffsetDateTime>,
 }
 
 /// A robot's word that it cannot do a task, and why.
@@ -57,7 +63,8 @@ pub struct TaskRow {
 pub struct Decline {
     pub robot: RobotId,
     pub reason: String,
-    pub at: String,
+    #[serde(with = "clock::stored")]
+    pub at: OffsetDateTime,
 }
 
 impl TaskRow {
@@ -79,7 +86,7 @@ impl TaskRow {
     /// Whether the task ended because it expired before a robot took it (or finished it).
     pub fn expired(&self) -> bool {
         self.state == TaskState::Cancelled
-            && self.expires_at.as_ref().is_some_and(|at| *at <= self.updated_at)
+            && self.expires_at.is_some_and(|at| at <= self.updated_at)
     }
 
     /// Whether the task can still change hands or be cancelled.
@@ -125,7 +132,7 @@ pub struct NewTask {
     pub note: Option<String>,
     pub created_by: String,
     /// When it expires unless a robot took it.
-    pub expires_at: String,
+    pub expires_at: OffsetDateTime,
 }
 
 async fn announce(tx: &mut AnyConnection, rows: &[TaskRow]) -> sqlx::Result<()> {
@@ -142,8 +149,11 @@ async fn announced(tx: &mut AnyConnection, row: Option<TaskRow>) -> sqlx::Result
 }
 
 #[tracing::instrument(skip_all)]
-pub async fn create(tx: &mut AnyConnection, task: &NewTask) -> sqlx::Result<TaskRow> {
-    let now = clock::now();
+pub async fn create(
+    tx: &mut AnyConnection,
+    task: &NewTask,
+    now: OffsetDateTime,
+) -> sqlx::Result<TaskRow> {
     let row: TaskRow = sqlx::query_as(concat!(
         "insert into tasks (id, epc, action, robot, class, note, state, created_by, created_at, \
          updated_at, expires_at) values ($1, $2, $3, $4, $5, $6, 'queued', $7, $8, $9, $10) \
@@ -157,9 +167,9 @@ pub async fn create(tx: &mut AnyConnection, task: &NewTask) -> sqlx::Result<Task
     .bind(&task.class)
     .bind(&task.note)
     .bind(&task.created_by)
-    .bind(&now)
-    .bind(&now)
-    .bind(&task.expires_at)
+    .bind(At(now))
+    .bind(At(now))
+    .bind(At(task.expires_at))
     .fetch_one(&mut *tx)
     .await?;
     announce(tx, std::slice::from_ref(&row)).await?;
@@ -242,8 +252,9 @@ pub async fn cancel(
     tx: &mut AnyConnection,
     id: &Uuid,
     reason: &str,
+    now: OffsetDateTime,
 ) -> sqlx::Result<Option<TaskRow>> {
-    let rows = cancel_where(tx, false, &id.hyphenated().to_string(), reason).await?;
+    let rows = cancel_where(tx, false, &id.hyphenated().to_string(), reason, now).await?;
     Ok(rows.into_iter().next())
 }
 
@@ -253,8 +264,9 @@ pub async fn cancel_on_tag(
     tx: &mut AnyConnection,
     epc: &Epc,
     reason: &str,
+    now: OffsetDateTime,
 ) -> sqlx::Result<Vec<TaskRow>> {
-    cancel_where(tx, true, epc.as_hex(), reason).await
+    cancel_where(tx, true, epc.as_hex(), reason, now).await
 }
 
 /// Cancels the open tasks with this id (`by_tag` false) or on this tag (`by_tag` true).
@@ -263,6 +275,7 @@ async fn cancel_where(
     by_tag: bool,
     key: &str,
     reason: &str,
+    now: OffsetDateTime,
 ) -> sqlx::Result<Vec<TaskRow>> {
     macro_rules! cancel_by {
         ($column:literal) => {
@@ -276,12 +289,8 @@ async fn cancel_where(
         };
     }
     let statement = if by_tag { cancel_by!("epc") } else { cancel_by!("id") };
-    let rows: Vec<TaskRow> = sqlx::query_as(statement)
-        .bind(reason)
-        .bind(key)
-        .bind(clock::now())
-        .fetch_all(&mut *tx)
-        .await?;
+    let rows: Vec<TaskRow> =
+        sqlx::query_as(statement).bind(reason).bind(key).bind(At(now)).fetch_all(&mut *tx).await?;
     announce(tx, &rows).await?;
     Ok(rows)
 }

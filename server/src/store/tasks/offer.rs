@@ -5,9 +5,10 @@
 
 use pps_schema::{Epc, RobotId};
 use sqlx::AnyPool;
+use time::OffsetDateTime;
 
 use super::{MAX_ATTEMPTS, TaskRow};
-use crate::store::columns::Id;
+use crate::store::columns::{At, Id};
 use crate::store::db::Dialect;
 
 /// The tasks open to a robot, as a `where` clause: queued ones, and claimed ones whose lease
@@ -47,7 +48,7 @@ pub async fn claimable_kinds(
     pool: &AnyPool,
     robot: &RobotId,
     class: Option<&str>,
-    now: &str,
+    now: OffsetDateTime,
 ) -> sqlx::Result<Vec<(Epc, String)>> {
     macro_rules! kinds {
         ($where:expr) => {
@@ -57,7 +58,7 @@ pub async fn claimable_kinds(
     let (sqlite, postgres) = per_dialect!(kinds, kinds);
     let rows: Vec<(Id<Epc>, String)> =
         sqlx::query_as(Dialect::of_pool(pool).pick(sqlite, postgres))
-            .bind(now)
+            .bind(At(now))
             .bind(MAX_ATTEMPTS)
             .bind(robot.as_str())
             .bind(class)
@@ -73,7 +74,7 @@ pub async fn claimable(
     pool: &AnyPool,
     robot: &RobotId,
     class: Option<&str>,
-    now: &str,
+    now: OffsetDateTime,
     kinds: &[(Epc, String)],
     limit: u32,
 ) -> sqlx::Result<Vec<TaskRow>> {
@@ -109,7 +110,7 @@ pub async fn claimable(
     let kinds: Vec<String> =
         kinds.iter().map(|(epc, action)| format!("{}:{action}", epc.as_hex())).collect();
     sqlx::query_as(Dialect::of_pool(pool).pick(sqlite, postgres))
-        .bind(now)
+        .bind(At(now))
         .bind(MAX_ATTEMPTS)
         .bind(robot.as_str())
         .bind(class)
