@@ -4,6 +4,9 @@
 //! extra vertex properties (intensity, colour, normals) and other elements before or after the
 //! vertices (faces, say), which it skips. Points with a non-finite coordinate (scanners write NaN
 //! for "no return") are dropped. The writer writes `float` x, y, z only.
+//!
+//! Long because PLY's three encodings share one header parser here; the last sixth of the file
+//! is the tests, one per kind of file scanners write.
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, BufWriter, Read, Write};

@@ -4,6 +4,9 @@
 //! A message of a type not listed here decodes as [`Message::Other`] with its type, so a reader
 //! that sends something new (a vendor's CUSTOM_MESSAGE, a GET_READER_CONFIG_RESPONSE) is
 //! logged, not fatal.
+//!
+//! Long because it is one table, a variant per message with its encoding beside it; a quarter
+//! of the file is the tests that hold each to its bytes.
 
 use super::params::capabilities::{
     GENERAL_DEVICE_CAPABILITIES, GeneralDeviceCapabilities, REGULATORY_CAPABILITIES,
