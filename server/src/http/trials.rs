@@ -318,15 +318,15 @@ pub async fn list(
 
 /// The page's JSON written item by item, so the answer is never held twice over as values.
 fn page_response(page: &Page<TrialRow>) -> Response {
-    let mut body = String::from("{\"items\":[");
+    let mut body = b"{\"items\":[".to_vec();
     for (n, row) in page.items.iter().enumerate() {
         if n > 0 {
-            body.push(',');
+            body.push(b',');
         }
-        body.push_str(&row.to_json().to_string());
+        row.write_json(&mut body);
     }
-    body.push_str("],\"next_cursor\":");
-    body.push_str(&Value::from(page.next_cursor.clone()).to_string());
-    body.push('}');
+    body.extend_from_slice(b"],\"next_cursor\":");
+    body.extend_from_slice(Value::from(page.next_cursor.clone()).to_string().as_bytes());
+    body.push(b'}');
     ([(axum::http::header::CONTENT_TYPE, "application/json")], body).into_response()
 }

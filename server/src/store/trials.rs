@@ -1,6 +1,9 @@
 //! Trials in the database: one row per attempt, in the order the registry received them.
 
+use std::collections::BTreeMap;
+
 use pps_schema::{Epc, Outcome, Purpose, RobotId, Trial};
+use serde_json::value::RawValue;
 use serde_json::{Value, json};
 use sqlx::{AnyConnection, AnyPool};
 use uuid::Uuid;
@@ -49,6 +52,36 @@ impl TrialRow {
             object.insert("picture".into(), picture.map_or(Value::Null, Value::from));
         }
         trial
+    }
+
+    /// [`Self::to_json`] as text, the same bytes as `to_json().to_string()`, written without
+    /// decoding the stored values: a trial's thousands of force samples are copied as they are,
+    /// not parsed into numbers and printed again, the bulk of a page's cost.
+    pub fn write_json(&self, out: &mut Vec<u8>) {
+        let added = [
+            ("confirmed", self.confirmed.map_or(Value::Null, Value::from)),
+            ("purpose", self.purpose.clone().into()),
+            ("received_at", self.received_at.clone().into()),
+            ("seq", self.seq.into()),
+            ("picture", self.has_picture.then(|| picture_path(&self.id)).into()),
+        ];
+        let added: Vec<(&str, Box<RawValue>)> = added
+            .into_iter()
+            .filter_map(|(key, value)| Some((key, serde_json::value::to_raw_value(&value).ok()?)))
+            .collect();
+        // Keys in the order a `Value`'s map keeps them, so both ways give the same text.
+        let Ok(mut fields) = serde_json::from_str::<BTreeMap<String, &RawValue>>(&self.body) else {
+            out.extend_from_slice(self.to_json().to_string().as_bytes());
+            return;
+        };
+        for (key, value) in &added {
+            fields.insert((*key).to_owned(), value);
+        }
+        let start = out.len();
+        if serde_json::to_writer(&mut *out, &fields).is_err() {
+            out.truncate(start);
+            out.extend_from_slice(self.to_json().to_string().as_bytes());
+        }
     }
 
     /// The trial as first submitted (the idempotency key's content).
@@ -279,4 +312,58 @@ pub async fn replace_body(
         .execute(conn)
         .await?;
     Ok(done.rows_affected() == 1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(body: &str, confirmed: Option<bool>, has_picture: bool) -> TrialRow {
+        TrialRow {
+            seq: 42,
+            id: Uuid::parse_str("0b7c2a52-4a0e-4d8e-9a51-2f7a3c1d9e10").unwrap(),
+            epc: Epc::parse("355AB1C60000002000000001").unwrap(),
+            robot: RobotId::parse("el-e-1").unwrap(),
+            robot_class: Some("el-e".into()),
+            action: "on".into(),
+            outcome: "success".into(),
+            confirmed,
+            purpose: "experiment".into(),
+            received_at: "2026-11-22T10:00:31Z".into(),
+            body: body.into(),
+            has_picture,
+        }
+    }
+
+    fn written(row: &TrialRow) -> String {
+        let mut out = Vec::new();
+        row.write_json(&mut out);
+        String::from_utf8(out).unwrap()
+    }
+
+    #[test]
+    fn a_trial_is_written_as_its_json_value_prints() {
+        let stored = json!({
+            "id": "0b7c2a52-4a0e-4d8e-9a51-2f7a3c1d9e10", "epc": "355AB1C60000002000000001",
+            "robot": "el-e-1", "action": "on", "behavior": "push_top", "outcome": "success",
+            "confirmed": false, "purpose": "experiment", "notes": "a \"quoted\" é\u{2028}\t",
+            "forces": [{ "t": 0.1, "finger": "left", "force": [1e-7, -2.5, 1.2345678901234567] }],
+            "measurements": { "zeta": 1, "alpha": [true, null] }
+        })
+        .to_string();
+        for body in [stored.as_str(), "{}", "[1,2]", "not json"] {
+            for (confirmed, picture) in [(None, false), (Some(true), true), (Some(false), false)] {
+                let row = row(body, confirmed, picture);
+                assert_eq!(written(&row), row.to_json().to_string(), "{body} {confirmed:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn writing_appends_to_what_is_there() {
+        let row = row("{}", None, false);
+        let mut out = b"[".to_vec();
+        row.write_json(&mut out);
+        assert_eq!(out, format!("[{}", row.to_json()).into_bytes());
+    }
 }
