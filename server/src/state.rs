@@ -12,6 +12,7 @@ use crate::metrics::Metrics;
 use crate::presence::Presence;
 use crate::sightings::Sightings;
 use crate::task_board::TaskBoard;
+use crate::transport::AnswerTurns;
 use crate::trial_writer::TrialWriter;
 
 /// The shared state, behind one `Arc`: every request clones it (the router hands each handler
@@ -36,6 +37,8 @@ pub struct Shared {
     /// Robots waiting for a task, and the lease a claim gives.
     pub tasks: Arc<TaskBoard>,
     pub metrics: Arc<Metrics>,
+    /// Turns at building answers of megabytes, fair between client addresses.
+    pub heavy_answers: Arc<AnswerTurns>,
     /// Whether this process runs the Home Assistant bridge and is connected.
     pub home_assistant: Arc<BridgeStatus>,
     /// Pictures kept per tag: a new one removes the bytes of the oldest beyond this.
@@ -67,6 +70,7 @@ impl AppState {
             trials,
             tasks: Arc::default(),
             metrics: Arc::default(),
+            heavy_answers: Arc::new(AnswerTurns::for_this_machine()),
             home_assistant: Arc::default(),
             pictures_per_tag: crate::picture::DEFAULT_PICTURES_PER_TAG,
         }))
