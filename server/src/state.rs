@@ -13,6 +13,7 @@ use crate::robots::sightings::Sightings;
 use crate::robots::waiting_line::WaitingLine;
 use crate::store::db::Db;
 use crate::tags::effective_cache::EffectiveCache;
+use crate::transport::AnswerTurns;
 use crate::trials::writer::TrialWriter;
 
 /// The shared state, behind one `Arc`: every request clones it (the router hands each handler
@@ -39,6 +40,8 @@ pub struct Shared {
     /// Robots waiting for a task, and the lease a claim gives.
     pub tasks: Arc<WaitingLine>,
     pub metrics: Arc<Metrics>,
+    /// Turns at building answers of megabytes, fair between client addresses.
+    pub heavy_answers: Arc<AnswerTurns>,
     /// Whether this process runs the Home Assistant bridge and is connected.
     pub home_assistant: Arc<BridgeStatus>,
     /// Pictures kept per tag: a new one removes the bytes of the oldest beyond this.
@@ -77,6 +80,7 @@ impl AppState {
             trials,
             tasks: Arc::default(),
             metrics: Arc::default(),
+            heavy_answers: Arc::new(AnswerTurns::for_this_machine()),
             home_assistant: Arc::default(),
             pictures_per_tag: crate::trials::picture::DEFAULT_PICTURES_PER_TAG,
         }))

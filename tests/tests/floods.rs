@@ -5,9 +5,9 @@
 use std::net::SocketAddr;
 use std::time::{Duration, Instant};
 
-use pps_tests::Registry;
+use pps_tests::{Registry, fixtures, wait};
 use reqwest::{Method, StatusCode};
-use serde_json::json;
+use serde_json::{Value, json};
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpSocket, TcpStream};
 
@@ -257,5 +257,93 @@ async fn a_connection_that_never_reads_its_answers_is_closed_after_the_write_tim
     eprintln!("/healthz waited {waited:?} for a connection that never read to be closed");
     assert_eq!(health.expect("a slot was freed").status(), StatusCode::OK);
     assert!(waited >= timeout - Duration::from_millis(300), "{waited:?}");
+    drop(hogs);
+}
+
+/// A gauge's value in the registry's Prometheus metrics.
+async fn gauge(registry: &Registry, name: &str) -> usize {
+    let text =
+        reqwest::get(format!("{}/metrics", registry.url)).await.unwrap().text().await.unwrap();
+    let line = text.lines().find(|line| line.split_whitespace().next() == Some(name));
+    line.and_then(|line| line.split_whitespace().nth(1))
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("the metrics have no {name}"))
+}
+
+/// A connection from `source` that asks for a page of trials with their force samples
+/// `times` times in one go and never reads, its receive buffer small so writes stall at once.
+async fn heavy_non_reader(registry: &Registry, source: [u8; 4], token: &str) -> TcpStream {
+    let socket = TcpSocket::new_v4().unwrap();
+    socket.set_recv_buffer_size(4096).unwrap();
+    socket.bind(SocketAddr::from((source, 0))).unwrap();
+    let mut stream = socket.connect(address(registry)).await.unwrap();
+    let request = format!(
+        "GET /api/v1/trials?limit=500&include=forces HTTP/1.1\r\nhost: registry\r\n\
+         authorization: Bearer {token}\r\n\r\n"
+    );
+    stream.write_all(request.repeat(20).as_bytes()).await.unwrap();
+    stream
+}
+
+#[tokio::test]
+async fn hosts_asking_for_heavy_pages_wait_their_turn_and_a_third_host_is_served_meanwhile() {
+    let registry = Registry::start();
+    let robot = fixtures::robot(&registry, "el-e-1", "el-e").await;
+    // Twelve trials of 5,000 force samples: a page with forces is 4 MiB, cut short.
+    for n in 0..12 {
+        let mut trial = fixtures::switch_trial("el-e-1");
+        let forces: Vec<Value> = (0..5000)
+            .map(|i| {
+                let x = f64::from(n * 5000 + i);
+                json!({ "t": x * 0.001, "finger": "left", "force": [x.sin(), x.cos(), 2.0 + x.sin()] })
+            })
+            .collect();
+        trial["forces"] = Value::from(forces);
+        let (status, body) = fixtures::put_trial(&registry, &robot, &trial).await;
+        assert_eq!(status, StatusCode::CREATED, "{body}");
+    }
+    let mut hogs = Vec::new();
+    for source in [[127, 0, 0, 8], [127, 0, 0, 9]] {
+        for _ in 0..32 {
+            hogs.push(heavy_non_reader(&registry, source, &robot).await);
+        }
+    }
+    // Each host's requests queue behind its one turn; at most one core's worth is built at once.
+    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    let queued = wait::until("both hosts' pages to queue up", || async {
+        let waiting = gauge(&registry, "pps_heavy_answers_waiting").await;
+        (waiting >= 32).then_some(waiting)
+    })
+    .await;
+    let building = gauge(&registry, "pps_heavy_answers_building").await;
+    assert!(
+        building <= (cores - 1).max(1),
+        "{building} heavy answers built at once on {cores} cores"
+    );
+
+    let third = reqwest::Client::builder()
+        .local_address(std::net::IpAddr::from([127, 0, 0, 10]))
+        .build()
+        .unwrap();
+    let health = third.get(format!("{}/healthz", registry.url)).send().await.unwrap();
+    assert_eq!(health.status(), StatusCode::OK);
+    let tags =
+        third.get(format!("{}/api/v1/tags", registry.url)).bearer_auth(&registry.admin_token);
+    assert_eq!(tags.send().await.unwrap().status(), StatusCode::OK);
+    // A heavy page of its own waits for one turn, not behind the two hosts' backlogs.
+    let page = third
+        .get(format!("{}/api/v1/trials?limit=500&include=forces", registry.url))
+        .bearer_auth(&robot)
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(page.status(), StatusCode::OK);
+    let page: Value = page.json().await.unwrap();
+    assert!(page["next_cursor"].is_string(), "the page is cut short at 4 MiB");
+    let still_waiting = gauge(&registry, "pps_heavy_answers_waiting").await;
+    eprintln!(
+        "{queued} heavy requests queued; {still_waiting} still queued after the third host's"
+    );
+    assert!(still_waiting > 0, "the third host was served before the two hosts' backlog");
     drop(hogs);
 }

@@ -72,5 +72,13 @@ pub async fn metrics(
         state.tasks.waiting(),
         state.tasks.looks()
     ));
+    text.push_str(&format!(
+        "# HELP pps_heavy_answers_building Answers of megabytes being built now.\n\
+         # TYPE pps_heavy_answers_building gauge\npps_heavy_answers_building {}\n\
+         # HELP pps_heavy_answers_waiting Requests waiting for their address's turn to build one.\n\
+         # TYPE pps_heavy_answers_waiting gauge\npps_heavy_answers_waiting {}\n",
+        state.heavy_answers.building(),
+        state.heavy_answers.waiting()
+    ));
     ([(axum::http::header::CONTENT_TYPE, "text/plain; version=0.0.4; charset=utf-8")], text)
 }

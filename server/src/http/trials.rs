@@ -1,10 +1,12 @@
 //! `/api/v1/trials`: what robots did, written by them once per attempt (idempotently, by a
 //! UUID they choose) and read by caretakers, the UI and learning.
 
-use axum::Json;
-use axum::extract::State;
+use std::net::{IpAddr, SocketAddr};
+
+use axum::extract::{ConnectInfo, State};
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
+use axum::{Extension, Json};
 use pps_schema::{MAX_FORCE_SAMPLES, Purpose, Trial};
 use serde::Deserialize;
 use serde_json::{Value, json};
@@ -297,6 +299,7 @@ pub const LIST: Doc = Doc::new("listTrials", "Trial history, oldest first")
 pub async fn list(
     State(state): State<AppState>,
     Caller(caller): Caller,
+    client: Option<Extension<ConnectInfo<SocketAddr>>>,
     ApiQuery(params): ApiQuery<ListParams>,
 ) -> Result<Response, ApiError> {
     let limit = page::limit(params.limit)?;
@@ -325,6 +328,10 @@ pub async fn list(
             )));
         }
     };
+    // Pages with force samples run to megabytes: their query and text wait for the client
+    // address's turn, so a few hosts asking for many cannot take every core.
+    let _turn =
+        if forces { Some(state.heavy_answers.turn(client_address(client)).await) } else { None };
     let window = trials::Window { after, limit: limit + 1, max_bytes: MAX_PAGE_BYTES, forces };
     let (rows, cut_short) = trials::list(state.db.reader(), &filter, window).await?;
     let mut page = page::page(rows, limit, |row| row.seq.to_string());
@@ -332,6 +339,11 @@ pub async fn list(
         page.next_cursor = page.items.last().map(|last| page::encode_cursor(&last.seq.to_string()));
     }
     page_response(&page)
+}
+
+/// The client's address; requests handed to the router in-process share one.
+fn client_address(client: Option<Extension<ConnectInfo<SocketAddr>>>) -> IpAddr {
+    client.map_or(IpAddr::from([127, 0, 0, 1]), |Extension(ConnectInfo(address))| address.ip())
 }
 
 /// The page's JSON written item by item, so the answer is never held twice over as values.

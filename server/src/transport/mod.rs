@@ -10,6 +10,7 @@
 //! lets open requests finish and closes idle connections.
 
 mod address_share;
+pub mod answer_turns;
 pub mod body_deadline;
 pub mod tls;
 mod write_deadline;
@@ -30,6 +31,7 @@ use tokio::sync::{OwnedSemaphorePermit, Semaphore, watch};
 use tower::ServiceExt;
 
 use address_share::{AddressShares, AddressSlot};
+pub use answer_turns::AnswerTurns;
 use body_deadline::DeadlineBody;
 pub use tls::TlsIdentity;
 use write_deadline::WriteDeadline;
