@@ -4,8 +4,6 @@
 //! none of the plywood, every entry carries it, and the robot looks for it before its next read.
 //! With it learned, the paper's Table I still comes out at least 47 of 48 for each class.
 
-mod support;
-
 use pps_robot::experiment::{
     SimulatedTrial, flush_until_stored, render_table, run_simulated, run_trials, start_up,
 };
@@ -74,7 +72,7 @@ async fn three_confirmed_reads_teach_the_household_to_leave_the_wood_out() {
     assert!(passing > 0, "the factory thresholds let the plywood's grain in");
 
     let dir = tempfile::tempdir().unwrap();
-    let registry = support::Registry::start(dir.path()).await;
+    let registry = pps_test_kit::RobotRegistry::start().await;
     let client = registry.client(dir.path());
     let learned = learn_from_the_drawer(&client).await;
     let thresholds = HsvThresholds::new(&learned.segmentation).unwrap();
@@ -98,7 +96,7 @@ async fn three_confirmed_reads_teach_the_household_to_leave_the_wood_out() {
 #[tokio::test(flavor = "multi_thread")]
 async fn the_second_class_learns_its_own_camera_s_colour() {
     let dir = tempfile::tempdir().unwrap();
-    let registry = support::Registry::start(dir.path()).await;
+    let registry = pps_test_kit::RobotRegistry::start().await;
     let capabilities = ["light_switch", "pull_back", "push", "pull_lamp", "drop"];
     let stretch = registry.add_robot("stretch-1", "stretch", &capabilities, dir.path()).await;
     let learned = learn_from_the_drawer(&stretch).await;

@@ -10,6 +10,7 @@ use llrpkit::{Emulator, tag};
 use pps_robot::hal::{AntennaId, HalError, RfidReader, TagRead};
 use pps_robot::navigation::{RfidIdentity, identify_tag};
 use pps_robot::rfid::llrp::{LlrpReader, LlrpSettings};
+use pps_test_kit::wait_until_blocking;
 
 const LIGHT_SWITCH: &str = "355AB1C60000001000000001";
 const LAMP: &str = "355AB1C60000003000000001";
@@ -127,7 +128,9 @@ fn keepalives_are_answered_during_a_round() {
     let reader = LlrpReader::connect(settings(&emulator, &[1], 1200)).unwrap();
     std::thread::scope(|s| {
         let round = s.spawn(|| reader.inventory());
-        std::thread::sleep(Duration::from_millis(200));
+        wait_until_blocking(Duration::from_secs(5), "the round to start", || {
+            (emulator.command("active") == "yes").then_some(())
+        });
         assert_eq!(emulator.command("keepalive"), "ack");
         assert!(round.join().unwrap().is_ok());
     });

@@ -2,14 +2,12 @@
 //! the start-up read of every tag, and trials that survive the registry going away and the
 //! robot restarting.
 
-mod support;
-
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use pps_robot::registry::{RegistryClient, Source};
 use pps_robot::sim::DeviceKind;
 use pps_schema::{Epc, RobotId, Trial};
-use pps_server::{AppState, Db};
+use pps_test_kit::{Config, RobotRegistry, wait_for, wait_until};
 use serde_json::json;
 
 const ADA_SWITCH: &str = "355AB1C60000002000000001";
@@ -27,10 +25,10 @@ fn trial(robot: &str) -> Trial {
 #[tokio::test]
 async fn cached_entries_follow_the_change_feed_and_serve_while_offline() {
     let dir = tempfile::tempdir().unwrap();
-    let mut registry = support::Registry::start(dir.path()).await;
+    let mut registry = RobotRegistry::start().await;
     let token = registry.robot_token.clone();
     let client = RegistryClient::new(
-        &registry.url(),
+        &registry.url,
         &token,
         RobotId::parse("el-e-1").unwrap(),
         &dir.path().join("robot"),
@@ -47,11 +45,11 @@ async fn cached_entries_follow_the_change_feed_and_serve_while_offline() {
     );
 
     let _watch = client.watch_changes();
-    let deadline = Instant::now() + Duration::from_secs(5);
-    while client.effective_entry(&epc).await.unwrap().source != Source::Fresh {
-        assert!(Instant::now() < deadline, "with the feed live, entries are used without asking");
-        tokio::time::sleep(Duration::from_millis(50)).await;
-    }
+    let reason = "the feed to be live, so entries are used without asking";
+    wait_for(Duration::from_secs(5), reason, || async {
+        client.effective_entry(&epc).await.unwrap().source == Source::Fresh
+    })
+    .await;
 
     // A caretaker changes the tag: the feed invalidates the cached entry.
     registry
@@ -59,26 +57,22 @@ async fn cached_entries_follow_the_change_feed_and_serve_while_offline() {
             entry["behaviors"]["push_top"]["force_threshold"] = json!(4.0);
         })
         .await;
-    let deadline = Instant::now() + Duration::from_secs(5);
-    let updated = loop {
+    let updated = wait_until(Duration::from_secs(5), "the change to reach the robot", || async {
         let fetched = client.effective_entry(&epc).await.unwrap();
-        if fetched.source == Source::Registry {
-            break fetched;
-        }
-        assert!(Instant::now() < deadline, "the change reached the robot");
-        tokio::time::sleep(Duration::from_millis(50)).await;
-    };
+        (fetched.source == Source::Registry).then_some(fetched)
+    })
+    .await;
     let threshold = serde_json::to_value(&updated.entry.entry.behaviors["push_top"]).unwrap()["force_threshold"].clone();
     assert_eq!(threshold, json!(4.0));
 
     // The registry goes away: once the watch has seen the feed drop, the cached entry stands in
     // for it, said to be offline; until then it is served fresh. Never an error.
     registry.stop().await;
-    let deadline = Instant::now() + Duration::from_secs(10);
-    while client.effective_entry(&epc).await.unwrap().source != Source::Offline {
-        assert!(Instant::now() < deadline, "the cached entry stands in, said to be offline");
-        tokio::time::sleep(Duration::from_millis(50)).await;
-    }
+    let reason = "the cached entry to stand in, said to be offline";
+    wait_for(Duration::from_secs(10), reason, || async {
+        client.effective_entry(&epc).await.unwrap().source == Source::Offline
+    })
+    .await;
     let unknown = Epc::parse("E2003412000000000000AAAA").unwrap();
     assert!(client.effective_entry(&unknown).await.is_err(), "nothing cached, nothing to stand in");
 }
@@ -86,11 +80,11 @@ async fn cached_entries_follow_the_change_feed_and_serve_while_offline() {
 #[tokio::test]
 async fn trials_recorded_offline_upload_exactly_once_after_a_restart() {
     let dir = tempfile::tempdir().unwrap();
-    let mut registry = support::Registry::start(dir.path()).await;
+    let mut registry = RobotRegistry::start().await;
     let token = registry.robot_token.clone();
     let state = dir.path().join("robot");
     let robot = RobotId::parse("el-e-1").unwrap();
-    let client = RegistryClient::new(&registry.url(), &token, robot.clone(), &state).unwrap();
+    let client = RegistryClient::new(&registry.url, &token, robot.clone(), &state).unwrap();
 
     let online = trial("el-e-1");
     assert_eq!(client.record_trial(&online).await.unwrap().uploaded, 1);
@@ -105,12 +99,12 @@ async fn trials_recorded_offline_upload_exactly_once_after_a_restart() {
     drop(client);
 
     // The robot restarts (a new client on the same state), then the registry comes back.
-    let restarted = RegistryClient::new(&registry.url(), &token, robot, &state).unwrap();
+    let restarted = RegistryClient::new(&registry.url, &token, robot, &state).unwrap();
     assert_eq!(restarted.outbox().len().unwrap(), 3, "nothing lost across the restart");
     registry.restart().await;
     // One answer was lost on the way back: the registry has it, the outbox does not know.
     let resent = reqwest::Client::new()
-        .put(format!("{}/api/v1/trials/{}", registry.url(), offline[0].id))
+        .put(format!("{}/api/v1/trials/{}", registry.url, offline[0].id))
         .bearer_auth(&token)
         .json(&offline[0])
         .send()
@@ -141,10 +135,6 @@ async fn trials_recorded_offline_upload_exactly_once_after_a_restart() {
 #[tokio::test]
 async fn the_registry_is_reached_over_https_with_the_lans_own_certificate_authority() {
     let dir = tempfile::tempdir().unwrap();
-    let mut plain = support::Registry::start(dir.path()).await;
-    let token = plain.robot_token.clone();
-    plain.stop().await;
-
     let made = rcgen::generate_simple_self_signed(vec!["localhost".to_owned()]).unwrap();
     let (cert, key) = (dir.path().join("pps.crt"), dir.path().join("pps.key"));
     std::fs::write(&cert, made.cert.pem()).unwrap();
@@ -153,23 +143,16 @@ async fn the_registry_is_reached_over_https_with_the_lans_own_certificate_author
         tls: Some(pps_server::transport::TlsIdentity::load(&cert, &key).unwrap()),
         ..Default::default()
     };
-    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
-    let url = format!("https://localhost:{}", listener.local_addr().unwrap().port());
-    let db = Db::open_file(plain.db_path()).await.unwrap();
-    let options = pps_server::ServeOptions { transport, ..Default::default() };
-    tokio::spawn(pps_server::serve_with(
-        listener,
-        AppState::new(db),
-        options,
-        std::future::pending(),
-    ));
+    let registry = RobotRegistry::start_with(Config { transport, ..Config::default() }).await;
+    let (url, token) =
+        (format!("https://localhost:{}", registry.address.port()), &registry.robot_token);
 
     let robot = RobotId::parse("el-e-1").unwrap();
     let epc = Epc::parse(ADA_SWITCH).unwrap();
     let untrusting =
-        RegistryClient::new(&url, &token, robot.clone(), &dir.path().join("a")).unwrap();
+        RegistryClient::new(&url, token, robot.clone(), &dir.path().join("a")).unwrap();
     assert!(untrusting.effective_entry(&epc).await.is_err(), "an unknown certificate is refused");
-    let trusting = RegistryClient::new(&url, &token, robot, &dir.path().join("b"))
+    let trusting = RegistryClient::new(&url, token, robot, &dir.path().join("b"))
         .unwrap()
         .with_ca_certificate(made.cert.pem().as_bytes())
         .unwrap();
@@ -180,7 +163,7 @@ async fn the_registry_is_reached_over_https_with_the_lans_own_certificate_author
 #[tokio::test(flavor = "multi_thread")]
 async fn starting_up_reads_every_tag_and_forgets_the_archived_ones() {
     let dir = tempfile::tempdir().unwrap();
-    let registry = support::Registry::start(dir.path()).await;
+    let registry = RobotRegistry::start().await;
     let client = registry.client(dir.path());
     assert_eq!(client.sync_entries().await.unwrap(), 5);
     assert_eq!(client.known_entries().len(), 5);

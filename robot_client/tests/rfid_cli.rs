@@ -1,7 +1,6 @@
 //! `pps-robot rfid` as a person or a script runs it, against llrpkit's LLRP reader emulator.
 
 mod llrpkit;
-mod support;
 
 use std::net::TcpListener;
 use std::process::{Command, Output};
@@ -75,11 +74,12 @@ fn an_unreachable_reader_is_a_sentence_and_a_failure_within_seconds() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn with_a_registry_the_chosen_tags_actions_are_printed() {
     let dir = tempfile::tempdir().unwrap();
-    let registry = support::Registry::start(dir.path()).await;
+    let registry = pps_test_kit::RobotRegistry::start().await;
     let emulator = Emulator::start(vec![tag(ADA_SWITCH, &[1], -44.0)], 400.0);
     let state = dir.path().join("robot-state").to_string_lossy().into_owned();
     let run = |address: String, json: bool| {
-        let (url, token, state) = (registry.url(), registry.robot_token.clone(), state.clone());
+        let (url, token, state) =
+            (registry.url.clone(), registry.robot_token.clone(), state.clone());
         tokio::task::spawn_blocking(move || {
             let mut args = vec!["rfid", "--llrp", &address, "--rounds", "1", "--registry", &url];
             args.extend(["--token", &token, "--robot", "el-e-1", "--state", &state]);

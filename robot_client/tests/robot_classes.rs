@@ -3,8 +3,6 @@
 //! they do differently comes from the entries' `robots` overrides. Without its class's colour
 //! override the Stretch-like robot no longer finds a tag, and the EL-E-like one does not notice.
 
-mod support;
-
 use pps_robot::experiment::{SimulatedTrial, run_simulated, start_up};
 use pps_robot::registry::RegistryClient;
 use pps_robot::sim::{DeviceKind, SimBody};
@@ -24,7 +22,7 @@ async fn lamp_on(client: &RegistryClient) -> pps_robot::experiment::SimulatedRes
 #[tokio::test(flavor = "multi_thread")]
 async fn each_class_acts_by_its_overrides_in_the_shared_entries() {
     let dir = tempfile::tempdir().unwrap();
-    let registry = support::Registry::start(dir.path()).await;
+    let registry = pps_test_kit::RobotRegistry::start().await;
     let el_e = registry.client(dir.path());
     let stretch = registry.add_robot("stretch-1", "stretch", &CAPABILITIES, dir.path()).await;
     assert_eq!(start_up(&el_e).await.unwrap(), SimBody::ElE);
@@ -66,7 +64,7 @@ async fn each_class_acts_by_its_overrides_in_the_shared_entries() {
 #[tokio::test(flavor = "multi_thread")]
 async fn a_robot_starting_while_the_registry_is_away_keeps_its_class_and_tags() {
     let dir = tempfile::tempdir().unwrap();
-    let mut registry = support::Registry::start(dir.path()).await;
+    let mut registry = pps_test_kit::RobotRegistry::start().await;
     let stretch = registry.add_robot("stretch-1", "stretch", &CAPABILITIES, dir.path()).await;
     assert_eq!(start_up(&stretch).await.unwrap(), SimBody::Stretch);
     registry.stop().await;
@@ -78,7 +76,7 @@ async fn a_robot_starting_while_the_registry_is_away_keeps_its_class_and_tags() 
     assert_eq!(report.waiting_upload, 1, "{report}");
 
     let never_online = RegistryClient::new(
-        &registry.url(),
+        &registry.url,
         "token",
         pps_schema::RobotId::parse("stretch-2").unwrap(),
         &dir.path().join("stretch-2"),

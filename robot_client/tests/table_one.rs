@@ -4,14 +4,12 @@
 //! home (red things beside the tags, the switches 30 cm apart, lacquer, evening light) at most
 //! one of the 48 may miss.
 
-mod support;
-
 use pps_robot::experiment::{flush_until_stored, render_table, run_trials};
 use pps_robot::registry::RegistryClient;
 use pps_robot::sim::{DeviceKind, RoomOptions};
 
 async fn protocol(
-    registry: &support::Registry,
+    registry: &pps_test_kit::RobotRegistry,
     client: &RegistryClient,
     room: RoomOptions,
     least: u32,
@@ -33,7 +31,10 @@ async fn protocol(
 
 /// The protocol's trials are an experiment: the stuck drawer's failures do not count against
 /// the drawer in real use, and count only when asked for.
-async fn experiment_kept_apart(registry: &support::Registry, stored: &[serde_json::Value]) {
+async fn experiment_kept_apart(
+    registry: &pps_test_kit::RobotRegistry,
+    stored: &[serde_json::Value],
+) {
     assert!(stored.iter().all(|t| t["purpose"] == "experiment"), "every trial is an experiment");
     let drawer = DeviceKind::Drawer.epc();
     let on_drawer = stored.iter().filter(|t| t["epc"] == drawer.as_hex()).count();
@@ -51,7 +52,10 @@ async fn experiment_kept_apart(registry: &support::Registry, stored: &[serde_jso
     assert_eq!(attempts, on_drawer);
 }
 
-async fn second_class(registry: &support::Registry, dir: &std::path::Path) -> RegistryClient {
+async fn second_class(
+    registry: &pps_test_kit::RobotRegistry,
+    dir: &std::path::Path,
+) -> RegistryClient {
     let capabilities = ["light_switch", "pull_back", "push", "pull_lamp", "drop"];
     registry.add_robot("stretch-1", "stretch", &capabilities, dir).await
 }
@@ -59,14 +63,14 @@ async fn second_class(registry: &support::Registry, dir: &std::path::Path) -> Re
 #[tokio::test(flavor = "multi_thread")]
 async fn table_one_protocol() {
     let dir = tempfile::tempdir().unwrap();
-    let registry = support::Registry::start(dir.path()).await;
+    let registry = pps_test_kit::RobotRegistry::start().await;
     protocol(&registry, &registry.client(dir.path()), RoomOptions::default(), 48).await;
 }
 
 #[tokio::test(flavor = "multi_thread")]
 async fn table_one_protocol_for_the_second_robot_class() {
     let dir = tempfile::tempdir().unwrap();
-    let registry = support::Registry::start(dir.path()).await;
+    let registry = pps_test_kit::RobotRegistry::start().await;
     let stretch = second_class(&registry, dir.path()).await;
     protocol(&registry, &stretch, RoomOptions::default(), 48).await;
 }
@@ -74,14 +78,14 @@ async fn table_one_protocol_for_the_second_robot_class() {
 #[tokio::test(flavor = "multi_thread")]
 async fn table_one_protocol_in_a_home() {
     let dir = tempfile::tempdir().unwrap();
-    let registry = support::Registry::start(dir.path()).await;
+    let registry = pps_test_kit::RobotRegistry::start().await;
     protocol(&registry, &registry.client(dir.path()), RoomOptions::home(), 47).await;
 }
 
 #[tokio::test(flavor = "multi_thread")]
 async fn table_one_protocol_in_a_home_for_the_second_robot_class() {
     let dir = tempfile::tempdir().unwrap();
-    let registry = support::Registry::start(dir.path()).await;
+    let registry = pps_test_kit::RobotRegistry::start().await;
     let stretch = second_class(&registry, dir.path()).await;
     protocol(&registry, &stretch, RoomOptions::home(), 47).await;
 }

@@ -2,8 +2,6 @@
 //! robot records, the person's choice between two actions, the registry learning the drawer's
 //! pull distance from the trials, and trials kept while the registry is away.
 
-mod support;
-
 use pps_robot::experiment::{SimulatedTrial, run_simulated};
 use pps_robot::sim::{DeviceKind, RoomOptions};
 use pps_robot::task::TaskConfig;
@@ -12,7 +10,7 @@ use pps_schema::Outcome;
 #[tokio::test(flavor = "multi_thread")]
 async fn the_four_phases_end_in_a_trial_with_its_evidence_in_the_registry() {
     let dir = tempfile::tempdir().unwrap();
-    let registry = support::Registry::start(dir.path()).await;
+    let registry = pps_test_kit::RobotRegistry::start().await;
     let client = registry.client(dir.path());
     let trial = SimulatedTrial::new(DeviceKind::AdaLightSwitch, "on", None);
     let result = run_simulated(&trial, &client, &TaskConfig::default()).await.unwrap();
@@ -52,7 +50,7 @@ async fn the_four_phases_end_in_a_trial_with_its_evidence_in_the_registry() {
 #[tokio::test(flavor = "multi_thread")]
 async fn no_picture_is_sent_when_the_robot_is_told_not_to() {
     let dir = tempfile::tempdir().unwrap();
-    let registry = support::Registry::start(dir.path()).await;
+    let registry = pps_test_kit::RobotRegistry::start().await;
     let client = registry.client(dir.path());
     let trial = SimulatedTrial::new(DeviceKind::AdaLightSwitch, "on", None);
     let config = TaskConfig { picture: false, ..TaskConfig::default() };
@@ -64,7 +62,7 @@ async fn no_picture_is_sent_when_the_robot_is_told_not_to() {
 #[tokio::test(flavor = "multi_thread")]
 async fn two_actions_are_chosen_by_the_person_and_pull_distance_is_learned() {
     let dir = tempfile::tempdir().unwrap();
-    let registry = support::Registry::start(dir.path()).await;
+    let registry = pps_test_kit::RobotRegistry::start().await;
     let client = registry.client(dir.path());
     let open = SimulatedTrial::new(DeviceKind::Drawer, "open", None);
     let result = run_simulated(&open, &client, &TaskConfig::default()).await.unwrap();
@@ -90,7 +88,7 @@ async fn two_actions_are_chosen_by_the_person_and_pull_distance_is_learned() {
 #[tokio::test(flavor = "multi_thread")]
 async fn trials_made_while_the_registry_is_away_are_stored_when_it_returns() {
     let dir = tempfile::tempdir().unwrap();
-    let mut registry = support::Registry::start(dir.path()).await;
+    let mut registry = pps_test_kit::RobotRegistry::start().await;
     let client = registry.client(dir.path());
     // Read once, so the entry is cached for when the registry is gone.
     let trial = SimulatedTrial::new(
@@ -124,7 +122,7 @@ async fn trials_made_while_the_registry_is_away_are_stored_when_it_returns() {
 #[tokio::test(flavor = "multi_thread")]
 async fn an_action_the_robot_cannot_run_is_not_attempted() {
     let dir = tempfile::tempdir().unwrap();
-    let registry = support::Registry::start(dir.path()).await;
+    let registry = pps_test_kit::RobotRegistry::start().await;
     let client =
         registry.add_robot("rover-1", "rover", &["light_switch", "push"], dir.path()).await;
     let trial = SimulatedTrial::new(DeviceKind::Lamp, "on", None);
@@ -144,7 +142,7 @@ async fn an_action_the_robot_cannot_run_is_not_attempted() {
 #[tokio::test(flavor = "multi_thread")]
 async fn a_lower_rocker_switch_is_pressed_on_the_half_the_action_needs() {
     let dir = tempfile::tempdir().unwrap();
-    let registry = support::Registry::start(dir.path()).await;
+    let registry = pps_test_kit::RobotRegistry::start().await;
     let client = registry.client(dir.path());
     pps_robot::experiment::start_up(&client).await.unwrap();
     for action in ["on", "off"] {

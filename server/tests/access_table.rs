@@ -5,14 +5,12 @@
 //! The rows come from the router's own route table, so a new route fails this test until its
 //! DESIGN rule and a real request for it are written down in [`rule`] and [`probe`].
 
-mod common;
-
 use std::fmt::Write as _;
 
-use common::*;
 use pps_server::RouteSpec;
 use pps_server::identity::Role;
 use pps_server::store::tokens;
+use pps_test_kit::*;
 use reqwest::{Method, RequestBuilder, StatusCode};
 use serde_json::{Value, json};
 
@@ -350,7 +348,7 @@ async fn every_route_answers_every_caller_as_design_says() {
     let server = TestServer::start().await;
     let credentials = Credentials::mint(&server).await;
     let fixture = fixture(&server, &credentials).await;
-    let routes = route_table(&server);
+    let routes = server.route_table();
     let mut table = String::new();
     let mut mismatches = Vec::new();
     for route in &routes {

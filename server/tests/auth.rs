@@ -1,13 +1,11 @@
 //! Credentials: missing or bad ones are 401, roles without the right 403, and tokens minted or
 //! revoked by another process take effect on a running server.
 
-mod common;
+use std::time::Duration;
 
-use std::time::{Duration, Instant};
-
-use common::*;
 use pps_server::identity::Role;
 use pps_server::store::tokens;
+use pps_test_kit::*;
 use reqwest::{Method, StatusCode};
 
 #[tokio::test]
@@ -70,15 +68,11 @@ async fn tokens_from_another_process_work_at_once_and_revocation_bites_within_se
     let minted = tokens::create(&cli, Role::Caretaker, "late nurse", None).await.unwrap();
     assert_eq!(server.get("/api/v1/tags", &minted.token).await.status(), StatusCode::OK);
     assert!(tokens::revoke(&cli, &minted.record.id).await.unwrap());
-    let deadline = Instant::now() + pps_server::auth::TOKEN_RECHECK_AFTER + Duration::from_secs(3);
-    loop {
-        let status = server.get("/api/v1/tags", &minted.token).await.status();
-        if status == StatusCode::UNAUTHORIZED {
-            break;
-        }
-        assert!(Instant::now() < deadline, "revoked token still works");
-        tokio::time::sleep(Duration::from_millis(100)).await;
-    }
+    let patience = pps_server::auth::TOKEN_RECHECK_AFTER + Duration::from_secs(3);
+    wait_for(patience, "the revoked token to stop working", || async {
+        server.get("/api/v1/tags", &minted.token).await.status() == StatusCode::UNAUTHORIZED
+    })
+    .await;
 
     let expired = tokens::create(
         &cli,

@@ -2,13 +2,11 @@
 //! holder, taken over only once it ran out or was given up; and the bridge's credential as the
 //! bridge reads it. On the store under test (SQLite, or PostgreSQL with `PPS_TEST_STORE`).
 
-mod common;
-
-use common::TestServer;
 use pps_server::identity::Role;
 use pps_server::store::home_assistant::{self, Credential};
 use pps_server::store::tokens;
 use pps_server::{Db, clock};
+use pps_test_kit::TestServer;
 
 const NAME: &str = "Home Assistant bridge";
 

@@ -222,20 +222,16 @@ fn no_secret_is_stored_or_logged_in_plain_text() {
         .stderr(std::fs::File::create(&log).unwrap())
         .spawn()
         .unwrap();
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(20);
-    let (url, admin) = loop {
+    let patience = std::time::Duration::from_secs(20);
+    let (url, admin) = pps_test_kit::wait_until_blocking(patience, "the banner", || {
         let text = std::fs::read_to_string(&log).unwrap();
         let url = text
             .lines()
             .find_map(|l| l.trim().strip_prefix("PPS-tag registry at "))
             .map(|u| u.trim_end_matches('/').to_owned());
         let admin = text.lines().map(str::trim).find(|l| l.starts_with("pps_")).map(str::to_owned);
-        if let (Some(url), Some(admin)) = (url, admin) {
-            break (url, admin);
-        }
-        assert!(std::time::Instant::now() < deadline, "the banner appeared");
-        std::thread::sleep(std::time::Duration::from_millis(20));
-    };
+        url.zip(admin)
+    });
     let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().unwrap();
     runtime.block_on(async {
         let http = reqwest::Client::new();

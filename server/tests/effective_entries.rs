@@ -1,10 +1,8 @@
 //! Effective entries through HTTP: each robot class's parameters with their provenance, and
 //! revalidation by ETag.
 
-mod common;
-
-use common::*;
 use pps_server::identity::Role;
+use pps_test_kit::*;
 use reqwest::{Method, StatusCode};
 use serde_json::{Value, json};
 

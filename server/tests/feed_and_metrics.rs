@@ -1,12 +1,10 @@
 //! The change feed resuming across a restart without gaps or repeats, and the metrics counting
 //! requests by route.
 
-mod common;
-
 use std::time::Duration;
 
-use common::*;
 use pps_server::identity::Role;
+use pps_test_kit::*;
 use reqwest::{Method, StatusCode};
 
 #[tokio::test]

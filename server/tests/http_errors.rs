@@ -1,9 +1,7 @@
 //! Every error is problem+json: unknown routes, wrong methods, oversized, mistyped and
 //! malformed bodies, malformed EPCs.
 
-mod common;
-
-use common::*;
+use pps_test_kit::*;
 use reqwest::{Method, StatusCode};
 
 #[tokio::test]

@@ -2,10 +2,8 @@
 //! colour and the household's for the robot class, which the effective entries carry beside the
 //! entry's own `color_segmentation`, with provenance `learned`.
 
-mod common;
-
-use common::*;
 use pps_server::identity::Role;
+use pps_test_kit::*;
 use reqwest::StatusCode;
 use serde_json::{Value, json};
 

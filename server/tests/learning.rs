@@ -1,10 +1,8 @@
 //! What the registry learns from trials: per-class stats, learned values within their bounds,
 //! and the reliable flag changing.
 
-mod common;
-
-use common::*;
 use pps_server::identity::Role;
+use pps_test_kit::*;
 use reqwest::StatusCode;
 use serde_json::{Value, json};
 

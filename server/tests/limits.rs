@@ -2,12 +2,10 @@
 //! samples per trial, EPC length, robot id length, and change-feed clients. The answer at N+1
 //! is problem+json naming the limit; at N and N−1 the request goes through.
 
-mod common;
-
 use std::time::Duration;
 
-use common::*;
 use pps_server::identity::Role;
+use pps_test_kit::*;
 use reqwest::{Method, StatusCode};
 use serde_json::{Value, json};
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
@@ -49,7 +47,8 @@ async fn bodies_up_to_one_mebibyte_are_read() {
 #[tokio::test]
 async fn every_list_pages_up_to_five_hundred() {
     let server = TestServer::start().await;
-    let lists: Vec<_> = route_table(&server)
+    let lists: Vec<_> = server
+        .route_table()
         .into_iter()
         .filter(|route| route.doc.params.iter().any(|param| param.name == "limit"))
         .collect();
@@ -209,11 +208,10 @@ async fn the_change_feed_serves_two_hundred_fifty_six_clients_at_once() {
 
     // A client leaving frees its place for the next one.
     drop(last);
-    let deadline = tokio::time::Instant::now() + Duration::from_secs(30);
-    while feed_clients(&server).await == cap {
-        assert!(tokio::time::Instant::now() < deadline, "the place was never freed");
-        tokio::time::sleep(Duration::from_millis(50)).await;
-    }
+    wait_for(Duration::from_secs(30), "the place to be freed", || async {
+        feed_clients(&server).await < cap
+    })
+    .await;
     held.push(hold_feed_place(&server, &server.admin, 10).await);
     assert_eq!(feed_clients(&server).await, cap);
 }

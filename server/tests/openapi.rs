@@ -5,14 +5,12 @@
 //! The document is also validated against the OpenAPI 3.1 meta-schema, and fuzzed against the
 //! running server, by the Schemathesis step of `tests/run`.
 
-mod common;
-
 use std::collections::{BTreeSet, HashSet};
 
-use common::*;
 use pps_server::RouteSpec;
 use pps_server::http::Access;
 use pps_server::identity::Role;
+use pps_test_kit::*;
 use reqwest::{Method, Response, StatusCode};
 use serde_json::{Value, json};
 
@@ -42,7 +40,7 @@ async fn every_route_of_the_table_is_an_operation_and_nothing_else_is() {
     let server = TestServer::start().await;
     let document = fetch_document(&server).await;
     assert_eq!(document["openapi"], "3.1.0");
-    let routes = route_table(&server);
+    let routes = server.route_table();
     for route in &routes {
         let op = operation(&document, route);
         let name = format!("{} {}", route.method, route.path);

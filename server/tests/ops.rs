@@ -5,18 +5,16 @@
 //! Long because each test drives the binary end to end, with robots writing while it runs;
 //! one file keeps the helpers they share (running the binary, paging, writing trials) with them.
 
-mod common;
-
 use std::collections::{HashMap, HashSet};
 use std::process::{Command, Output};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use common::{ADA_SWITCH, DRAWER, TestServer, register_robot, trial};
 use pps_server::export::CSV_COLUMNS;
 use pps_server::identity::Role;
 use pps_server::retention::{Age, THINNED_KEY};
 use pps_server::{AppState, Db, ServeOptions};
+use pps_test_kit::{ADA_SWITCH, DRAWER, TestServer, register_robot, trial, wait_until};
 use reqwest::StatusCode;
 use serde_json::{Value, json};
 use sqlx::{Connection, SqliteConnection};
@@ -471,14 +469,10 @@ async fn a_server_with_thinning_on_thins_old_trials_when_it_starts() {
         options,
         std::future::pending(),
     ));
-    let deadline = Instant::now() + Duration::from_secs(10);
-    loop {
+    let thinned = wait_until(Duration::from_secs(10), "the trial to be thinned", || async {
         let trial = server.get_json(&format!("/api/v1/trials/{id}")).await;
-        if trial["forces"] == json!([]) {
-            assert_eq!(trial["measurements"][THINNED_KEY]["peak_n"], 2.0);
-            break;
-        }
-        assert!(Instant::now() < deadline, "the trial was thinned soon after the start");
-        tokio::time::sleep(Duration::from_millis(50)).await; // polling interval
-    }
+        (trial["forces"] == json!([])).then_some(trial)
+    })
+    .await;
+    assert_eq!(thinned["measurements"][THINNED_KEY]["peak_n"], 2.0);
 }

@@ -1,12 +1,10 @@
 //! A tag's life beyond its entry: unknown EPCs in the inbox until registered, retagging a worn tag
 //! (entry, trials and learned values move), and a retired EPC never coming back.
 
-mod common;
+use std::time::Duration;
 
-use std::time::{Duration, Instant};
-
-use common::*;
 use pps_server::identity::Role;
+use pps_test_kit::*;
 use reqwest::{Method, StatusCode};
 use serde_json::{Value, json};
 
@@ -21,16 +19,12 @@ async fn unknown_epcs_land_in_the_inbox_until_registered() {
         let body = problem(response, StatusCode::NOT_FOUND).await;
         assert!(body["detail"].as_str().unwrap().contains("inbox"));
     }
-    let deadline = Instant::now() + Duration::from_secs(1);
-    let item = loop {
+    // The sightings are flushed in the background: wait until all three are in.
+    let item = wait_until(Duration::from_secs(1), "the inbox to show all three", || async {
         let inbox = server.get_json("/api/v1/inbox").await;
-        // The sightings are flushed in the background: wait until all three are in.
-        if let Some(item) = inbox["items"].as_array().unwrap().first().filter(|i| i["count"] == 3) {
-            break item.clone();
-        }
-        assert!(Instant::now() < deadline, "the inbox shows the EPC within a second");
-        tokio::time::sleep(Duration::from_millis(50)).await;
-    };
+        inbox["items"].as_array().unwrap().first().filter(|i| i["count"] == 3).cloned()
+    })
+    .await;
     assert_eq!(item["epc"], epc);
     assert_eq!(item["count"], 3);
     assert_eq!(item["robots"], json!(["el-e-1", "el-e-2"]));

@@ -1,8 +1,6 @@
 //! The tag routes of DESIGN §4 through real HTTP: reads, conditional writes, history, errors.
 
-mod common;
-
-use common::*;
+use pps_test_kit::*;
 use reqwest::{Method, StatusCode};
 use serde_json::{Value, json};
 

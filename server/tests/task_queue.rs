@@ -3,12 +3,10 @@
 //! number it cannot do; tasks nobody took in time expire and say so; one robot holds only a
 //! few tasks at once.
 
-mod common;
-
 use std::time::{Duration, Instant};
 
-use common::*;
 use pps_server::identity::Role;
+use pps_test_kit::*;
 use reqwest::{Method, Response, StatusCode};
 use serde_json::{Value, json};
 
@@ -51,22 +49,6 @@ fn id(task: &Value) -> &str {
     task["id"].as_str().unwrap()
 }
 
-/// A number from the registry's metrics.
-async fn metric(server: &TestServer, name: &str) -> u64 {
-    let text = server.get("/metrics", &server.admin).await.text().await.unwrap();
-    let value = text.lines().find_map(|l| l.strip_prefix(name)?.strip_prefix(' '));
-    value.and_then(|n| n.parse().ok()).unwrap_or_else(|| panic!("no metric {name}"))
-}
-
-/// Waits until `n` claims wait in line.
-async fn claims_waiting(server: &TestServer, n: u64) {
-    let deadline = Instant::now() + Duration::from_secs(10);
-    while metric(server, "pps_robots_waiting_for_tasks").await != n {
-        assert!(Instant::now() < deadline, "{n} claims never waited");
-        tokio::task::yield_now().await;
-    }
-}
-
 /// A robot that can only push (no light switch, no lamp), and its token.
 async fn pusher(server: &TestServer) -> String {
     register_robot(server, "pusher-1", "el-e", &["push"], 15.0).await;
@@ -89,10 +71,10 @@ async fn waiting_claims_read_the_queue_only_when_something_changes() {
     let server = TestServer::start().await;
     let token = pusher(&server).await;
     switch_tasks_settled(&server, 199).await;
-    let looks_before = metric(&server, "pps_task_looks_total").await;
+    let looks_before = metric(&server, "pps_task_looks_total").await.unwrap();
 
     let waiting: Vec<_> = (0..4).map(|_| claiming(&server, &token, "pusher-1", 1.0)).collect();
-    claims_waiting(&server, 4).await;
+    robots_waiting(&server, 4).await;
     let refused = claim(&server, &token, "pusher-1", 1.0).await;
     assert_eq!(refused.headers()["retry-after"], "5");
     let refused = problem(refused, StatusCode::TOO_MANY_REQUESTS).await;
@@ -101,7 +83,7 @@ async fn waiting_claims_read_the_queue_only_when_something_changes() {
     for claim in waiting {
         assert_eq!(claim.await.unwrap().0, StatusCode::NO_CONTENT);
     }
-    let looks = metric(&server, "pps_task_looks_total").await - looks_before;
+    let looks = metric(&server, "pps_task_looks_total").await.unwrap() - looks_before;
     assert_eq!(looks, 4, "one look per claim: nothing changed while they waited");
 }
 
@@ -111,7 +93,7 @@ async fn a_waiting_claim_looks_again_when_what_its_robot_can_do_changes() {
     let token = pusher(&server).await;
     switch_tasks_settled(&server, 3).await;
     let waiting = claiming(&server, &token, "pusher-1", 20.0);
-    claims_waiting(&server, 1).await;
+    robots_waiting(&server, 1).await;
     let asked_at = Instant::now();
     register_robot(&server, "pusher-1", "el-e", &["push", "light_switch"], 15.0).await;
     let (status, task) = waiting.await.unwrap();

@@ -1,12 +1,10 @@
 //! Tasks over HTTP (DESIGN §8): asking, listing, cancelling, claiming under a lease with long
 //! polls, heartbeats and finishing with the holder's trial, and every refusal on the way.
 
-mod common;
-
 use std::time::{Duration, Instant};
 
-use common::*;
 use pps_server::identity::Role;
+use pps_test_kit::*;
 use reqwest::{Method, Response, StatusCode};
 use serde_json::{Value, json};
 
@@ -72,23 +70,6 @@ async fn robot(server: &TestServer, id: &str, class: &str) -> String {
     let all = ["light_switch", "pull_back", "push", "pull_lamp", "drop"];
     register_robot(server, id, class, &all, 40.0).await;
     server.token(Role::Robot, id).await
-}
-
-/// Waits until `n` robots are waiting in line for a task, as the metrics say.
-async fn robots_waiting(server: &TestServer, n: usize) {
-    let deadline = Instant::now() + Duration::from_secs(10);
-    loop {
-        let text = server.get("/metrics", &server.admin).await.text().await.unwrap();
-        let waiting = text
-            .lines()
-            .find_map(|l| l.strip_prefix("pps_robots_waiting_for_tasks "))
-            .and_then(|n| n.parse::<usize>().ok());
-        if waiting == Some(n) {
-            return;
-        }
-        assert!(Instant::now() < deadline, "{n} robots never waited: {waiting:?}");
-        tokio::task::yield_now().await;
-    }
 }
 
 #[tokio::test]
@@ -378,12 +359,10 @@ async fn a_robot_whose_token_is_revoked_mid_task_loses_it_to_another() {
     claimed(&server, &minted.token, "el-e-1").await;
     assert!(pps_server::store::tokens::revoke(&server.db, &minted.record.id).await.unwrap());
     let heartbeat = format!("/api/v1/tasks/{}/heartbeat", id(&task));
-    let deadline = Instant::now() + Duration::from_secs(10);
-    while post(&server, &heartbeat, &minted.token, None).await.status() != StatusCode::UNAUTHORIZED
-    {
-        assert!(Instant::now() < deadline, "the revoked token kept working");
-        tokio::time::sleep(Duration::from_millis(100)).await;
-    }
+    wait_for(Duration::from_secs(10), "the revoked token to stop working", || async {
+        post(&server, &heartbeat, &minted.token, None).await.status() == StatusCode::UNAUTHORIZED
+    })
+    .await;
     let response = claim(&server, &other, "el-e-2", 10.0).await;
     assert_eq!(response.status(), StatusCode::OK);
     let taken: Value = response.json().await.unwrap();

@@ -3,7 +3,6 @@
 
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -11,45 +10,17 @@ use http_body_util::{BodyExt, Empty};
 use hyper::body::Bytes;
 use hyper_util::rt::TokioIo;
 use pps_server::transport::{TlsIdentity, Transport};
-use pps_server::{AppState, Db, ServeOptions};
+use pps_test_kit::{Config, Registry, Store, TestServer};
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::TcpStream;
 use tokio_rustls::rustls;
 
-const BIN: &str = env!("CARGO_BIN_EXE_pps-server");
 /// Short, so the tests are quick; the trickling client still needs several bytes to fail.
 const HEADER_TIMEOUT: Duration = Duration::from_secs(2);
 
-/// An in-process registry with a fresh database, served until dropped.
-struct Served {
-    address: SocketAddr,
-    stop: Option<tokio::sync::oneshot::Sender<()>>,
-    stopped: tokio::task::JoinHandle<std::io::Result<()>>,
-    _dir: tempfile::TempDir,
-}
-
-impl Served {
-    async fn start(transport: Transport) -> Self {
-        let dir = tempfile::tempdir().unwrap();
-        let db = Db::open_file(&dir.path().join("pps.db")).await.unwrap();
-        let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
-        let address = listener.local_addr().unwrap();
-        let (stop, stopping) = tokio::sync::oneshot::channel::<()>();
-        let options = ServeOptions { transport, ..ServeOptions::default() };
-        let stopped = tokio::spawn(pps_server::serve_with(
-            listener,
-            AppState::new(db),
-            options,
-            async move {
-                let _ = stopping.await;
-            },
-        ));
-        Self { address, stop: Some(stop), stopped, _dir: dir }
-    }
-
-    fn url(&self, path: &str) -> String {
-        format!("http://{}{path}", self.address)
-    }
+/// An in-process registry on a SQLite file, holding connections as `transport` says.
+async fn serve(transport: Transport) -> TestServer {
+    TestServer::start_with(Config { store: Store::Sqlite, transport, ..Config::default() }).await
 }
 
 fn transport(max_connections: usize) -> Transport {
@@ -94,7 +65,7 @@ async fn trickle_until_cut_off(mut stream: TcpStream, connected: Instant) -> Dur
 
 #[tokio::test]
 async fn a_client_trickling_its_headers_is_cut_off_while_others_are_served() {
-    let served = Served::start(transport(64)).await;
+    let served = serve(transport(64)).await;
     let connected = Instant::now();
     let slow = half_a_request(served.address).await;
     let cut_off = tokio::spawn(trickle_until_cut_off(slow, connected));
@@ -105,7 +76,7 @@ async fn a_client_trickling_its_headers_is_cut_off_while_others_are_served() {
     while !cut_off.is_finished() {
         pace.tick().await;
         let asked = Instant::now();
-        let response = client.get(served.url("/healthz")).send().await.unwrap();
+        let response = client.get(format!("{}/healthz", served.url)).send().await.unwrap();
         assert_eq!(response.status(), 200);
         slowest = slowest.max(asked.elapsed());
         served_meanwhile += 1;
@@ -123,7 +94,7 @@ async fn a_client_trickling_its_headers_is_cut_off_while_others_are_served() {
 
 #[tokio::test]
 async fn an_idle_keep_alive_connection_is_closed_after_the_header_timeout() {
-    let served = Served::start(transport(64)).await;
+    let served = serve(transport(64)).await;
     let mut stream = TcpStream::connect(served.address).await.unwrap();
     stream.write_all(b"GET /healthz HTTP/1.1\r\nHost: registry\r\n\r\n").await.unwrap();
     let mut answer = Vec::new();
@@ -144,11 +115,11 @@ async fn an_idle_keep_alive_connection_is_closed_after_the_header_timeout() {
 
 #[tokio::test]
 async fn connections_beyond_the_cap_wait_until_one_closes() {
-    let served = Served::start(transport(2)).await;
+    let served = serve(transport(2)).await;
     // Both slots go to clients that never finish their request.
     let _hogs = [half_a_request(served.address).await, half_a_request(served.address).await];
     let asked = Instant::now();
-    let response = reqwest::get(served.url("/healthz")).await.unwrap();
+    let response = reqwest::get(format!("{}/healthz", served.url)).await.unwrap();
     let waited = asked.elapsed();
     assert_eq!(response.status(), 200);
     eprintln!("the third client was served after {waited:.2?}, when a slot was freed");
@@ -158,44 +129,33 @@ async fn connections_beyond_the_cap_wait_until_one_closes() {
 
 #[tokio::test]
 async fn shutdown_ends_change_feed_streams_and_idle_connections_and_returns() {
-    let mut served = Served::start(transport(64)).await;
+    let mut served = serve(transport(64)).await;
     // An idle keep-alive connection and an open change feed must not hold up the shutdown.
     let client = reqwest::Client::new();
-    assert_eq!(client.get(served.url("/healthz")).send().await.unwrap().status(), 200);
-    let token = mint_admin(&served).await;
-    let mut feed =
-        client.get(served.url("/api/v1/events")).bearer_auth(&token).send().await.unwrap();
+    assert_eq!(client.get(format!("{}/healthz", served.url)).send().await.unwrap().status(), 200);
+    let token = served.admin.clone();
+    let mut feed = client
+        .get(format!("{}/api/v1/events", served.url))
+        .bearer_auth(&token)
+        .send()
+        .await
+        .unwrap();
     assert_eq!(feed.status(), 200);
 
     let asked = Instant::now();
-    served.stop.take().unwrap().send(()).unwrap();
-    let returned = tokio::time::timeout(Duration::from_secs(10), &mut served.stopped)
+    tokio::time::timeout(Duration::from_secs(10), served.stop())
         .await
         .expect("serve returned after shutdown");
-    returned.unwrap().unwrap();
     eprintln!("shutdown took {:.2?}", asked.elapsed());
     let ended = tokio::time::timeout(Duration::from_secs(5), async {
         while let Ok(Some(_)) = feed.chunk().await {}
     })
     .await;
     assert!(ended.is_ok(), "the change feed stream ended");
-    assert!(client.get(served.url("/healthz")).send().await.is_err(), "nothing listens anymore");
-}
-
-/// An admin token in the served registry's database.
-async fn mint_admin(served: &Served) -> String {
-    let db = Db::open_file(&served._dir.path().join("pps.db")).await.unwrap();
-    let token = pps_server::store::tokens::create(
-        &db,
-        pps_server::identity::Role::Admin,
-        "test admin",
-        None,
-    )
-    .await
-    .unwrap()
-    .token;
-    db.close().await;
-    token
+    assert!(
+        client.get(format!("{}/healthz", served.url)).send().await.is_err(),
+        "nothing listens anymore"
+    );
 }
 
 /// A self-signed certificate for `localhost` and its key, as PEM files.
@@ -243,44 +203,19 @@ async fn serves_https_with_the_operators_certificate_and_not_plain_http() {
     let dir = tempfile::tempdir().unwrap();
     let (cert, key, cert_pem) = self_signed(dir.path(), "registry");
     let tls = TlsIdentity::load(&cert, &key).unwrap();
-    let served = Served::start(Transport { tls: Some(tls), ..transport(64) }).await;
+    let served = serve(Transport { tls: Some(tls), ..transport(64) }).await;
 
     assert_eq!(https_get(served.address, &cert_pem, "/healthz").await, Ok(200));
     let (_, _, stranger) = self_signed(dir.path(), "stranger");
     let refused = https_get(served.address, &stranger, "/healthz").await;
     assert!(refused.is_err_and(|e| e.contains("handshake")), "only the trusted certificate works");
-    let plain = reqwest::get(served.url("/healthz")).await;
+    let plain = reqwest::get(format!("{}/healthz", served.url)).await;
     assert!(plain.is_err(), "plain HTTP to the TLS port fails: {plain:?}");
 }
 
-/// `pps-server serve` with these arguments, waiting for its exit or its banner's URL.
-fn serve_binary(
-    dir: &Path,
-    args: &[&std::ffi::OsStr],
-) -> Result<(std::process::Child, String), String> {
-    use std::io::BufRead;
-    let mut child = Command::new(BIN)
-        .args(["serve", "--listen", "127.0.0.1:0", "--db"])
-        .arg(dir.join("pps.db"))
-        .args(args)
-        .env("RUST_LOG", "warn")
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut lines = std::io::BufReader::new(child.stderr.take().unwrap()).lines();
-    let mut said = String::new();
-    for line in lines.by_ref() {
-        let line = line.unwrap();
-        if let Some(url) = line.trim().strip_prefix("PPS-tag registry at ") {
-            let url = url.to_owned();
-            std::thread::spawn(move || for _ in lines {});
-            return Ok((child, url));
-        }
-        said.push_str(&line);
-        said.push('\n');
-    }
-    assert!(!child.wait().unwrap().success());
-    Err(said)
+/// `pps-server serve` with these flags on `dir`'s database, or what it said when it refused.
+fn serve_binary(dir: &Path, flags: &[&str]) -> Result<Registry, String> {
+    Registry::try_on_database(&dir.join("pps.db"), flags)
 }
 
 #[tokio::test]
@@ -288,27 +223,20 @@ async fn the_binary_serves_https_and_explains_bad_tls_settings() {
     let dir = tempfile::tempdir().unwrap();
     let (cert, key, cert_pem) = self_signed(dir.path(), "registry");
     let (_, other_key, _) = self_signed(dir.path(), "other");
-    let flag = |name: &str, path: &Path| [std::ffi::OsString::from(name), path.into()];
+    let flag = |name: &str, path: &Path| [name.to_owned(), path.to_str().unwrap().to_owned()];
 
-    let (mut child, url) = serve_binary(
-        dir.path(),
-        &flag("--tls-cert", &cert)
-            .iter()
-            .chain(&flag("--tls-key", &key))
-            .map(|a| a.as_os_str())
-            .collect::<Vec<_>>(),
-    )
-    .unwrap();
+    let tls = [flag("--tls-cert", &cert), flag("--tls-key", &key)].concat();
+    let served = serve_binary(dir.path(), &tls.iter().map(String::as_str).collect::<Vec<_>>());
+    let served = served.unwrap();
+    let url = &served.url;
     assert!(url.starts_with("https://127.0.0.1:"), "the banner shows an https URL: {url}");
-    let address: SocketAddr =
-        url.trim_start_matches("https://").trim_end_matches('/').parse().unwrap();
+    let address: SocketAddr = url.trim_start_matches("https://").parse().unwrap();
     assert_eq!(https_get(address, &cert_pem, "/healthz").await, Ok(200));
-    child.kill().unwrap();
-    child.wait().unwrap();
 
-    let refused = |args: Vec<std::ffi::OsString>| {
-        let args: Vec<&std::ffi::OsStr> = args.iter().map(|a| a.as_os_str()).collect();
-        serve_binary(dir.path(), &args).expect_err("the server refuses to start")
+    let other_dir = tempfile::tempdir().unwrap();
+    let refused = |args: Vec<String>| {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        serve_binary(other_dir.path(), &args).expect_err("the server refuses to start")
     };
     let half = refused(flag("--tls-cert", &cert).to_vec());
     assert!(half.contains("--tls-cert and --tls-key") && half.contains("both"), "{half}");
@@ -330,16 +258,14 @@ async fn the_binary_refuses_durations_it_cannot_count_with_their_range() {
     let dir = tempfile::tempdir().unwrap();
     let flags = ["--header-timeout", "--body-timeout", "--write-timeout"];
     for (flag, value) in flags.iter().flat_map(|f| [(*f, "18446744073709551615"), (*f, "0")]) {
-        let said = serve_binary(dir.path(), &[flag.as_ref(), value.as_ref()])
-            .map(|(mut child, _)| child.kill())
-            .expect_err("the server refuses to start");
+        let said =
+            serve_binary(dir.path(), &[flag, value]).expect_err("the server refuses to start");
         assert!(
             said.contains(flag) && said.contains("1 to 3600 seconds"),
             "{flag} {value}: {said}"
         );
     }
-    let said = serve_binary(dir.path(), &["--task-lease".as_ref(), "1e300".as_ref()])
-        .map(|(mut child, _)| child.kill())
+    let said = serve_binary(dir.path(), &["--task-lease", "1e300"])
         .expect_err("the server refuses to start");
     assert!(said.contains("0.5 to 3600 seconds"), "{said}");
     assert!(!dir.path().join("pps.db").exists(), "a refused start leaves no database");

@@ -1,10 +1,8 @@
 //! Trial pictures through HTTP: sent once by the robot that made the trial, read by whoever
 //! may read the trial, bounded in size and kind, cached by ETag, and kept per tag.
 
-mod common;
-
-use common::*;
 use pps_server::identity::Role;
+use pps_test_kit::*;
 use reqwest::{Method, Response, StatusCode};
 use serde_json::Value;
 

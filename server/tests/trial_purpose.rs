@@ -1,10 +1,8 @@
 //! Experiments apart: a trial says why it was made, and success rates, reliability and
 //! learning count real use unless asked to include experiments and tests.
 
-mod common;
-
-use common::*;
 use pps_server::identity::Role;
+use pps_test_kit::*;
 use reqwest::StatusCode;
 use serde_json::{Value, json};
 

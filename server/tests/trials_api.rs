@@ -1,10 +1,8 @@
 //! Trials through HTTP: idempotent PUTs under the robot's own UUID, checks, verdicts given later,
 //! list filters, and many robots writing at once.
 
-mod common;
-
-use common::*;
 use pps_server::identity::Role;
+use pps_test_kit::*;
 use reqwest::{Method, StatusCode};
 use serde_json::{Value, json};
 

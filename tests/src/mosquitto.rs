@@ -8,7 +8,7 @@ use std::process::{Child, Command, Stdio};
 
 use tempfile::TempDir;
 
-use crate::wait;
+use pps_test_kit::wait;
 
 /// A running broker; stopped when dropped.
 #[derive(Debug)]

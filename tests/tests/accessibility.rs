@@ -1,9 +1,10 @@
 //! Every page of the caretakers' UI holds up to axe-core (from npm, injected into Chromium): no
 //! serious or critical violation, on a phone-wide screen, with content in every table.
 
+use pps_test_kit::Registry;
+use pps_test_kit::fixtures::{self, ADA_SWITCH};
+use pps_tests::Browser;
 use pps_tests::browser::PHONE;
-use pps_tests::fixtures::{self, ADA_SWITCH};
-use pps_tests::{Browser, Registry};
 use reqwest::{Method, StatusCode};
 use serde_json::json;
 

@@ -1,8 +1,9 @@
 //! The caretakers' UI in a real browser: headless Chromium against the real `pps-server`
 //! process, as a caretaker would use it on a phone or a laptop.
 
+use pps_test_kit::{Registry, wait};
 use pps_tests::browser::{DESKTOP, PHONE};
-use pps_tests::{Browser, Registry, Session, wait};
+use pps_tests::{Browser, Session};
 use reqwest::{Method, StatusCode};
 use serde_json::{Value, json};
 

@@ -1,8 +1,9 @@
 //! Experiments apart, as a caretaker sees them: the tag page's success rate counts real use,
 //! says so in words, and counts experiments and tests only when asked, remembering the choice.
 
+use pps_test_kit::Registry;
+use pps_tests::Browser;
 use pps_tests::browser::PHONE;
-use pps_tests::{Browser, Registry};
 use reqwest::Method;
 use serde_json::{Value, json};
 

@@ -5,9 +5,10 @@
 
 use std::time::{Duration, Instant};
 
+use pps_test_kit::fixtures::{self, ADA_SWITCH};
+use pps_test_kit::{Registry, WorkingRobot};
+use pps_tests::Browser;
 use pps_tests::browser::PHONE;
-use pps_tests::fixtures::{self, ADA_SWITCH};
-use pps_tests::{Browser, Registry, WorkingRobot};
 use reqwest::{Method, StatusCode};
 use serde_json::json;
 

@@ -8,9 +8,10 @@
 use std::process::Command;
 use std::time::{Duration, Instant};
 
+use pps_test_kit::fixtures::{self, DRAWER};
+use pps_test_kit::{Registry, WorkingRobot, wait, workspace_bin};
+use pps_tests::Browser;
 use pps_tests::caretaker_view::assert_plain;
-use pps_tests::fixtures::{self, DRAWER};
-use pps_tests::{Browser, Registry, WorkingRobot, wait, workspace_bin};
 use reqwest::{Method, StatusCode};
 use serde_json::json;
 

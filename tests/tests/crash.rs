@@ -4,67 +4,17 @@
 //! the final count is exact.
 
 use std::collections::HashSet;
-use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::time::{Duration, Instant};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Duration;
 
 use pps_robot::registry::RegistryClient;
 use pps_schema::{RobotId, Trial};
-use pps_tests::workspace_bin;
+use pps_test_kit::{ADA_SWITCH, Registry, wait, wait_for};
 use serde_json::{Value, json};
+use tokio::sync::watch;
 
 const ROBOTS: usize = 16;
-const ADA_SWITCH: &str = "355AB1C60000002000000001";
-
-/// `pps-server serve` on a fixed port, so a restart keeps the robots' URL.
-struct Server {
-    child: Child,
-}
-
-impl Server {
-    fn start(db: &Path, port: u16) -> Self {
-        let child = Command::new(workspace_bin("pps-server"))
-            .args(["serve", "--listen", &format!("127.0.0.1:{port}"), "--db"])
-            .arg(db)
-            .env("RUST_LOG", "warn")
-            .stdin(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("pps-server starts");
-        Self { child }
-    }
-
-    fn kill(&mut self) {
-        let status =
-            Command::new("kill").arg("-KILL").arg(self.child.id().to_string()).status().unwrap();
-        assert!(status.success());
-        self.child.wait().unwrap();
-    }
-}
-
-impl Drop for Server {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-fn cli(db: &Path, args: &[&str]) -> String {
-    let output =
-        Command::new(workspace_bin("pps-server")).args(args).arg("--db").arg(db).output().unwrap();
-    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-    String::from_utf8(output.stdout).unwrap().trim().to_owned()
-}
-
-async fn wait_until_up(url: &str) {
-    let deadline = Instant::now() + Duration::from_secs(20);
-    while reqwest::get(format!("{url}/healthz")).await.is_err() {
-        assert!(Instant::now() < deadline, "the server came up");
-        tokio::time::sleep(Duration::from_millis(20)).await;
-    }
-}
 
 fn trial(robot: &str) -> Trial {
     serde_json::from_value(json!({
@@ -102,21 +52,22 @@ async fn stored(url: &str, admin: &str) -> Vec<String> {
     }
 }
 
-/// One robot recording trials until told to stop; returns every id it recorded.
+/// One robot recording trials until told to stop; returns every id it recorded. Once the
+/// registry is down it records no more than the one trial that shows its outbox keeps it.
 async fn robot_at_work(
     client: RegistryClient,
-    stop: Arc<AtomicBool>,
+    mut stop: watch::Receiver<bool>,
     acknowledged: Arc<AtomicUsize>,
 ) -> Vec<String> {
     let mut recorded = Vec::new();
-    while !stop.load(Ordering::Acquire) {
+    while !*stop.borrow() {
         let trial = trial(client.robot().as_str());
         recorded.push(trial.id.to_string());
         let report = client.record_trial(&trial).await.expect("the outbox stores the trial");
         acknowledged.fetch_add(report.uploaded + report.already_stored, Ordering::Relaxed);
         if report.remaining > 0 {
-            // The registry is down: the robot keeps working, its trials wait in the outbox.
-            tokio::time::sleep(Duration::from_millis(20)).await;
+            // The registry is down: the trial waits in the outbox until the test is done.
+            stop.wait_for(|stop| *stop).await.expect("the test holds the stop sender");
         }
     }
     recorded
@@ -129,38 +80,35 @@ fn outbox_ids(client: &RegistryClient) -> HashSet<String> {
 #[tokio::test(flavor = "multi_thread", worker_threads = 4)]
 async fn a_killed_registry_loses_no_acknowledged_trial_and_outboxes_deliver_the_rest() {
     let dir = tempfile::tempdir().unwrap();
-    let db: PathBuf = dir.path().join("pps.db");
-    cli(&db, &["migrate"]);
-    let admin = cli(&db, &["token", "create", "--role", "admin", "--name", "crash test"]);
-    let port = std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
-    let url = format!("http://127.0.0.1:{port}");
+    let mut registry = Registry::start();
+    let (url, admin) = (registry.url.clone(), registry.admin_token.clone());
     let mut robots = Vec::new();
     for n in 0..ROBOTS {
         let id = format!("robot-{n}");
-        let token = cli(&db, &["token", "create", "--role", "robot", "--name", &id]);
+        let token = registry.token("robot", &id);
         let state = dir.path().join(&id);
         robots
             .push(RegistryClient::new(&url, &token, RobotId::parse(&id).unwrap(), &state).unwrap());
     }
 
-    let mut server = Server::start(&db, port);
-    wait_until_up(&url).await;
-    let stop = Arc::new(AtomicBool::new(false));
+    let (stop, stopped) = watch::channel(false);
     let acknowledged = Arc::new(AtomicUsize::new(0));
     let mut work = tokio::task::JoinSet::new();
     for robot in &robots {
-        work.spawn(robot_at_work(robot.clone(), stop.clone(), acknowledged.clone()));
+        work.spawn(robot_at_work(robot.clone(), stopped.clone(), acknowledged.clone()));
     }
     // Kill the registry in the middle of the load.
-    let deadline = Instant::now() + Duration::from_secs(60);
-    while acknowledged.load(Ordering::Relaxed) < 600 {
-        assert!(Instant::now() < deadline, "the robots got trials through");
-        tokio::time::sleep(Duration::from_millis(5)).await;
-    }
-    server.kill();
-    // The robots work on while it is down.
-    tokio::time::sleep(Duration::from_millis(300)).await;
-    stop.store(true, Ordering::Release);
+    wait_for(Duration::from_secs(60), "the robots to get 600 trials through", || async {
+        acknowledged.load(Ordering::Relaxed) >= 600
+    })
+    .await;
+    registry.kill();
+    // The robots work on while it is down, until each has a trial waiting in its outbox.
+    wait_for(wait::DEADLINE, "every robot to keep a trial in its outbox", || async {
+        robots.iter().all(|robot| robot.outbox().len().unwrap() > 0)
+    })
+    .await;
+    stop.send(true).unwrap();
     let recorded: Vec<String> = work.join_all().await.into_iter().flatten().collect();
     let waiting: HashSet<String> = robots.iter().flat_map(outbox_ids).collect();
     let acknowledged_ids: HashSet<String> =
@@ -168,15 +116,14 @@ async fn a_killed_registry_loses_no_acknowledged_trial_and_outboxes_deliver_the_
 
     // The database after the crash: intact, and holding every acknowledged trial.
     let integrity: String = {
-        let db = pps_server::Db::open_file(&db).await.unwrap();
+        let db = pps_server::Db::open_file(registry.db_path()).await.unwrap();
         let check =
             sqlx::query_scalar("pragma integrity_check").fetch_one(db.reader()).await.unwrap();
         db.close().await;
         check
     };
     assert_eq!(integrity, "ok");
-    let _restarted = Server::start(&db, port);
-    wait_until_up(&url).await;
+    registry.restart().await;
     let after_crash = stored(&url, &admin).await;
     let unique: HashSet<&String> = after_crash.iter().collect();
     assert_eq!(unique.len(), after_crash.len(), "no trial stored twice");

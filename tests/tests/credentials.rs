@@ -4,7 +4,7 @@
 
 use std::time::{Duration, Instant};
 
-use pps_tests::Registry;
+use pps_test_kit::Registry;
 use reqwest::{Method, StatusCode};
 use serde_json::{Value, json};
 

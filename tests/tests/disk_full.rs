@@ -8,8 +8,8 @@
 use std::path::Path;
 use std::process::Command;
 
-use pps_tests::Registry;
-use pps_tests::fixtures::{self, put_trial};
+use pps_test_kit::Registry;
+use pps_test_kit::fixtures::{self, put_trial};
 use reqwest::{Method, StatusCode};
 use serde_json::{Value, json};
 
@@ -93,7 +93,7 @@ async fn a_full_disk_answers_503_and_writes_resume_when_space_is_back() {
     eprintln!("disk full after {stored} trials: {} {}", refused.0, refused.1);
     assert_eq!(refused.0, StatusCode::SERVICE_UNAVAILABLE, "{}", refused.1);
     assert!(refused.1["detail"].as_str().unwrap().contains("disk is full"), "{}", refused.1);
-    pps_tests::wait::until("the log to say the disk is full", || async {
+    pps_test_kit::wait::until("the log to say the disk is full", || async {
         registry.logged("disk holding the database is full").then_some(())
     })
     .await;

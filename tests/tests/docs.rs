@@ -11,7 +11,7 @@ use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-use pps_tests::workspace_bin;
+use pps_test_kit::workspace_bin;
 
 const TESTED: &str = "```console tested";
 /// The files whose tested blocks run, in this order, in one shell.

@@ -6,8 +6,9 @@
 
 use std::time::Instant;
 
-use pps_tests::fixtures::{self, ADA_SWITCH};
-use pps_tests::{HomeAssistant, Mosquitto, Registry, WorkingRobot, wait};
+use pps_test_kit::fixtures::{self, ADA_SWITCH};
+use pps_test_kit::{Registry, WorkingRobot, wait};
+use pps_tests::{HomeAssistant, Mosquitto};
 use reqwest::Method;
 use serde_json::{Value, json};
 

@@ -5,8 +5,9 @@
 
 use std::time::Instant;
 
-use pps_tests::fixtures::{self, ADA_SWITCH, DRAWER};
-use pps_tests::{Mosquitto, MqttWatch, Registry, WorkingRobot, wait};
+use pps_test_kit::fixtures::{self, ADA_SWITCH, DRAWER};
+use pps_test_kit::{Registry, WorkingRobot, wait};
+use pps_tests::{Mosquitto, MqttWatch};
 use reqwest::Method;
 use serde_json::{Value, json};
 use time::format_description::well_known::Rfc3339;
@@ -253,7 +254,7 @@ fn a_broker_url_the_bridge_cannot_use_stops_serve_in_one_sentence() {
         ("http://broker.lan", "a broker URL starts with mqtt://, not http://"),
         ("mqtt://broker.lan/topic", "has a path or query"),
     ] {
-        let output = std::process::Command::new(pps_tests::workspace_bin("pps-server"))
+        let output = std::process::Command::new(pps_test_kit::workspace_bin("pps-server"))
             .args(["serve", "--listen", "127.0.0.1:0", "--mqtt", url, "--db"])
             .arg(&db)
             .output()

@@ -5,7 +5,8 @@
 
 use std::time::{Duration, Instant};
 
-use pps_tests::{Mosquitto, MqttWatch, Registry, wait};
+use pps_test_kit::{Registry, wait};
+use pps_tests::{Mosquitto, MqttWatch};
 use sqlx::Connection;
 
 const ADA_SWITCH: &str = "355AB1C60000002000000001";
@@ -82,7 +83,7 @@ async fn one_replica_runs_the_bridge_and_the_other_takes_over() {
         .expect("kill runs");
     assert!(status.success());
     watch.until_text("pps/bridge/availability", "offline").await;
-    wait::until_within("the other replica to take over", Duration::from_secs(30), || async {
+    wait::wait_until(Duration::from_secs(30), "the other replica to take over", || async {
         standby.logged("running the Home Assistant bridge").then_some(())
     })
     .await;

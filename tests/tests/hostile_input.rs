@@ -4,8 +4,8 @@
 //! overrides past the base schema, megabyte trials listed by the hundred, floods of unknown
 //! EPCs.
 
-use pps_tests::Registry;
-use pps_tests::fixtures::{self, ADA_SWITCH, DRAWER, put_trial};
+use pps_test_kit::Registry;
+use pps_test_kit::fixtures::{self, ADA_SWITCH, DRAWER, put_trial};
 use reqwest::{Method, StatusCode};
 use serde_json::{Value, json};
 
@@ -174,7 +174,7 @@ async fn a_flood_of_unknown_epcs_keeps_the_inbox_and_the_feed_bounded() {
         worker.await.unwrap();
     }
     // The last sightings reach the database within a second.
-    let inbox = pps_tests::wait::until("the inbox to settle", || async {
+    let inbox = pps_test_kit::wait::until("the inbox to settle", || async {
         let rows = count_rows(&registry, "inbox").await;
         (rows >= 10_000).then_some(rows)
     })

@@ -4,7 +4,7 @@
 
 use std::time::Instant;
 
-use pps_tests::Registry;
+use pps_test_kit::Registry;
 use reqwest::{Method, StatusCode};
 use serde_json::json;
 use sqlx::Connection;

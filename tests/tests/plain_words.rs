@@ -3,9 +3,10 @@
 //! remembers that per user; a save is confirmed in words; errors stay beside what they are
 //! about and in view; a success rate's colour says how good it is. On a 390 px wide phone.
 
+use pps_test_kit::fixtures::{self, ADA_SWITCH, DRAWER};
+use pps_test_kit::{Registry, wait};
 use pps_tests::caretaker_view::{assert_plain, visible_text};
-use pps_tests::fixtures::{self, ADA_SWITCH, DRAWER};
-use pps_tests::{Browser, Registry, Session, wait};
+use pps_tests::{Browser, Session};
 use reqwest::StatusCode;
 use serde_json::{Value, json};
 

@@ -5,8 +5,8 @@
 
 use std::time::Duration;
 
-use pps_tests::Registry;
-use pps_tests::fixtures::DRAWER;
+use pps_test_kit::Registry;
+use pps_test_kit::fixtures::DRAWER;
 use reqwest::{Method, StatusCode};
 use serde_json::{Value, json};
 

@@ -8,8 +8,8 @@ use std::process::{Child, Command, Stdio};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use pps_tests::fixtures::{self, ADA_SWITCH};
-use pps_tests::{Registry, wait, workspace_bin};
+use pps_test_kit::fixtures::{self, ADA_SWITCH};
+use pps_test_kit::{Registry, robots_waiting, wait, workspace_bin};
 use reqwest::{Method, StatusCode};
 use serde_json::{Value, json};
 
@@ -102,16 +102,6 @@ async fn task_in(registry: &Registry, id: &str, state: &str) -> Value {
     wait::until(&format!("task {id} to be {state}"), || async move {
         let task = task(registry, id).await;
         (task["state"] == state).then_some(task)
-    })
-    .await
-}
-
-async fn robots_waiting(registry: &Registry, n: usize) {
-    wait::until(&format!("{n} robot(s) waiting for a task"), || async move {
-        let text =
-            registry.request(Method::GET, "/metrics", "").send().await.ok()?.text().await.ok()?;
-        let waiting = text.lines().find_map(|l| l.strip_prefix("pps_robots_waiting_for_tasks "))?;
-        (waiting.parse::<usize>().ok()? == n).then_some(())
     })
     .await
 }

@@ -11,7 +11,7 @@ use pps_robot::sim::{
 };
 use serde_json::{Value, json};
 use support::netns::isolated;
-use support::{Peer, RosNode, Server};
+use support::{Peer, RosNode, logged_times, registry, stored_trial};
 
 /// Writes the scene as the peer reads it: raw RGB rows, raw float32 x y z, and the camera.
 fn write_scene(scene: &SceneCapture, dir: &std::path::Path) {
@@ -71,8 +71,8 @@ async fn a_click_on_a_rendered_scene_gives_the_tag_pose_and_the_goal() {
     let tag = expected.tag.as_ref().expect("the library finds the tag").nearest();
     let waypoint = expected.waypoint.as_ref().expect("the library finds a waypoint");
 
-    let server = Server::start(dir.path()).await;
-    let node = RosNode::start(&server, &dir.path().join("state"));
+    let (server, token) = registry().await;
+    let node = RosNode::start(&server, &token, &dir.path().join("state"));
     let mut peer = Peer::start();
     matched(&mut peer, &node);
     // A click before any cloud is answered with nothing, and said once in words.
@@ -136,7 +136,7 @@ async fn a_click_on_a_rendered_scene_gives_the_tag_pose_and_the_goal() {
     assert_eq!(peer.command(json!({"trial": trial_now(id, &switch)}))["sent"], true);
     logged(&node, &format!("trial {id} recorded with its picture")).await;
     let (status, kind, png) = server.get_bytes(&format!("/api/v1/trials/{id}/picture")).await;
-    assert_eq!((status, kind.as_str()), (200, "image/png"), "node log:\n{}", node.log());
+    assert_eq!((status.as_u16(), kind.as_str()), (200, "image/png"), "node log:\n{}", node.log());
     let picture = image_size(&png);
     assert!(picture.0 >= 64 && picture.0 <= 320, "a view around the tag: {picture:?}");
     assert!(png.len() <= 200 * 1024);
@@ -163,8 +163,8 @@ async fn with_no_picture_the_trial_after_a_click_goes_without_one() {
         &CaptureSettings::small(),
     );
     write_scene(&scene, dir.path());
-    let server = Server::start(dir.path()).await;
-    let node = RosNode::start_with(&server, &dir.path().join("state"), &["--no-picture"]);
+    let (server, token) = registry().await;
+    let node = RosNode::start_with(&server, &token, &dir.path().join("state"), &["--no-picture"]);
     let mut peer = Peer::start();
     matched(&mut peer, &node);
     peer.command(json!({"scene": dir.path()}));
@@ -175,18 +175,14 @@ async fn with_no_picture_the_trial_after_a_click_goes_without_one() {
     let switch = DeviceKind::LightSwitch.epc().as_hex().to_owned();
     assert_eq!(peer.command(json!({"trial": trial_now(id, &switch)}))["sent"], true);
     logged(&node, &format!("trial {id} recorded")).await;
-    server.stored_trial(id, &node).await;
+    stored_trial(&server, id, &node).await;
     let (status, _, _) = server.get_bytes(&format!("/api/v1/trials/{id}/picture")).await;
     assert_eq!(status, 404, "--no-picture sends none");
 }
 
 /// Waits until the node has logged `text`.
 async fn logged(node: &RosNode, text: &str) {
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
-    while !node.log().contains(text) {
-        assert!(std::time::Instant::now() < deadline, "never logged `{text}`:\n{}", node.log());
-        tokio::time::sleep(std::time::Duration::from_millis(20)).await;
-    }
+    logged_times(node, text, 1).await;
 }
 
 /// A PNG's width and height, from its header.
@@ -221,8 +217,8 @@ async fn inventory_rounds_give_entries_and_trials_are_stored() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let server = Server::start(dir.path()).await;
-    let node = RosNode::start(&server, &dir.path().join("state"));
+    let (server, token) = registry().await;
+    let node = RosNode::start(&server, &token, &dir.path().join("state"));
     let mut peer = Peer::start();
     matched(&mut peer, &node);
 
@@ -239,7 +235,7 @@ async fn inventory_rounds_give_entries_and_trials_are_stored() {
     assert_eq!(document["epc"], switch.as_str());
     assert_eq!(document["robot"], "el-e-1");
     assert_eq!(entry["revision"], format!("r{}", document["revision"]));
-    let (_, stored) = server.get(&format!("/api/v1/robots/el-e-1/tags/{switch}")).await;
+    let stored = server.get(&format!("/api/v1/robots/el-e-1/tags/{switch}")).await;
     assert_eq!(document["entry"], stored["entry"], "the entry is the registry's");
     // EL-E here lacks pull_lamp, so the lamp's actions are unavailable to it.
     let lamp = DeviceKind::Lamp.epc().as_hex().to_owned();
@@ -255,32 +251,15 @@ async fn inventory_rounds_give_entries_and_trials_are_stored() {
 
     let id = "7d1f2b9e-4c3a-4e55-9a41-0c2d9b6e8f10";
     assert_eq!(peer.command(json!({"trial": trial(id, &switch)}))["sent"], true);
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
-    let stored = loop {
-        let (status, body) = server.get(&format!("/api/v1/trials/{id}")).await;
-        if status == 200 {
-            break body;
-        }
-        assert!(
-            std::time::Instant::now() < deadline,
-            "trial not stored; node log:\n{}",
-            node.log()
-        );
-        tokio::time::sleep(std::time::Duration::from_millis(50)).await;
-    };
+    let stored = stored_trial(&server, id, &node).await;
     assert_eq!(stored["epc"], switch.as_str());
     assert_eq!(stored["measurements"]["via"], "ros2");
     let (status, _, _) = server.get_bytes(&format!("/api/v1/trials/{id}/picture")).await;
     assert_eq!(status, 404, "no click, so no view to send with the trial");
     // Sent twice (a peer retrying), still stored once.
     assert_eq!(peer.command(json!({"trial": trial(id, &switch)}))["sent"], true);
-    let recorded = format!("trial {id} recorded");
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
-    while node.log().matches(&recorded).count() < 2 {
-        assert!(std::time::Instant::now() < deadline, "second send not handled:\n{}", node.log());
-        tokio::time::sleep(std::time::Duration::from_millis(50)).await;
-    }
-    let (_, listed) = server.get("/api/v1/trials?robot=el-e-1").await;
+    logged_times(&node, &format!("trial {id} recorded"), 2).await;
+    let listed = server.get("/api/v1/trials?robot=el-e-1").await;
     let items = listed["items"].as_array().cloned().unwrap_or_default();
     assert_eq!(items.iter().filter(|t| t["id"] == id).count(), 1, "{listed}");
 }
@@ -291,17 +270,13 @@ async fn with_the_registry_away_entries_still_answer_and_trials_wait_in_the_outb
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let mut server = Server::start(dir.path()).await;
-    let node = RosNode::start(&server, &dir.path().join("state"));
+    let (mut server, token) = registry().await;
+    let node = RosNode::start(&server, &token, &dir.path().join("state"));
     let mut peer = Peer::start();
     matched(&mut peer, &node);
     // The node read the home's tags at start; the registry then goes away.
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
-    while !node.log().contains("5 tags known from the registry") {
-        assert!(std::time::Instant::now() < deadline, "no start-up sync:\n{}", node.log());
-        tokio::time::sleep(std::time::Duration::from_millis(20)).await;
-    }
-    server.stop();
+    logged(&node, "5 tags known from the registry").await;
+    server.kill();
 
     let drawer = DeviceKind::Drawer.epc().as_hex().to_owned();
     let answer = peer.command(json!({"rfid": [[drawer, -45.0, 2]]}));
@@ -316,20 +291,8 @@ async fn with_the_registry_away_entries_still_answer_and_trials_wait_in_the_outb
 
     let id = "0b6f3c1e-2d4a-4f70-8e19-5a7c3d2e1f00";
     assert_eq!(peer.command(json!({"trial": trial(id, &drawer)}))["sent"], true);
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
-    while !node.log().contains(&format!("trial {id} kept in the outbox")) {
-        assert!(std::time::Instant::now() < deadline, "trial not kept:\n{}", node.log());
-        tokio::time::sleep(std::time::Duration::from_millis(20)).await;
-    }
+    logged(&node, &format!("trial {id} kept in the outbox")).await;
     server.restart().await;
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
-    let stored = loop {
-        let (status, body) = server.get(&format!("/api/v1/trials/{id}")).await;
-        if status == 200 {
-            break body;
-        }
-        assert!(std::time::Instant::now() < deadline, "trial not uploaded:\n{}", node.log());
-        tokio::time::sleep(std::time::Duration::from_millis(50)).await;
-    };
+    let stored = stored_trial(&server, id, &node).await;
     assert_eq!(stored["epc"], drawer.as_str());
 }

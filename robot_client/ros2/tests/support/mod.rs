@@ -1,5 +1,5 @@
-//! What the interop tests start: the real `pps-server`, the `pps-ros2` node, and the Cyclone
-//! DDS peer; each stopped when dropped.
+//! What the interop tests start besides the registry (the test kit's): the `pps-ros2` node
+//! and the Cyclone DDS peer; each stopped when dropped.
 
 #![allow(dead_code)]
 
@@ -10,19 +10,12 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
 use std::sync::{Arc, Mutex};
 
-use serde_json::{Value, json};
+use std::time::Duration;
 
-/// A binary of the workspace, built beside the test binary (`cargo build --workspace --bins`).
-pub fn workspace_bin(name: &str) -> PathBuf {
-    let exe = std::env::current_exe().expect("the test binary knows its path");
-    let path = exe.ancestors().nth(2).expect("target/<profile>").join(name);
-    assert!(
-        path.is_file(),
-        "{} is missing: build the binaries first (`cargo build --workspace --bins`, as tests/run does)",
-        path.display()
-    );
-    path
-}
+use pps_test_kit::Registry;
+use pps_test_kit::wait::try_wait_until;
+use reqwest::{Method, StatusCode};
+use serde_json::{Value, json};
 
 /// Keeps reading a child's stderr so it never blocks, for the failure message.
 fn drain(stderr: impl std::io::Read + Send + 'static) -> Arc<Mutex<Vec<String>>> {
@@ -36,138 +29,40 @@ fn drain(stderr: impl std::io::Read + Send + 'static) -> Arc<Mutex<Vec<String>>>
     log
 }
 
-/// The real registry on a fresh database, with the robot `el-e-1` registered.
-pub struct Server {
-    child: Child,
-    db: PathBuf,
-    pub url: String,
-    pub admin: String,
-    pub robot_token: String,
+/// How long the node may take to do what a test asks: it starts, syncs and retries over DDS.
+const PATIENCE: Duration = Duration::from_secs(30);
+
+/// The real registry with the robot `el-e-1` registered (it cannot pull a lamp's cord), and
+/// that robot's token.
+pub async fn registry() -> (Registry, String) {
+    let registry = Registry::start();
+    let robot = json!({"id": "el-e-1", "class": "el-e", "name": "EL-E",
+        "capabilities": ["light_switch", "pull_back", "push", "drop"]});
+    let path = "/api/v1/robots/el-e-1";
+    let (status, body) =
+        registry.call(Method::PUT, path, &registry.admin_token, Some(&robot), &[]).await;
+    assert!(status.is_success(), "registering el-e-1: {status} {body}");
+    let token = registry.token("robot", "el-e-1");
+    (registry, token)
 }
 
-impl Server {
-    pub async fn start(dir: &Path) -> Self {
-        let db = dir.join("pps.db");
-        let mut child = Command::new(workspace_bin("pps-server"))
-            .args(["serve", "--listen", "127.0.0.1:0", "--db"])
-            .arg(&db)
-            .env("RUST_LOG", "warn")
-            .stdin(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("pps-server starts");
-        let mut lines = BufReader::new(child.stderr.take().expect("piped")).lines();
-        let (mut url, mut admin) = (None, None);
-        while url.is_none() || admin.is_none() {
-            let line = lines.next().expect("pps-server printed its banner").expect("text");
-            let line = line.trim();
-            if let Some(rest) = line.strip_prefix("PPS-tag registry at ") {
-                url = Some(rest.trim_end_matches('/').to_owned());
-            } else if line.starts_with("pps_") {
-                admin = Some(line.to_owned());
-            }
-        }
-        std::thread::spawn(move || lines.map_while(Result::ok).for_each(drop));
-        let (url, admin) = (url.expect("a URL"), admin.expect("an admin token"));
-        let robot = json!({"id": "el-e-1", "class": "el-e", "name": "EL-E",
-            "capabilities": ["light_switch", "pull_back", "push", "drop"]});
-        let answer = reqwest::Client::new()
-            .put(format!("{url}/api/v1/robots/el-e-1"))
-            .bearer_auth(&admin)
-            .json(&robot)
-            .send()
-            .await
-            .expect("the registry answers");
-        assert!(answer.status().is_success(), "registering el-e-1: {}", answer.status());
-        let minted = Command::new(workspace_bin("pps-server"))
-            .args(["token", "create", "--role", "robot", "--name", "el-e-1", "--db"])
-            .arg(&db)
-            .output()
-            .expect("pps-server token create runs");
-        assert!(minted.status.success(), "{}", String::from_utf8_lossy(&minted.stderr));
-        let robot_token = String::from_utf8_lossy(&minted.stdout).trim().to_owned();
-        Self { child, db, url, admin, robot_token }
-    }
-
-    /// Stops the registry, as when its machine goes away.
-    pub fn stop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-
-    /// Starts the stopped registry again on the same address and database; returns once it
-    /// answers.
-    pub async fn restart(&mut self) {
-        let address = self.url.trim_start_matches("http://").to_owned();
-        self.child = Command::new(workspace_bin("pps-server"))
-            .args(["serve", "--listen", &address, "--db"])
-            .arg(&self.db)
-            .env("RUST_LOG", "warn")
-            .stdin(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("pps-server starts again");
-        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
-        let http = reqwest::Client::new();
-        while http.get(format!("{}/healthz", self.url)).send().await.is_err() {
-            assert!(std::time::Instant::now() < deadline, "the registry did not come back");
-            tokio::time::sleep(std::time::Duration::from_millis(20)).await;
-        }
-    }
-
-    /// GET a path with the admin token: status and body.
-    pub async fn get(&self, path: &str) -> (u16, Value) {
-        let answer = reqwest::Client::new()
-            .get(format!("{}{path}", self.url))
-            .bearer_auth(&self.admin)
-            .send()
-            .await
-            .expect("the registry answers");
-        let status = answer.status().as_u16();
-        (status, answer.json().await.unwrap_or(Value::Null))
-    }
-
-    /// GET a path with the admin token: status, content type and the bytes.
-    pub async fn get_bytes(&self, path: &str) -> (u16, String, Vec<u8>) {
-        let answer = reqwest::Client::new()
-            .get(format!("{}{path}", self.url))
-            .bearer_auth(&self.admin)
-            .send()
-            .await
-            .expect("the registry answers");
-        let status = answer.status().as_u16();
-        let kind = answer
-            .headers()
-            .get(reqwest::header::CONTENT_TYPE)
-            .and_then(|v| v.to_str().ok())
-            .unwrap_or_default()
-            .to_owned();
-        (status, kind, answer.bytes().await.map(|b| b.to_vec()).unwrap_or_default())
-    }
-
-    /// Waits until the trial `id` is stored, and returns it.
-    pub async fn stored_trial(&self, id: &str, node: &RosNode) -> Value {
-        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
-        loop {
-            let (status, body) = self.get(&format!("/api/v1/trials/{id}")).await;
-            if status == 200 {
-                return body;
-            }
-            assert!(
-                std::time::Instant::now() < deadline,
-                "trial {id} not stored; node log:\n{}",
-                node.log()
-            );
-            tokio::time::sleep(std::time::Duration::from_millis(50)).await;
-        }
-    }
+/// Waits until the trial `id` is stored, and returns it.
+pub async fn stored_trial(registry: &Registry, id: &str, node: &RosNode) -> Value {
+    let stored = try_wait_until(PATIENCE, || async {
+        let path = format!("/api/v1/trials/{id}");
+        let (status, body) =
+            registry.call(Method::GET, &path, &registry.admin_token, None, &[]).await;
+        (status == StatusCode::OK).then_some(body)
+    });
+    stored.await.unwrap_or_else(|| panic!("trial {id} not stored; node log:\n{}", node.log()))
 }
 
-impl Drop for Server {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
+/// Waits until the node has logged `text` `times` times.
+pub async fn logged_times(node: &RosNode, text: &str, times: usize) {
+    let said = try_wait_until(PATIENCE, || async {
+        (node.log().matches(text).count() >= times).then_some(())
+    });
+    said.await.unwrap_or_else(|| panic!("never logged `{text}` {times} times:\n{}", node.log()));
 }
 
 /// The `pps-ros2` node, on loopback.
@@ -177,17 +72,17 @@ pub struct RosNode {
 }
 
 impl RosNode {
-    pub fn start(server: &Server, state: &Path) -> Self {
-        Self::start_with(server, state, &[])
+    pub fn start(registry: &Registry, token: &str, state: &Path) -> Self {
+        Self::start_with(registry, token, state, &[])
     }
 
     /// The node with more command-line arguments.
-    pub fn start_with(server: &Server, state: &Path, args: &[&str]) -> Self {
+    pub fn start_with(registry: &Registry, token: &str, state: &Path, args: &[&str]) -> Self {
         let mut child = Command::new(env!("CARGO_BIN_EXE_pps-ros2"))
-            .args(["--server", &server.url, "--robot", "el-e-1", "--state"])
+            .args(["--server", &registry.url, "--robot", "el-e-1", "--state"])
             .arg(state)
             .args(args)
-            .env("PPS_TOKEN", &server.robot_token)
+            .env("PPS_TOKEN", token)
             .env("PPS_DDS_INTERFACE", "127.0.0.1")
             .env("RUST_LOG", "info")
             .stdin(Stdio::null())

@@ -1,6 +1,5 @@
 //! Databases in the throwaway PostgreSQL cluster the test command starts
 //! (`tests/postgres/start`), named by `PPS_TEST_POSTGRES`. The load benchmark uses it too.
-#![allow(dead_code)] // the benchmark names its cluster itself
 
 use pps_server::db::Location;
 use sqlx::Connection;

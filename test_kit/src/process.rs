@@ -10,11 +10,21 @@ use reqwest::{Method, StatusCode};
 use serde_json::Value;
 use tempfile::TempDir;
 
+use crate::wait::{self, wait_for};
 use crate::workspace_bin;
 
 /// What replicas log: where they serve and which of them runs the Home Assistant bridge, at
 /// info; everything else only when it warns.
 const REPLICA_LOG: &str = "warn,pps_server::cli=info,pps_server::home_assistant=info";
+
+/// Reads the first-start banner: where the registry serves, and the admin token made.
+fn read_banner(line: &str, url: &mut Option<String>, admin_token: &mut Option<String>) {
+    if let Some(rest) = line.strip_prefix("PPS-tag registry at ") {
+        *url = Some(rest.trim_end_matches('/').to_owned());
+    } else if line.starts_with("pps_") {
+        *admin_token = Some(line.to_owned());
+    }
+}
 
 /// A running registry; stopped when dropped.
 #[derive(Debug)]
@@ -25,6 +35,8 @@ pub struct Registry {
     /// The one-time admin token from the first-start banner.
     pub admin_token: String,
     db: PathBuf,
+    /// The `serve` flags it started with, for a restart.
+    flags: Vec<String>,
     http: reqwest::Client,
     /// What the server wrote to stderr after its banner (warnings and errors).
     log: Arc<Mutex<Vec<String>>>,
@@ -49,6 +61,12 @@ impl Registry {
     pub fn on_database(db: &Path) -> Self {
         let dir = tempfile::tempdir().expect("a temporary directory");
         Self::serve(dir, db.to_owned(), &[])
+    }
+
+    /// Starts `pps-server serve` with `flags` on a fresh database at `db`, or returns what it
+    /// said when it refused to start (bad settings, say).
+    pub fn try_on_database(db: &Path, flags: &[&str]) -> Result<Self, String> {
+        Self::try_spawn(db, flags, ("warn", true), read_banner)
     }
 
     /// Starts the first replica of a registry on a new, empty PostgreSQL database at `url`
@@ -76,13 +94,7 @@ impl Registry {
 
     fn serve(dir: TempDir, db: PathBuf, flags: &[&str]) -> Self {
         let log = if db.to_string_lossy().starts_with("postgres") { REPLICA_LOG } else { "warn" };
-        let mut registry = Self::spawn(&db, flags, (log, true), |line, url, admin_token| {
-            if let Some(rest) = line.strip_prefix("PPS-tag registry at ") {
-                *url = Some(rest.trim_end_matches('/').to_owned());
-            } else if line.starts_with("pps_") {
-                *admin_token = Some(line.to_owned());
-            }
-        });
+        let mut registry = Self::spawn(&db, flags, (log, true), read_banner);
         registry._dir = dir;
         registry
     }
@@ -92,9 +104,20 @@ impl Registry {
     fn spawn(
         db: &Path,
         flags: &[&str],
-        (log_filter, banner): (&str, bool),
+        log: (&str, bool),
         read: impl Fn(&str, &mut Option<String>, &mut Option<String>),
     ) -> Self {
+        Self::try_spawn(db, flags, log, read)
+            .unwrap_or_else(|said| panic!("pps-server exited before it served, saying:\n{said}"))
+    }
+
+    /// [`Self::spawn`], or what the server said when it exited instead.
+    fn try_spawn(
+        db: &Path,
+        flags: &[&str],
+        (log_filter, banner): (&str, bool),
+        read: impl Fn(&str, &mut Option<String>, &mut Option<String>),
+    ) -> Result<Self, String> {
         let mut child = Command::new(workspace_bin("pps-server"))
             .args(["serve", "--listen", "127.0.0.1:0", "--db"])
             .arg(db)
@@ -109,10 +132,12 @@ impl Registry {
         let (mut url, mut admin_token) = (None, None);
         let log = Arc::new(Mutex::new(Vec::new()));
         loop {
-            let line = lines
-                .next()
-                .expect("pps-server said where it serves before exiting")
-                .expect("pps-server's stderr is text");
+            let Some(line) = lines.next() else {
+                child.wait().expect("the exited server is reaped");
+                let said = log.lock().unwrap_or_else(|e| e.into_inner()).join("\n");
+                return Err(said);
+            };
+            let line = line.expect("pps-server's stderr is text");
             read(line.trim(), &mut url, &mut admin_token);
             log.lock().unwrap_or_else(|e| e.into_inner()).push(line);
             if url.is_some() && (admin_token.is_some() || !banner) {
@@ -126,15 +151,51 @@ impl Registry {
                 kept.lock().unwrap_or_else(|e| e.into_inner()).push(line);
             }
         });
-        Self {
+        Ok(Self {
             child,
             url: url.expect("a URL"),
             admin_token: admin_token.unwrap_or_default(),
             db: db.to_owned(),
+            flags: flags.iter().map(|flag| flag.to_string()).collect(),
             http: reqwest::Client::new(),
             log,
             _dir: tempfile::tempdir().expect("a temporary directory"),
-        }
+        })
+    }
+
+    /// Kills the server with SIGKILL, as a power cut would, and reaps it.
+    pub fn kill(&mut self) {
+        self.child.kill().expect("the server was running");
+        self.child.wait().expect("the killed server is reaped");
+    }
+
+    /// Starts the killed server again on the same address and database; returns once it
+    /// answers.
+    pub async fn restart(&mut self) {
+        let address = self.url.trim_start_matches("http://").to_owned();
+        let mut child = Command::new(workspace_bin("pps-server"))
+            .args(["serve", "--listen", &address, "--db"])
+            .arg(&self.db)
+            .args(&self.flags)
+            .env("RUST_LOG", "warn")
+            .env("NO_COLOR", "1")
+            .stdin(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("pps-server starts again");
+        let lines = BufReader::new(child.stderr.take().expect("piped stderr")).lines();
+        let kept = self.log.clone();
+        std::thread::spawn(move || {
+            for line in lines.map_while(Result::ok) {
+                kept.lock().unwrap_or_else(|e| e.into_inner()).push(line);
+            }
+        });
+        self.child = child;
+        let health = format!("{}/healthz", self.url);
+        wait_for(wait::DEADLINE, "the restarted registry to answer", || async {
+            self.http.get(&health).send().await.is_ok()
+        })
+        .await;
     }
 
     /// The server's process id.
@@ -230,6 +291,15 @@ impl Registry {
     pub fn request(&self, method: Method, path: &str, token: &str) -> reqwest::RequestBuilder {
         let request = self.http.request(method, format!("{}{path}", self.url));
         if token.is_empty() { request } else { request.bearer_auth(token) }
+    }
+
+    /// GET as the admin: the status, the content type and the bytes.
+    pub async fn get_bytes(&self, path: &str) -> (StatusCode, String, Vec<u8>) {
+        let response = self.request(Method::GET, path, &self.admin_token).send().await;
+        let response = response.expect("the registry answers");
+        let kind = response.headers().get(reqwest::header::CONTENT_TYPE);
+        let kind = kind.and_then(|v| v.to_str().ok()).unwrap_or_default().to_owned();
+        (response.status(), kind, response.bytes().await.expect("a whole body").to_vec())
     }
 
     /// GET as the admin, expecting 200.

@@ -1,20 +1,16 @@
-//! The registry content tests set the scene with: the seeded EPCs, robots, trials.
+//! The content tests set the scene with in a registry process: robots, trials, tags.
 
 use reqwest::{Method, StatusCode};
 use serde_json::{Value, json};
 
-use crate::Registry;
-
-/// The seeded ADA rocker switch (push_top / push_bottom).
-pub const ADA_SWITCH: &str = "355AB1C60000002000000001";
-/// The seeded drawer (open: pull back `pull_open`).
-pub const DRAWER: &str = "355AB1C60000004000000001";
+pub use crate::api::{ADA_SWITCH, DRAWER};
+use crate::{ALL, Registry};
 
 /// Registers `id` of `class` as an admin and mints its token.
 pub async fn robot(registry: &Registry, id: &str, class: &str) -> String {
     let record = json!({
         "id": id, "class": class, "name": id.to_uppercase(),
-        "capabilities": ["light_switch", "pull_back", "push", "pull_lamp", "drop"],
+        "capabilities": ALL,
         "limits": { "max_force": 15.0 }
     });
     let path = format!("/api/v1/robots/{id}");
