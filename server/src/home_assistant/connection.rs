@@ -96,6 +96,10 @@ async fn drive(
                     down_since = Some(Instant::now());
                     let _ = links.send(Link::Lost);
                 }
+                #[allow(
+                    clippy::disallowed_methods,
+                    reason = "back-off between attempts to reach the broker"
+                )]
                 tokio::time::sleep(waits.next().unwrap_or(MAX_BACKOFF)).await;
             }
         }
