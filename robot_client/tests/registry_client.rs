@@ -7,10 +7,8 @@ use std::time::Duration;
 use pps_robot::registry::{RegistryClient, Source};
 use pps_robot::sim::DeviceKind;
 use pps_schema::{Epc, RobotId, Trial};
-use pps_test_kit::{Config, RobotRegistry, wait_for, wait_until};
+use pps_test_kit::{ADA_SWITCH, Config, RobotRegistry, wait_for, wait_until};
 use serde_json::json;
-
-const ADA_SWITCH: &str = "355AB1C60000002000000001";
 
 fn trial(robot: &str) -> Trial {
     serde_json::from_value(json!({

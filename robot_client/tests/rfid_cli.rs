@@ -7,9 +7,9 @@ use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
 use llrpkit::{Emulator, tag};
+use pps_test_kit::ADA_SWITCH;
 use serde_json::Value;
 
-const ADA_SWITCH: &str = "355AB1C60000002000000001";
 const LAMP: &str = "355AB1C60000003000000001";
 const UNREGISTERED: &str = "E2801160600002084D2AB5C71E0F0A11";
 

@@ -1,15 +1,13 @@
 //! The caretakers' UI in a real browser: headless Chromium against the real `pps-server`
 //! process, as a caretaker would use it on a phone or a laptop.
 
-use pps_test_kit::{Registry, wait};
+use pps_test_kit::{ADA_SWITCH, DRAWER, Registry, wait};
 use pps_tests::browser::{DESKTOP, PHONE};
 use pps_tests::{Browser, Session};
 use reqwest::{Method, StatusCode};
 use serde_json::{Value, json};
 
 const PASSWORD: &str = "correct horse battery";
-const DRAWER: &str = "355AB1C60000004000000001";
-const ADA_SWITCH: &str = "355AB1C60000002000000001";
 const LAMP: &str = "355AB1C60000003000000001";
 const TRASH_CAN: &str = "355AB1C60000005000000001";
 

@@ -1,14 +1,13 @@
 //! Experiments apart, as a caretaker sees them: the tag page's success rate counts real use,
 //! says so in words, and counts experiments and tests only when asked, remembering the choice.
 
-use pps_test_kit::Registry;
+use pps_test_kit::{DRAWER, Registry};
 use pps_tests::Browser;
 use pps_tests::browser::PHONE;
 use reqwest::Method;
 use serde_json::{Value, json};
 
 const PASSWORD: &str = "correct horse battery";
-const DRAWER: &str = "355AB1C60000004000000001";
 
 fn trial(n: u8, outcome: &str, purpose: &str) -> Value {
     json!({

@@ -5,29 +5,9 @@
 
 use std::time::{Duration, Instant};
 
-use pps_test_kit::{Registry, wait};
+use pps_server::db::Location;
+use pps_test_kit::{ADA_SWITCH, Registry, wait};
 use pps_tests::{Mosquitto, MqttWatch};
-use sqlx::Connection;
-
-const ADA_SWITCH: &str = "355AB1C60000002000000001";
-
-/// A new, empty database in the test command's cluster.
-async fn fresh_database() -> String {
-    let cluster = std::env::var("PPS_TEST_POSTGRES").unwrap_or_else(|_| {
-        panic!(
-            "PPS_TEST_POSTGRES names no PostgreSQL cluster: run the test command (tests/run), \
-             or start one with `tests/postgres/start DIR` and export the URL it prints"
-        )
-    });
-    let name = format!("test_{}", uuid::Uuid::new_v4().simple());
-    let mut admin = sqlx::PgConnection::connect(&cluster).await.expect("the cluster answers");
-    sqlx::raw_sql(sqlx::AssertSqlSafe(format!("create database {name}")))
-        .execute(&mut admin)
-        .await
-        .expect("a new database");
-    let (base, _) = cluster.rsplit_once('/').expect("the cluster URL names a database");
-    format!("{base}/{name}")
-}
 
 /// Which of the replicas says it runs the bridge.
 fn runners(replicas: &[&Registry]) -> Vec<usize> {
@@ -43,7 +23,9 @@ async fn tasks_on(registry: &Registry, epc: &str) -> usize {
 
 #[tokio::test]
 async fn one_replica_runs_the_bridge_and_the_other_takes_over() {
-    let database = fresh_database().await;
+    let Location::Postgres(database) = pps_test_kit::postgres::fresh_database().await else {
+        unreachable!("a PostgreSQL database")
+    };
     let broker = Mosquitto::start().await;
     let mqtt = ["--mqtt", &broker.url()];
     let first = Registry::on_postgres(&database, &mqtt);
