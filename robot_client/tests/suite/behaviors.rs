@@ -16,11 +16,11 @@ use serde_json::json;
 /// The seed entry's parameters for `key`, as the registry merges them for an EL-E.
 fn params(device: DeviceKind, key: &str) -> BehaviorParams {
     let text = match device {
-        DeviceKind::LightSwitch => include_str!("../../seed_tags/light_switch.json"),
-        DeviceKind::AdaLightSwitch => include_str!("../../seed_tags/ada_light_switch.json"),
-        DeviceKind::Lamp => include_str!("../../seed_tags/lamp.json"),
-        DeviceKind::Drawer => include_str!("../../seed_tags/drawer.json"),
-        DeviceKind::TrashCan => include_str!("../../seed_tags/trash_can.json"),
+        DeviceKind::LightSwitch => include_str!("../../../seed_tags/light_switch.json"),
+        DeviceKind::AdaLightSwitch => include_str!("../../../seed_tags/ada_light_switch.json"),
+        DeviceKind::Lamp => include_str!("../../../seed_tags/lamp.json"),
+        DeviceKind::Drawer => include_str!("../../../seed_tags/drawer.json"),
+        DeviceKind::TrashCan => include_str!("../../../seed_tags/trash_can.json"),
     };
     let entry: TagEntry = serde_json::from_str(text).unwrap();
     entry.behaviors[key].params_for(Some("el-e"), "el-e-1").unwrap()

@@ -1,12 +1,10 @@
 //! The LLRP client against a reader we did not write: llrpkit's emulator, with each test's own
 //! tag population and faults.
 
-mod llrpkit;
-
 use std::collections::BTreeSet;
 use std::time::{Duration, Instant};
 
-use llrpkit::{Emulator, tag};
+use crate::llrpkit::{Emulator, tag};
 use pps_robot::hal::{AntennaId, HalError, RfidReader, TagRead};
 use pps_robot::navigation::{RfidIdentity, identify_tag};
 use pps_robot::rfid::llrp::{LlrpReader, LlrpSettings};

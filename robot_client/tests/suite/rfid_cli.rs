@@ -1,12 +1,10 @@
 //! `pps-robot rfid` as a person or a script runs it, against llrpkit's LLRP reader emulator.
 
-mod llrpkit;
-
 use std::net::TcpListener;
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
-use llrpkit::{Emulator, tag};
+use crate::llrpkit::{Emulator, tag};
 use pps_test_kit::ADA_SWITCH;
 use serde_json::Value;
 

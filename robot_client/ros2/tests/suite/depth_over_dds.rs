@@ -2,11 +2,10 @@
 //! DDS into the `pps-ros2` process, a click, and the tag pose and goal it answers: the answer of
 //! the same frame given as a cloud, to 1 mm. Inside a loopback-only network namespace.
 
-mod support;
-
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
+use crate::support::netns::isolated;
 use pps_robot::navigation::{ApproachParams, plan_approach};
 use pps_robot::sim::{
     AlignedDepth, CaptureSettings, DeviceKind, Room, StartDirection, capture_scene,
@@ -25,7 +24,6 @@ use pps_ros2::topics::ros_name;
 use ros2_client::{
     MessageTypeName, Node, NodeName, NodeOptions, Publisher, QosProfile, Subscription,
 };
-use support::netns::isolated;
 
 fn header(frame: &str) -> Header {
     Header { stamp: Time::now(), frame_id: frame.into() }
@@ -47,7 +45,9 @@ fn subscribe<M: RosMessage>(node: &mut Node, topic: &str, qos: QosProfile) -> Su
 
 #[tokio::test(flavor = "multi_thread")]
 async fn aligned_depth_over_dds_gives_the_answer_of_the_same_frame_as_a_cloud() {
-    if !isolated("aligned_depth_over_dds_gives_the_answer_of_the_same_frame_as_a_cloud") {
+    if !isolated(
+        "depth_over_dds::aligned_depth_over_dds_gives_the_answer_of_the_same_frame_as_a_cloud",
+    ) {
         return;
     }
     let scene = capture_scene(

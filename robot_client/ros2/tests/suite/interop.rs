@@ -2,16 +2,14 @@
 //! `rmw_cyclonedds`) plays the robot and the operator, with the real registry, all inside a
 //! loopback-only network namespace.
 
-mod support;
-
+use crate::support::netns::isolated;
+use crate::support::{Peer, RosNode, logged_times, registry, stored_trial};
 use nalgebra::{Point3, UnitQuaternion, Vector3};
 use pps_robot::navigation::{ApproachParams, plan_approach};
 use pps_robot::sim::{
     CaptureSettings, DeviceKind, Room, SceneCapture, StartDirection, capture_scene,
 };
 use serde_json::{Value, json};
-use support::netns::isolated;
-use support::{Peer, RosNode, logged_times, registry, stored_trial};
 
 /// Writes the scene as the peer reads it: raw RGB rows, raw float32 x y z, and the camera.
 fn write_scene(scene: &SceneCapture, dir: &std::path::Path) {
@@ -46,7 +44,7 @@ fn matched(peer: &mut Peer, node: &RosNode) {
 
 #[tokio::test(flavor = "multi_thread")]
 async fn a_click_on_a_rendered_scene_gives_the_tag_pose_and_the_goal() {
-    if !isolated("a_click_on_a_rendered_scene_gives_the_tag_pose_and_the_goal") {
+    if !isolated("interop::a_click_on_a_rendered_scene_gives_the_tag_pose_and_the_goal") {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -150,7 +148,7 @@ async fn a_click_on_a_rendered_scene_gives_the_tag_pose_and_the_goal() {
 
 #[tokio::test(flavor = "multi_thread")]
 async fn with_no_picture_the_trial_after_a_click_goes_without_one() {
-    if !isolated("with_no_picture_the_trial_after_a_click_goes_without_one") {
+    if !isolated("interop::with_no_picture_the_trial_after_a_click_goes_without_one") {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -213,7 +211,7 @@ fn trial(id: &str, epc: &str) -> Value {
 
 #[tokio::test(flavor = "multi_thread")]
 async fn inventory_rounds_give_entries_and_trials_are_stored() {
-    if !isolated("inventory_rounds_give_entries_and_trials_are_stored") {
+    if !isolated("interop::inventory_rounds_give_entries_and_trials_are_stored") {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -266,7 +264,9 @@ async fn inventory_rounds_give_entries_and_trials_are_stored() {
 
 #[tokio::test(flavor = "multi_thread")]
 async fn with_the_registry_away_entries_still_answer_and_trials_wait_in_the_outbox() {
-    if !isolated("with_the_registry_away_entries_still_answer_and_trials_wait_in_the_outbox") {
+    if !isolated(
+        "interop::with_the_registry_away_entries_still_answer_and_trials_wait_in_the_outbox",
+    ) {
         return;
     }
     let dir = tempfile::tempdir().unwrap();

@@ -1,12 +1,10 @@
 //! The `sim_robot` example as a person runs it: it says how it stops, and with `--clicks N` it
 //! does, by itself, after N clicks.
 
-mod support;
-
 use std::path::PathBuf;
 use std::process::Command;
 
-use support::netns;
+use crate::support::netns;
 
 /// The example next to this test binary (`target/<profile>/examples/`).
 fn example() -> PathBuf {
@@ -17,7 +15,7 @@ fn example() -> PathBuf {
 
 #[test]
 fn sim_robot_stops_after_the_clicks_it_was_asked_for() {
-    if !netns::isolated("sim_robot_stops_after_the_clicks_it_was_asked_for") {
+    if !netns::isolated("sim_robot::sim_robot_stops_after_the_clicks_it_was_asked_for") {
         return;
     }
     let output = Command::new(example())

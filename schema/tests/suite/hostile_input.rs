@@ -237,7 +237,7 @@ fn check_rejection(document: &Value, errors: &ValidationErrors) -> Result<(), Te
 }
 
 fn seed_entry() -> Value {
-    serde_json::from_str(include_str!("../../seed_tags/ada_light_switch.json")).unwrap()
+    serde_json::from_str(include_str!("../../../seed_tags/ada_light_switch.json")).unwrap()
 }
 
 fn seed_trial() -> Value {
