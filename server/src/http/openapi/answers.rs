@@ -1,7 +1,7 @@
 //! The shapes of the registry's own answers and request bodies that are not contract documents:
 //! problems, pages, stored records, statistics, tokens, sessions, users.
 //!
-//! Written by hand from what the handlers send; `server/tests/openapi.rs` and the Schemathesis
+//! Written by hand from what the handlers send; `server/tests/suite/openapi.rs` and the Schemathesis
 //! step hold them against real answers.
 //!
 //! Long because it is one table, a shape per answer, read top to bottom beside the handlers;
