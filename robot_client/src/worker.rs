@@ -88,6 +88,10 @@ impl Worker {
                     let wait = waits.next().unwrap_or(retry::LONGEST_WAIT);
                     let seconds = wait.as_secs_f64();
                     say(Said::Pause(format!("{error}; claiming again in {seconds:.1} s")));
+                    #[allow(
+                        clippy::disallowed_methods,
+                        reason = "back-off while the registry is unreachable"
+                    )]
                     tokio::time::sleep(wait).await;
                     continue;
                 }
@@ -154,6 +158,10 @@ async fn work_on(
             }
             // Done but not said: keep saying it while the lease lasts, or another robot redoes it.
             Err(RegistryError::Unreachable(_)) if started.elapsed() < FINISH_FOR => {
+                #[allow(
+                    clippy::disallowed_methods,
+                    reason = "back-off while the registry is unreachable"
+                )]
                 tokio::time::sleep(waits.next().unwrap_or(retry::LONGEST_WAIT)).await;
             }
             Err(error) => {
@@ -178,6 +186,7 @@ fn outcome_words(outcome: Outcome) -> &'static str {
 async fn keep_lease(registry: RegistryClient, task: QueuedTask) {
     let mut every = task.heartbeat_every();
     loop {
+        #[allow(clippy::disallowed_methods, reason = "a heartbeat's period")]
         tokio::time::sleep(every).await;
         match registry.heartbeat_task(task.id).await {
             Ok(extended) => every = extended.heartbeat_every(),

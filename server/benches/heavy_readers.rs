@@ -29,6 +29,7 @@ use pps_server::store::trials::{self, Window};
 use pps_server::store::{robots, tokens};
 use pps_server::trials::filter::TrialFilter;
 use pps_server::{Db, tags::seed};
+use pps_test_kit::wait::try_wait_until;
 use serde_json::{Value, json};
 use tokio::io::AsyncWriteExt;
 use tokio::net::{TcpSocket, TcpStream};
@@ -144,6 +145,7 @@ async fn run(options: &Options) -> anyhow::Result<()> {
     while Instant::now() < until {
         health.push(timed(third.get(format!("{url}/healthz"))).await?);
         tags.push(timed(third.get(format!("{url}/api/v1/tags")).bearer_auth(&admin)).await?);
+        #[allow(clippy::disallowed_methods, reason = "the probe asks ten times a second")]
         tokio::time::sleep(Duration::from_millis(100)).await;
     }
     let cpu = cpu_seconds(&server) - cpu_before;
@@ -313,13 +315,10 @@ fn report(what: &str, waits: &mut [Duration]) {
 }
 
 async fn wait_until_up(client: &reqwest::Client, url: &str) -> anyhow::Result<()> {
-    for _ in 0..200 {
-        if client.get(format!("{url}/healthz")).send().await.is_ok() {
-            return Ok(());
-        }
-        tokio::time::sleep(Duration::from_millis(50)).await;
-    }
-    anyhow::bail!("the server did not come up")
+    let answers = || async { client.get(format!("{url}/healthz")).send().await.ok().map(drop) };
+    try_wait_until(Duration::from_secs(10), answers)
+        .await
+        .ok_or_else(|| anyhow::anyhow!("the server did not come up"))
 }
 
 /// User and system CPU time of the server so far.

@@ -16,7 +16,7 @@ use hyper_util::client::legacy::connect::HttpConnector;
 use serde_json::{Value, json};
 use tempfile::TempDir;
 
-use crate::{target_dir, wait};
+use pps_test_kit::{target_dir, wait};
 
 /// A phone's width (CSS pixels), the narrowest screen the UI supports.
 pub const PHONE: (u32, u32) = (375, 812);

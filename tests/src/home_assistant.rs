@@ -11,7 +11,7 @@ use reqwest::header::CONTENT_TYPE;
 use serde_json::{Value, json};
 use tempfile::TempDir;
 
-use crate::{target_dir, wait};
+use pps_test_kit::{target_dir, wait};
 
 /// A running Home Assistant and the access token of its owner; stopped when dropped.
 #[derive(Debug)]
@@ -129,7 +129,7 @@ impl Starting {
     pub async fn ready(mut self) -> HomeAssistant {
         let http = reqwest::Client::new();
         let onboarding = format!("{}/api/onboarding", self.url);
-        wait::until_within("Home Assistant to answer", HASS_START, || async {
+        wait::wait_until(HASS_START, "Home Assistant to answer", || async {
             http.get(&onboarding).send().await.ok().filter(|r| r.status().is_success()).map(drop)
         })
         .await;

@@ -11,7 +11,7 @@ use std::process::{Child, Command, Stdio};
 use tempfile::TempDir;
 
 use crate::test_ca::ServerIdentity;
-use crate::wait;
+use pps_test_kit::wait;
 
 /// A running broker; stopped when dropped.
 #[derive(Debug)]

@@ -4,7 +4,7 @@
 //! part runs, like every DDS process here, inside a loopback-only network namespace: this
 //! benchmark re-runs itself inside one.
 
-#[path = "../tests/support/netns.rs"]
+#[path = "../tests/suite/support/netns.rs"]
 mod netns;
 
 use std::process::{Command, Stdio};

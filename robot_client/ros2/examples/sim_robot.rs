@@ -197,12 +197,14 @@ async fn main() -> anyhow::Result<()> {
             clicked += 1;
             if args.clicks == Some(clicked) {
                 // One more period, so the node's answers to the last click are printed.
+                #[allow(clippy::disallowed_methods, reason = "the simulated robot's pace")]
                 tokio::time::sleep(Duration::from_secs_f64(args.every)).await;
                 eprintln!("sent {clicked} clicks; stopping");
                 return Ok(());
             }
         }
         tick += 1;
+        #[allow(clippy::disallowed_methods, reason = "the simulated robot's pace")]
         tokio::time::sleep(stream_every).await;
     }
 }

@@ -59,6 +59,7 @@ pub async fn flush_until_stored(registry: &RegistryClient) -> anyhow::Result<()>
             report.remaining,
             wait
         );
+        #[allow(clippy::disallowed_methods, reason = "back-off while the registry is unreachable")]
         tokio::time::sleep(wait).await;
         wait = (wait * 2).min(Duration::from_secs(10));
     }

@@ -64,6 +64,10 @@ impl ChangeWatch {
                     Ended::Dropped { was_live: false } => {}
                 }
                 let wait = waits.next().unwrap_or(super::retry::LONGEST_WAIT);
+                #[allow(
+                    clippy::disallowed_methods,
+                    reason = "back-off between attempts to reach the feed"
+                )]
                 tokio::time::sleep(wait).await;
             }
         });

@@ -6,6 +6,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
 
 use pps_schema::{RobotId, Trial};
+use pps_test_kit::wait_for;
 
 use super::RegistryClient;
 use super::client::MAX_FAILED_UPLOADS;
@@ -66,12 +67,11 @@ async fn a_change_feed_that_refuses_the_credential_is_not_asked_again() {
     let client =
         RegistryClient::new(&url, "pps_x", RobotId::parse("el-e-1").unwrap(), dir.path()).unwrap();
     let watch = client.watch_changes();
-    let mut waited = Duration::ZERO;
-    while watch.refused().is_none() || !watch.stopped() {
-        assert!(waited < Duration::from_secs(10), "the watch never said it was refused");
-        tokio::time::sleep(Duration::from_millis(20)).await;
-        waited += Duration::from_millis(20);
-    }
+    let reason = "the watch to say it was refused, and stop";
+    wait_for(Duration::from_secs(10), reason, || async {
+        watch.refused().is_some() && watch.stopped()
+    })
+    .await;
     assert!(watch.refused().unwrap().contains("not valid"), "{:?}", watch.refused());
     // The watch has stopped: it can never ask again.
     assert_eq!(asked.load(Ordering::SeqCst), 1);

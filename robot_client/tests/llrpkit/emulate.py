@@ -10,6 +10,7 @@ answering each with one line:
     drop MESSAGE              swallow the next MESSAGE (an llrpkit message class name): `ok`
     keepalive                 send a KEEPALIVE and wait up to 2 s for its ACK: `ack` or `no ack`
     acks                      how many KEEPALIVE_ACKs arrived: a number
+    active                    whether a ROSpec runs (an inventory round): `yes` or `no`
 
 It exits when stdin closes. Only llrpkit speaks LLRP here; this file only drives it.
 """
@@ -82,6 +83,10 @@ async def main() -> None:
                     reply = "no ack"
             elif command == "acks":
                 reply = str(emulator.keepalive_acks)
+            elif command == "active":
+                # llrpkit keeps the ROSpecs' states to itself; the tests need to know one runs.
+                running = any(state == "Active" for _, state in emulator._rospecs.values())
+                reply = "yes" if running else "no"
             else:
                 reply = f"unknown command {command}"
             print(reply, flush=True)

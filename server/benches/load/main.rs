@@ -25,16 +25,15 @@ use std::process::{Child, Command, Stdio};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use anyhow::Context;
 use pps_server::identity::Role;
 use pps_server::store::db::Location;
 use pps_server::store::{robots, tokens};
 use pps_server::{Db, tags::seed};
+use pps_test_kit::wait::try_wait_until;
 use serde_json::{Value, json};
 
 mod nginx;
-// The test harness's databases in a PostgreSQL cluster, shared rather than copied.
-#[path = "../../tests/common/postgres.rs"]
-mod postgres;
 
 const BIN: &str = env!("CARGO_BIN_EXE_pps-server");
 
@@ -160,7 +159,9 @@ fn main() -> anyhow::Result<()> {
 async fn run(options: &Options, tag_count: usize, store: Store) -> anyhow::Result<()> {
     let dir = tempfile::tempdir()?;
     let (location, replicas) = match (store, &options.postgres) {
-        (Store::Postgres, Some(cluster)) => (postgres::fresh_database_in(cluster).await?, REPLICAS),
+        (Store::Postgres, Some(cluster)) => {
+            (pps_test_kit::postgres::fresh_database_in(cluster).await?, REPLICAS)
+        }
         _ => (Location::File(dir.path().join("bench.db")), 1),
     };
     let prepared = Instant::now();
@@ -373,13 +374,8 @@ fn client(connections: usize) -> reqwest::Result<reqwest::Client> {
 }
 
 async fn wait_until_up(client: &reqwest::Client, url: &str) -> anyhow::Result<()> {
-    for _ in 0..200 {
-        if client.get(format!("{url}/healthz")).send().await.is_ok() {
-            return Ok(());
-        }
-        tokio::time::sleep(Duration::from_millis(50)).await;
-    }
-    anyhow::bail!("the server did not come up")
+    let answers = || async { client.get(format!("{url}/healthz")).send().await.ok().map(drop) };
+    try_wait_until(Duration::from_secs(10), answers).await.context("the server did not come up")
 }
 
 fn free_port() -> std::io::Result<u16> {

@@ -11,6 +11,9 @@ use std::process::{Command, Stdio};
 use std::sync::Arc;
 use std::time::Duration;
 
+use anyhow::Context;
+use pps_test_kit::wait::try_wait_until;
+
 use super::{Fleet, Operation, Options, free_port, measure, stop, which};
 
 /// wrk rounds (ours, then nginx) in the comparison.
@@ -55,12 +58,8 @@ pub async fn compare(
         .stderr(Stdio::null())
         .spawn()?;
     let url = format!("http://127.0.0.1:{port}/entry.json");
-    for _ in 0..100 {
-        if client.get(&url).send().await.is_ok() {
-            break;
-        }
-        tokio::time::sleep(Duration::from_millis(50)).await;
-    }
+    let answers = || async { client.get(&url).send().await.ok().map(drop) };
+    try_wait_until(Duration::from_secs(5), answers).await.context("nginx did not come up")?;
     let measured = measure(
         client,
         fleet,

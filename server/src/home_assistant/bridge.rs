@@ -141,6 +141,7 @@ pub async fn run(state: &AppState, config: &Config, lease: &Lease) -> Ended {
     ended
 }
 
+#[allow(clippy::disallowed_methods, reason = "the bridge's own timer")]
 async fn wait_until(at: Option<Instant>) {
     match at {
         Some(at) => tokio::time::sleep_until(at).await,

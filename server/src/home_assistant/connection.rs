@@ -138,6 +138,10 @@ async fn drive(
                     let _ = links.send(Link::Lost { why: error.clone() });
                     said = Some(error);
                 }
+                #[allow(
+                    clippy::disallowed_methods,
+                    reason = "back-off between attempts to reach the broker"
+                )]
                 tokio::time::sleep(waits.next().unwrap_or(MAX_BACKOFF)).await;
             }
         }

@@ -81,8 +81,10 @@ pub async fn run(state: AppState, config: Config) {
             }
             Err(error) => tracing::warn!(%error, "cannot take the Home Assistant bridge's lease"),
         }
+        #[allow(clippy::disallowed_methods, reason = "the lease is renewed on a period")]
+        let renew = tokio::time::sleep(RENEW_EVERY);
         tokio::select! {
-            () = tokio::time::sleep(RENEW_EVERY) => {}
+            () = renew => {}
             () = state.feed.closed() => return,
         }
     }

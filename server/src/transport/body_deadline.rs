@@ -24,6 +24,10 @@ pub struct DeadlineBody<B> {
 }
 
 impl<B> DeadlineBody<B> {
+    #[allow(
+        clippy::disallowed_methods,
+        reason = "the time a client is given to send a request body"
+    )]
     pub fn new(inner: B, limit: Duration) -> Self {
         Self { inner, limit, deadline: Box::pin(tokio::time::sleep(limit)) }
     }

@@ -171,6 +171,10 @@ async fn pause_after(error: &io::Error) {
         return;
     }
     tracing::error!(%error, "cannot accept connections; retrying in a second");
+    #[allow(
+        clippy::disallowed_methods,
+        reason = "a failing accept is retried after a pause, not in a busy loop"
+    )]
     tokio::time::sleep(Duration::from_secs(1)).await;
 }
 

@@ -30,6 +30,7 @@ impl<T> WriteDeadline<T> {
     }
 
     /// The answer to a write that must wait: wait, unless the client has made it wait too long.
+    #[allow(clippy::disallowed_methods, reason = "the time a slow client is given to take a write")]
     fn wait<R>(&mut self, cx: &mut Context<'_>) -> Poll<io::Result<R>> {
         let limit = self.limit;
         let deadline = self.waiting.get_or_insert_with(|| Box::pin(tokio::time::sleep(limit)));

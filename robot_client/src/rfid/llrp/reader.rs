@@ -125,7 +125,8 @@ fn open(settings: &LlrpSettings) -> Result<Session, SessionError> {
     let mut session = loop {
         match Session::connect(settings) {
             Err(SessionError::Busy(_)) if Instant::now() + BUSY_RETRY < give_up => {
-                std::thread::sleep(BUSY_RETRY)
+                #[allow(clippy::disallowed_methods, reason = "a real reader needs a moment")]
+                std::thread::sleep(BUSY_RETRY);
             }
             other => break other?,
         }

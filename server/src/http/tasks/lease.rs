@@ -113,9 +113,11 @@ pub async fn claim(
         }
         // Nothing for this robot: it waits, at no cost, until something changes.
         place.looked(generation);
+        #[allow(clippy::disallowed_methods, reason = "a long poll ends at its deadline")]
+        let timeout = tokio::time::sleep_until(deadline);
         tokio::select! {
             () = place.next_change() => {}
-            () = tokio::time::sleep_until(deadline) => break,
+            () = timeout => break,
             // A shutdown does not wait for long polls.
             () = state.feed.closed() => break,
         }

@@ -1,0 +1,50 @@
+//! The test kit every suite of the workspace shares: the registry in-process
+//! ([`TestServer`]) and as the real process ([`Registry`]), what tests send to its API, the
+//! change feed as a client reads it, robots at work ([`WorkingRobot`]), and waiting until a
+//! condition holds ([`wait`]), never for a fixed time.
+//!
+//! Nothing here skips: when a binary or a PostgreSQL cluster a test needs is missing, the kit
+//! panics and the test fails, saying what to do.
+
+pub mod api;
+pub mod fixtures;
+pub mod in_process;
+pub mod metrics;
+pub mod postgres;
+pub mod process;
+#[cfg(feature = "robot")]
+pub mod robots;
+pub mod sse;
+pub mod wait;
+pub mod working_robot;
+
+pub use api::{ADA_SWITCH, ALL, DRAWER, new_entry, pointers, problem, register_robot, trial, uuid};
+pub use in_process::{Config, Store, TestServer, store_under_test};
+pub use metrics::{Served, metric, robots_waiting};
+pub use process::Registry;
+#[cfg(feature = "robot")]
+pub use robots::{EL_E, RobotRegistry};
+pub use sse::{SseClient, SseEvent};
+pub use wait::{wait_for, wait_until, wait_until_blocking};
+pub use working_robot::WorkingRobot;
+
+use std::path::PathBuf;
+
+/// The Cargo target directory this test binary was built into (`target/`).
+pub fn target_dir() -> PathBuf {
+    let exe = std::env::current_exe().expect("the test binary knows its path");
+    // target/<profile>/deps/<test binary>
+    exe.ancestors().nth(3).expect("the test binary lives in target/<profile>/deps").to_path_buf()
+}
+
+/// A binary of the workspace, built next to this test binary (`tests/run` builds them first).
+pub fn workspace_bin(name: &str) -> PathBuf {
+    let exe = std::env::current_exe().expect("the test binary knows its path");
+    let path = exe.ancestors().nth(2).expect("target/<profile>").join(name);
+    assert!(
+        path.is_file(),
+        "{} is missing: build the binaries first (`cargo build --workspace --bins`, as tests/run does)",
+        path.display()
+    );
+    path
+}
