@@ -31,7 +31,7 @@ struct Outcome {
 
 fn run(kind: DeviceKind, seed: u64, source: fn(u64, DeviceKind) -> GeneratedScene) -> Outcome {
     let scene = source(seed, kind);
-    let params = ApproachParams::default();
+    let params = ApproachParams { depth_noise: scene.depth_noise(), ..ApproachParams::default() };
     let verdict =
         plan_approach(&scene.image, &scene.cloud, &scene.calibration, &scene.target, &params)
             .map(|plan| judge(scene.truth(), &plan))
