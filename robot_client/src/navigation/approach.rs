@@ -148,6 +148,8 @@ pub(crate) fn plan_approach_with(
         smoothed = timings.time("ray_smoothing", || PointCloud {
             points: smooth_along_rays(
                 &cloud.points,
+                image,
+                &params.tag.thresholds,
                 calibration,
                 &min,
                 &max,
