@@ -67,6 +67,7 @@ impl PlaneSearchParams {
         params.inlier_distance = self.inlier_distance.max(2.5 * sigma);
         params.sample_cell = self.sample_cell.max((4.0 * sigma) as f32);
         params.evidence.max_band = self.evidence.max_band.max(2.0 * 2.5 * sigma);
+        params.evidence.max_waviness = self.evidence.max_waviness.max(0.7 * sigma);
         params
     }
 }
