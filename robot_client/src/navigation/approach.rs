@@ -13,7 +13,7 @@ use rand_chacha::ChaCha8Rng;
 use super::backing_plane::{BackingPlane, BackingPlaneRule, choose_backing_plane};
 use super::ransac::{DetectedPlane, PlaneSearch, PlaneSearchParams, find_planes};
 use super::rejection::RejectedPlane;
-use super::tag_centre::tag_centre_on;
+use super::tag_centre::{FACE_DEPTH, tag_centre_on};
 use super::voi::VolumeOfInterest;
 use super::waypoint::{
     ApproachWaypoint, Clearance, RobotFootprint, approach_waypoint, check_clearance,
@@ -161,6 +161,7 @@ pub(crate) fn plan_approach_with(
     } else {
         cloud
     };
+    let raw_sigma = params.depth_noise.sigma_at(range);
     let params = &params.at_range(range);
     let voi = VolumeOfInterest::around(*target, params.voi_radius, params.voi_half_height);
     // The crop needs nothing of the tag, so a second core makes it while the tag is searched
@@ -204,10 +205,13 @@ pub(crate) fn plan_approach_with(
         }
         None => (None, None),
     };
-    // With the surface known, the tag's centre is the middle of its outline on it.
+    // With the surface known, the tag's centre is the middle of its outline on it; placed by
+    // the points' directions alone where their depths are rougher than a tag's face is deep.
+    let rough = raw_sigma > FACE_DEPTH / 3.0;
+    let rays_from = rough.then_some(&robot);
     if let (Some(sighting), Some(plane)) = (tag.as_mut(), &backing_plane) {
         let nearest = sighting.nearest_mut();
-        if let Some(centre) = tag_centre_on(&nearest.members, plane) {
+        if let Some(centre) = tag_centre_on(&nearest.members, plane, rays_from) {
             nearest.centroid = centre;
         }
     }
