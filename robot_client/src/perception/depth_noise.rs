@@ -38,6 +38,17 @@ impl DepthNoise {
         Self { floor: Self::LASER.floor, growth: disparity_sigma_px / (focal_px * baseline_m) }
     }
 
+    /// A disparity camera given by its σ at 1 m, metres.
+    pub fn from_one_metre(sigma_at_one_metre: f64) -> Self {
+        Self { floor: Self::LASER.floor, growth: sigma_at_one_metre }
+    }
+
+    /// A RealSense D435 at 848 pixels, 0.08 px subpixel over 447 px × 50 mm: 3.6 mm at 1 m.
+    /// `perceive --depth`'s model when none is given.
+    pub fn d435() -> Self {
+        Self::from_one_metre(0.0036)
+    }
+
     /// σ of a depth measured `range` metres away, metres.
     pub fn sigma_at(&self, range: f64) -> f64 {
         self.floor + self.growth * range * range
