@@ -42,19 +42,10 @@ pub(super) fn bound_tags(
     let largest = params.max_tag_radius * 200.0;
     let mut bounded = Vec::with_capacity(components.len());
     for component in components {
-        if component.distance_to_target > params.max_distance {
+        if component.radius <= params.max_tag_radius
+            || component.distance_to_target > params.max_distance
+        {
             bounded.push(component);
-            continue;
-        }
-        if component.radius <= params.max_tag_radius {
-            bounded.extend(without_another_colour(
-                component,
-                image,
-                calibration,
-                target,
-                params,
-                notes,
-            ));
             continue;
         }
         let across = component.radius * 200.0;
@@ -103,43 +94,6 @@ pub(super) fn bound_tags(
     }
     bounded
 }
-
-/// A region the size of a tag, with the points of another colour taken out when there are
-/// enough of them to be a thing of their own (a red bin beside a small patch), not the odd
-/// pixel of the tag's own shading.
-fn without_another_colour(
-    component: Component,
-    image: &ColorImage,
-    calibration: &CameraCalibration,
-    target: &Point3<f64>,
-    params: &TagSearchParams,
-    notes: &mut Vec<String>,
-) -> Vec<Component> {
-    let members = &component.members;
-    let Some(split) = tag_coloured(members, image, calibration, &core_of(members, target, params))
-    else {
-        return vec![component];
-    };
-    let other = members.len() - split.kept.len();
-    let enough = other >= 3 * params.min_points
-        && other as f64 >= ANOTHER_COLOUR_SHARE * members.len() as f64;
-    if !enough {
-        return vec![component];
-    }
-    notes.push(format!(
-        "{other} of the {} points of the red region near the target have another colour than \
-         its part nearest the target (beyond three of that part's spreads, {:.3} on the chroma \
-         disc): something else red touches the tag",
-        members.len(),
-        split.spread,
-    ));
-    components_of(&split.kept, target, params)
-}
-
-/// The share of a region's points beyond the tag's colour from which they are another thing:
-/// three spreads hold all but 0.3 % of a tag's own pixels, and its highlights and folds a few
-/// per cent more.
-const ANOTHER_COLOUR_SHARE: f64 = 0.1;
 
 /// The points of `points` that have the colour of those nearest `anchor` (all of them when
 /// they are one colour): a tag's own pixels, without the wood or the fringe it touches.
