@@ -15,7 +15,7 @@
 //!   blinded by its own highlight of the projector: holes;
 //! - nothing nearer than the minimum range or beyond the maximum.
 
-use pps_robot::perception::DepthImage;
+use pps_robot::perception::{DepthImage, DepthNoise};
 use serde::{Deserialize, Serialize};
 
 use crate::camera::PixelSurface;
@@ -64,6 +64,14 @@ impl DepthSensorModel {
     /// σ of the depth at `z` metres: `z²·σ_d / (f·b)`.
     pub fn depth_sigma(&self, z: f64) -> f64 {
         z * z * self.disparity_sigma_px / (self.depth_focal_px * self.baseline_m)
+    }
+
+    /// The noise model a robot with this camera is given: its datasheet's focal length,
+    /// baseline and disparity error, the reporting step's rounding included.
+    pub fn noise(&self) -> DepthNoise {
+        let step = self.disparity_step_px;
+        let disparity_sigma = self.disparity_sigma_px.hypot(step / 12f64.sqrt());
+        DepthNoise::disparity(self.depth_focal_px, self.baseline_m, disparity_sigma)
     }
 
     /// The depth image of the surfaces a colour camera of focal length `colour_fx` pixels saw,

@@ -37,7 +37,7 @@ use std::time::Instant;
 
 use nalgebra::{Point3, Vector3};
 use pps_robot::hal::{CameraCalibration, ColorImage, PointCloud};
-use pps_robot::perception::{DepthImage, DepthRange, cloud_from_depth};
+use pps_robot::perception::{DepthImage, DepthNoise, DepthRange, cloud_from_depth};
 use serde::Serialize;
 
 pub use corpus::{DrawnScene, SceneParameters, draw, draw_rgbd};
@@ -92,6 +92,12 @@ impl GeneratedScene {
 
     pub fn parameters(&self) -> &SceneParameters {
         &self.drawn.parameters
+    }
+
+    /// How the range sensor that saw the scene scatters its depths: the RGB-D camera's model,
+    /// or the laser's.
+    pub fn depth_noise(&self) -> DepthNoise {
+        self.parameters().rgbd.as_ref().map_or(DepthNoise::LASER, |r| r.sensor.noise())
     }
 
     /// The depth image as perception reads it, when an RGB-D camera saw the scene.

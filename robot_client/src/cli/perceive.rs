@@ -14,7 +14,9 @@ use crate::hal::PointCloud;
 use crate::navigation::{
     ApproachParams, ApproachPlan, Clearance, plan_approach, plan_approach_on_depth,
 };
-use crate::perception::{DepthImage, DepthRange, HsvThresholds, TagDetection, TagSighting};
+use crate::perception::{
+    DepthImage, DepthNoise, DepthRange, HsvThresholds, TagDetection, TagSighting,
+};
 use crate::picture::draw_overlay;
 use crate::sensor_files::{read_camera_file, read_depth, read_ply, read_png_of_size, write_png};
 use crate::timings::StepTimings;
@@ -32,6 +34,11 @@ pub struct PerceiveArgs {
     /// millimetres or greyscale PFM in metres (0 or NaN: no depth; kept 0.1–10 m).
     #[arg(long)]
     pub depth: Option<PathBuf>,
+    /// The depth camera's noise (σ) at 1 m, metres, that made --depth or --cloud; it grows with
+    /// the square of the range. Default with --depth 0.0036 (a RealSense D435 at 848 pixels);
+    /// with --cloud, a laser's few millimetres at any range.
+    #[arg(long, value_name = "METRES", value_parser = parse_depth_noise)]
+    pub depth_noise_at_1m: Option<f64>,
     /// Camera calibration JSON: width, height, fx, fy, cx, cy, base_from_camera.
     #[arg(long)]
     pub camera: PathBuf,
@@ -68,6 +75,17 @@ fn parse_numbers(text: &str, count: usize, what: &str) -> Result<Vec<f64>, Strin
 fn parse_target(text: &str) -> Result<Point3<f64>, String> {
     let v = parse_numbers(text, 3, "--target")?;
     Ok(Point3::new(v[0], v[1], v[2]))
+}
+
+fn parse_depth_noise(text: &str) -> Result<f64, String> {
+    let sigma = parse_numbers(text, 1, "--depth-noise-at-1m")?[0];
+    if !(sigma > 0.0 && sigma <= 0.1) {
+        return Err(format!(
+            "{sigma} m is not a depth camera's noise at 1 m: give a σ between 0 and 0.1 m \
+             (a RealSense D435 has about 0.0036)"
+        ));
+    }
+    Ok(sigma)
 }
 
 fn parse_hsv(text: &str) -> Result<HsvThresholds, String> {
@@ -185,6 +203,9 @@ pub fn run(args: &PerceiveArgs) -> anyhow::Result<()> {
     };
     let load_ms = start.elapsed().as_secs_f64() * 1e3;
     let mut params = ApproachParams::default();
+    if let Some(sigma) = args.depth_noise_at_1m {
+        params.depth_noise = DepthNoise::from_one_metre(sigma);
+    }
     if let Some(hsv) = args.hsv {
         params.tag.thresholds = hsv;
     }
@@ -197,6 +218,9 @@ pub fn run(args: &PerceiveArgs) -> anyhow::Result<()> {
             (plan, format!("cloud: {} points", cloud.len()))
         }
         RangeData::Depth(depth) => {
+            if args.depth_noise_at_1m.is_none() {
+                params.depth_noise = DepthNoise::d435();
+            }
             let range = DepthRange::default();
             let plan =
                 plan_approach_on_depth(&image, &depth, &calibration, &args.target, &range, &params)

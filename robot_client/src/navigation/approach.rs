@@ -6,20 +6,23 @@
 //! the surface behind it: a towel standing proud of a narrow front would otherwise thicken the
 //! front into something that looks like a slab, or be taken for the front itself.
 
-use nalgebra::Point3;
+use nalgebra::{Point3, Vector3};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use super::backing_plane::{BackingPlane, BackingPlaneRule, choose_backing_plane};
 use super::ransac::{DetectedPlane, PlaneSearch, PlaneSearchParams, find_planes};
 use super::rejection::RejectedPlane;
-use super::tag_centre::tag_centre_on;
+use super::tag_centre::{FACE_DEPTH, tag_centre_on};
 use super::voi::VolumeOfInterest;
 use super::waypoint::{
     ApproachWaypoint, Clearance, RobotFootprint, approach_waypoint, check_clearance,
 };
 use crate::hal::{CameraCalibration, ColorImage, PointCloud};
-use crate::perception::{OccupancyGrid, PerceptionError, TagSearchParams, TagSighting, search_tag};
+use crate::perception::{
+    DepthNoise, OccupancyGrid, PerceptionError, TagSearchParams, TagSighting, search_tag,
+    smooth_along_rays,
+};
 use crate::timings::StepTimings;
 
 /// Everything the approach is tuned by.
@@ -36,6 +39,9 @@ pub struct ApproachParams {
     pub footprint: RobotFootprint,
     /// Seed of the plane search's sampling, so the same data gives the same answer.
     pub seed: u64,
+    /// How the range sensor's depth scatters with range: every range-dependent tolerance above
+    /// is widened to the noise at the target's range (see [`ApproachParams::at_range`]).
+    pub depth_noise: DepthNoise,
 }
 
 impl Default for ApproachParams {
@@ -49,6 +55,21 @@ impl Default for ApproachParams {
             standoff: 0.5,
             footprint: RobotFootprint::default(),
             seed: 0,
+            depth_noise: DepthNoise::LASER,
+        }
+    }
+}
+
+impl ApproachParams {
+    /// These parameters for a target `range` metres from the sensor, with the tolerances that
+    /// depend on the depth noise sized by the noise there, once smoothed along the rays.
+    pub fn at_range(&self, range: f64) -> Self {
+        let sigma = self.depth_noise.smoothed_sigma_at(range);
+        Self {
+            tag: self.tag.for_depth_noise(sigma),
+            planes: self.planes.for_depth_noise(sigma),
+            backing: self.backing.for_depth_noise(sigma),
+            ..self.clone()
         }
     }
 }
@@ -113,6 +134,35 @@ pub(crate) fn plan_approach_with(
     mut timings: StepTimings,
     clearance: impl FnOnce(&ApproachWaypoint) -> Clearance,
 ) -> Result<ApproachPlan, PerceptionError> {
+    // The robot's sensors sit near the camera: planes face there, and so must the backing plane.
+    let robot = Point3::from(calibration.base_from_camera.translation.vector);
+    let range = (target - robot).norm();
+    // A depth camera's fog at this range, smoothed along its rays around the target; the
+    // tolerances below are sized by what noise is left.
+    let window = params.depth_noise.smoothing_window(range);
+    let smoothed;
+    let cloud = if window > 1 {
+        let reach = params.voi_radius.max(params.tag.max_distance + params.tag.fragment_gap);
+        let half = Vector3::new(reach, reach, params.voi_half_height.max(reach));
+        let (min, max) = (target - half, target + half);
+        smoothed = timings.time("ray_smoothing", || PointCloud {
+            points: smooth_along_rays(
+                &cloud.points,
+                image,
+                &params.tag.thresholds,
+                calibration,
+                &min,
+                &max,
+                window,
+                &params.depth_noise,
+            ),
+        });
+        &smoothed
+    } else {
+        cloud
+    };
+    let raw_sigma = params.depth_noise.sigma_at(range);
+    let params = &params.at_range(range);
     let voi = VolumeOfInterest::around(*target, params.voi_radius, params.voi_half_height);
     // The crop needs nothing of the tag, so a second core makes it while the tag is searched
     // for; its time is inside the tag steps' wall time, not under "volume_of_interest".
@@ -122,8 +172,6 @@ pub(crate) fn plan_approach_with(
     );
     let search = tag?;
     let (mut tag, tag_notes) = (search.sighting, search.notes);
-    // The robot's sensors sit near the camera: planes face there, and so must the backing plane.
-    let robot = Point3::from(calibration.base_from_camera.translation.vector);
     let (voi_points, surface_points) = timings.time("volume_of_interest", || {
         let count = inside.len();
         let surface = match &tag {
@@ -157,10 +205,13 @@ pub(crate) fn plan_approach_with(
         }
         None => (None, None),
     };
-    // With the surface known, the tag's centre is the middle of its outline on it.
+    // With the surface known, the tag's centre is the middle of its outline on it; placed by
+    // the points' directions alone where their depths are rougher than a tag's face is deep.
+    let rough = raw_sigma > FACE_DEPTH / 3.0;
+    let rays_from = rough.then_some(&robot);
     if let (Some(sighting), Some(plane)) = (tag.as_mut(), &backing_plane) {
         let nearest = sighting.nearest_mut();
-        if let Some(centre) = tag_centre_on(&nearest.members, plane) {
+        if let Some(centre) = tag_centre_on(&nearest.members, plane, rays_from) {
             nearest.centroid = centre;
         }
     }

@@ -83,6 +83,14 @@ impl Default for BackingPlaneRule {
     }
 }
 
+impl BackingPlaneRule {
+    /// This rule for depths scattering with standard deviation `sigma` (metres) about the
+    /// target: the tag's centroid may sit as far behind its surface as the noise moves it.
+    pub fn for_depth_noise(&self, sigma: f64) -> Self {
+        Self { tag_behind_tolerance: self.tag_behind_tolerance.max(sigma), ..*self }
+    }
+}
+
 /// The backing plane, if any qualified, and why every other plane did not.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct BackingChoice {

@@ -57,6 +57,21 @@ impl Default for PlaneSearchParams {
     }
 }
 
+impl PlaneSearchParams {
+    /// These parameters for depths scattering with standard deviation `sigma` (metres) about
+    /// the target: hypotheses are scored in a band that holds a surface's noise, and the
+    /// judging may measure and take in a band of up to twice the noise expected. Below the
+    /// laser's noise, unchanged.
+    pub fn for_depth_noise(&self, sigma: f64) -> Self {
+        let mut params = *self;
+        params.inlier_distance = self.inlier_distance.max(2.5 * sigma);
+        params.sample_cell = self.sample_cell.max((4.0 * sigma) as f32);
+        params.evidence.max_band = self.evidence.max_band.max(2.0 * 2.5 * sigma);
+        params.evidence.max_waviness = self.evidence.max_waviness.max(0.7 * sigma);
+        params
+    }
+}
+
 /// A plane found in the cloud, its normal toward the viewpoint.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DetectedPlane {

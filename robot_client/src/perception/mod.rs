@@ -17,11 +17,13 @@ mod blobs;
 mod bounded_tag;
 mod brightness;
 mod depth_cloud;
+mod depth_noise;
 pub(crate) mod flood_fill;
 mod hsv;
 mod mask;
 mod occupancy;
 mod projection;
+mod ray_smoothing;
 mod seeded_segmentation;
 mod tag;
 mod tag_colour_stats;
@@ -34,10 +36,12 @@ pub use depth_cloud::{
     DepthEncoding, DepthImage, DepthRange, DepthSizeMismatch, PixelWindow, cloud_from_depth,
     cloud_from_depth_in,
 };
+pub use depth_noise::DepthNoise;
 pub use hsv::{HsvThresholds, ThresholdError, chroma_point, hsv_of, segment_color};
 pub use mask::Mask;
 pub use occupancy::{Component, OccupancyGrid};
 pub use projection::{OcclusionTest, ProjectedCloud, Reach, points_on_mask};
+pub use ray_smoothing::smooth_along_rays;
 pub use seeded_segmentation::segment_seeded;
 pub use tag::{
     PerceptionError, TagDetection, TagSearch, TagSearchParams, TagSighting, choose_tag, locate_tag,

@@ -6,6 +6,7 @@ use nalgebra::Point3;
 
 use super::blobs::Blobs;
 use super::bounded_tag::{bound_tags, refusal};
+use super::depth_noise::DepthNoise;
 use super::hsv::HsvThresholds;
 use super::occupancy::{Component, OccupancyGrid};
 use super::projection::{OcclusionTest, ProjectedCloud, Reach};
@@ -61,6 +62,20 @@ impl Default for TagSearchParams {
             // 60 × 35 cm and a fold 3 cm deep.
             max_tag_radius: 0.35,
         }
+    }
+}
+
+impl TagSearchParams {
+    /// These parameters for depths scattering with standard deviation `sigma` (metres) about
+    /// the target: the occlusion test lets a point lie as far behind its cell's nearest depth
+    /// as two draws of the noise can part, and a tag's points reach as much further from its
+    /// middle as the noise stretches them along the rays. Below the laser's noise, unchanged.
+    pub fn for_depth_noise(&self, sigma: f64) -> Self {
+        let mut params = self.clone();
+        params.occlusion.tolerance = params.occlusion.tolerance.max((5.0 * sigma) as f32);
+        let beyond_laser = (sigma - DepthNoise::LASER.floor).max(0.0);
+        params.max_tag_radius = self.max_tag_radius + 3.0 * beyond_laser;
+        params
     }
 }
 

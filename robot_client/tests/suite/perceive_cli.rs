@@ -128,6 +128,10 @@ fn bad_input_is_a_clear_error_and_a_failing_exit() {
         "fractions 0..1",
     );
     fails_saying(perceive(dir.path(), "1.0,2.0", &[]), "--target takes 3");
+    fails_saying(
+        perceive(dir.path(), &target, &["--depth-noise-at-1m", "0.5"]),
+        "not a depth camera's noise at 1 m",
+    );
 
     // The files are read camera, image, cloud: break them last to first.
     std::fs::write(dir.path().join("cloud.ply"), "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nend_header\n1 2 3\n").unwrap();
@@ -178,8 +182,10 @@ fn depth_as_png_or_pfm_gives_the_answer_of_the_same_frame_as_a_cloud() {
         let dir = tempfile::tempdir().unwrap();
         let scene = export_scene_with(dir.path(), device, &["--depth"]);
         let target = target_of(&scene);
+        // The same frame's points as a cloud, with the noise model `--depth` takes by default.
+        let d435 = ["--json", "--depth-noise-at-1m", "0.0036"];
         let from_cloud =
-            json_of(&perceive_from(dir.path(), "--cloud", "depth.ply", &target, &["--json"]));
+            json_of(&perceive_from(dir.path(), "--cloud", "depth.ply", &target, &d435));
         let expected = answer(&from_cloud);
         for depth in ["depth.png", "depth.pfm"] {
             let report =

@@ -1,6 +1,7 @@
 //! Issue 11's bar for perception, on scenes it was not tuned to: over the independent corpus,
 //! every device kind has at least 99 % of its scenes right (tag centroid within 4 cm, backing
-//! normal within 15°, waypoint within 10 cm), with `ApproachParams::default()`. Every miss is
+//! normal within 15°, waypoint within 10 cm), with `ApproachParams::default()` and the range
+//! sensor's noise model (the laser's, or the RGB-D camera's from its datasheet). Every miss is
 //! printed with its seed, kind and drawn parameters; `pps-scenes write --seed N --kind K` writes
 //! that scene for `pps-robot perceive`.
 //!
@@ -8,10 +9,9 @@
 //! stereo or structured-light depth sensor with its own noise and holes, at 0.5–5 m, under warm
 //! and cool light without a flash. `pps-scenes write --rgbd` writes such a scene.
 //!
-//! `PPS_SCENES_PER_KIND` changes the number of scenes per kind (100 by default; 40 for the
-//! RGB-D variants not yet held to the bar, which are ignored with their reasons).
-
-use std::collections::BTreeMap;
+//! Each variant is one test per device kind. `PPS_SCENES_PER_KIND` changes the number of scenes
+//! per kind (100 by default; 40 for the RGB-D frames to 5 m, whose scenes are the largest, and
+//! for the variant not yet held to the bar, which is ignored with its reason).
 
 use nalgebra::Point3;
 use pps_robot::navigation::{ApproachParams, plan_approach};
@@ -31,7 +31,7 @@ struct Outcome {
 
 fn run(kind: DeviceKind, seed: u64, source: fn(u64, DeviceKind) -> GeneratedScene) -> Outcome {
     let scene = source(seed, kind);
-    let params = ApproachParams::default();
+    let params = ApproachParams { depth_noise: scene.depth_noise(), ..ApproachParams::default() };
     let verdict =
         plan_approach(&scene.image, &scene.cloud, &scene.calibration, &scene.target, &params)
             .map(|plan| judge(scene.truth(), &plan))
@@ -53,65 +53,85 @@ fn run(kind: DeviceKind, seed: u64, source: fn(u64, DeviceKind) -> GeneratedScen
     Outcome { kind, seed, verdict, summary, render_ms: scene.render_ms }
 }
 
-#[test]
-fn perception_is_right_on_the_independent_corpus() {
-    holds_the_bar(100, |seed, kind| generate(seed, Some(kind)));
+/// One test per device kind, so that the test runner spreads a variant's scenes over the cores
+/// (each of these tests renders and perceives its scenes on one).
+macro_rules! per_kind {
+    ($(#[$attribute:meta])* $variant:ident, $per_kind:expr, $source:expr) => {
+        mod $variant {
+            use super::*;
+
+            $(#[$attribute])*
+            #[test]
+            fn flip_switch() {
+                holds_the_bar(DeviceKind::FlipSwitch, $per_kind, $source);
+            }
+
+            $(#[$attribute])*
+            #[test]
+            fn rocker() {
+                holds_the_bar(DeviceKind::Rocker, $per_kind, $source);
+            }
+
+            $(#[$attribute])*
+            #[test]
+            fn lamp() {
+                holds_the_bar(DeviceKind::Lamp, $per_kind, $source);
+            }
+
+            $(#[$attribute])*
+            #[test]
+            fn drawer() {
+                holds_the_bar(DeviceKind::Drawer, $per_kind, $source);
+            }
+
+            $(#[$attribute])*
+            #[test]
+            fn trash_can() {
+                holds_the_bar(DeviceKind::TrashCan, $per_kind, $source);
+            }
+        }
+    };
 }
 
-#[test]
-fn perception_is_right_on_dense_rgbd_frames_within_2_5_m() {
-    holds_the_bar(100, |seed, kind| generate_rgbd(seed, Some(kind), RgbdVariants::NEAR));
-}
+per_kind!(perception_is_right_on_the_independent_corpus, 100, |seed, kind| generate(
+    seed,
+    Some(kind)
+));
 
-#[test]
-#[ignore = "not yet 99 % per kind: beyond about 2.5 m the depth noise (σ growing with z²) \
-            outgrows the plane search's laser-sized bands; figures in FINDINGS.md"]
-fn perception_is_right_on_dense_rgbd_frames_to_5_m() {
-    holds_the_bar(40, |seed, kind| generate_rgbd(seed, Some(kind), RgbdVariants::PLAIN));
-}
+per_kind!(perception_is_right_on_dense_rgbd_frames_within_2_5_m, 100, |seed, kind| {
+    generate_rgbd(seed, Some(kind), RgbdVariants::NEAR)
+});
 
-#[test]
-#[ignore = "red things touching the tag merge with it until regions are split by the tag's \
-            size (issue 34 item 1a); figures in FINDINGS.md"]
-fn perception_is_right_with_wood_and_red_things_touching_the_tag() {
-    holds_the_bar(40, |seed, kind| {
+per_kind!(perception_is_right_on_dense_rgbd_frames_to_5_m, 40, |seed, kind| {
+    generate_rgbd(seed, Some(kind), RgbdVariants::PLAIN)
+});
+
+per_kind!(
+    #[ignore = "not yet 99 % per kind: 29, 24, 27, 20 and 21 of 40 (flip switch, rocker, lamp, \
+                drawer, trash can); a red slab touching the tag in a region no larger than a \
+                tag stays joined to it; figures in FINDINGS.md"]
+    perception_is_right_with_wood_and_red_things_touching_the_tag,
+    40,
+    |seed, kind| {
         let near_homes = RgbdVariants { farthest_m: 2.5, ..RgbdVariants::HOMES };
         generate_rgbd(seed, Some(kind), near_homes)
-    });
-}
+    }
+);
 
-fn holds_the_bar(default_per_kind: u64, source: fn(u64, DeviceKind) -> GeneratedScene) {
+fn holds_the_bar(
+    kind: DeviceKind,
+    default_per_kind: u64,
+    source: fn(u64, DeviceKind) -> GeneratedScene,
+) {
     let per_kind: u64 = std::env::var("PPS_SCENES_PER_KIND")
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(default_per_kind);
-    let jobs: Vec<(DeviceKind, u64)> =
-        (0..per_kind).flat_map(|seed| DeviceKind::ALL.map(|kind| (kind, seed))).collect();
-    // Two workers, for the two cores the tests get.
-    let mut outcomes: Vec<Outcome> = std::thread::scope(|s| {
-        let workers: Vec<_> = (0..2)
-            .map(|w| {
-                let jobs = &jobs;
-                s.spawn(move || {
-                    jobs.iter()
-                        .skip(w)
-                        .step_by(2)
-                        .map(|&(k, seed)| run(k, seed, source))
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        workers.into_iter().flat_map(|w| w.join().expect("a worker panicked")).collect()
-    });
-    outcomes.sort_by_key(|o| (DeviceKind::ALL.iter().position(|k| *k == o.kind), o.seed));
-
-    let mut tally: BTreeMap<usize, (DeviceKind, usize, usize)> = BTreeMap::new();
+    let outcomes: Vec<Outcome> = (0..per_kind).map(|seed| run(kind, seed, source)).collect();
+    let mut right = 0;
     for o in &outcomes {
-        let index = DeviceKind::ALL.iter().position(|k| *k == o.kind).unwrap_or(0);
-        let entry = tally.entry(index).or_insert((o.kind, 0, 0));
-        entry.2 += 1;
         match &o.verdict {
-            Ok(v) if v.is_right() => entry.1 += 1,
+            Ok(v) if v.is_right() => right += 1,
             Ok(v) => println!(
                 "MISS seed {} {}: {} — {}",
                 o.seed,
@@ -131,13 +151,12 @@ fn holds_the_bar(default_per_kind: u64, source: fn(u64, DeviceKind) -> Generated
         render[render.len() / 2],
         render[render.len() * 95 / 100]
     );
-    let mut short = Vec::new();
-    for (kind, right, total) in tally.values() {
-        let rate = *right as f64 / *total as f64;
-        println!("{kind}: {right}/{total} right ({:.1} %)", rate * 100.0);
-        if rate < REQUIRED_RATE {
-            short.push(format!("{kind} {:.1} %", rate * 100.0));
-        }
-    }
-    assert!(short.is_empty(), "below {:.0} % right: {}", REQUIRED_RATE * 100.0, short.join(", "));
+    let rate = right as f64 / outcomes.len() as f64;
+    println!("{kind}: {right}/{} right ({:.1} %)", outcomes.len(), rate * 100.0);
+    assert!(
+        rate >= REQUIRED_RATE,
+        "{kind}: {:.1} % right, below {:.0} %",
+        rate * 100.0,
+        REQUIRED_RATE * 100.0
+    );
 }
