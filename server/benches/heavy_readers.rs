@@ -29,6 +29,7 @@ use pps_server::store::trials::{self, Window};
 use pps_server::store::{robots, tokens};
 use pps_server::trials::filter::TrialFilter;
 use pps_server::{Db, tags::seed};
+use pps_test_kit::process::memory_kib;
 use pps_test_kit::wait::try_wait_until;
 use serde_json::{Value, json};
 use tokio::io::AsyncWriteExt;
@@ -336,13 +337,6 @@ fn cpu_seconds(child: &Child) -> f64 {
 
 /// Current and peak resident memory of the server process.
 fn memory(child: &Child) -> Option<String> {
-    let status = std::fs::read_to_string(format!("/proc/{}/status", child.id())).ok()?;
-    let field = |name: &str| {
-        status
-            .lines()
-            .find(|l| l.starts_with(name))
-            .and_then(|l| l.split_whitespace().nth(1))
-            .and_then(|kb| kb.parse::<u64>().ok())
-    };
-    Some(format!("RSS {} MB now, {} MB peak", field("VmRSS:")? / 1024, field("VmHWM:")? / 1024))
+    let (now, peak) = (memory_kib(child.id(), "VmRSS")?, memory_kib(child.id(), "VmHWM")?);
+    Some(format!("RSS {} MB now, {} MB peak", now / 1024, peak / 1024))
 }

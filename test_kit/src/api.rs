@@ -8,6 +8,10 @@ use crate::TestServer;
 
 /// The seeded ADA light switch.
 pub const ADA_SWITCH: &str = "355AB1C60000002000000001";
+/// The seeded flip light switch.
+pub const FLIP_SWITCH: &str = "355AB1C60000001000000001";
+/// The seeded lamp.
+pub const LAMP: &str = "355AB1C60000003000000001";
 /// The seeded drawer.
 pub const DRAWER: &str = "355AB1C60000004000000001";
 

@@ -15,16 +15,21 @@ pub mod process;
 #[cfg(feature = "robot")]
 pub mod robots;
 pub mod sse;
+pub mod tasks;
 pub mod wait;
 pub mod working_robot;
 
-pub use api::{ADA_SWITCH, ALL, DRAWER, new_entry, pointers, problem, register_robot, trial, uuid};
+pub use api::{
+    ADA_SWITCH, ALL, DRAWER, FLIP_SWITCH, LAMP, new_entry, pointers, problem, register_robot,
+    trial, uuid,
+};
 pub use in_process::{Config, Store, TestServer, store_under_test};
 pub use metrics::{Served, metric, robots_waiting};
 pub use process::Registry;
 #[cfg(feature = "robot")]
 pub use robots::{EL_E, RobotRegistry};
 pub use sse::{SseClient, SseEvent};
+pub use tasks::{ask, asked, claim};
 pub use wait::{wait_for, wait_until, wait_until_blocking};
 pub use working_robot::WorkingRobot;
 

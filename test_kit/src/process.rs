@@ -221,13 +221,8 @@ impl Registry {
     /// A memory figure of the server process from `/proc/PID/status`, in KiB: `VmRSS` (now)
     /// or `VmHWM` (the peak so far).
     pub fn memory_kib(&self, field: &str) -> u64 {
-        let status = std::fs::read_to_string(format!("/proc/{}/status", self.pid()))
-            .expect("the server's /proc status is readable");
-        status
-            .lines()
-            .find_map(|line| line.strip_prefix(field)?.strip_prefix(':'))
-            .and_then(|value| value.trim().trim_end_matches("kB").trim().parse().ok())
-            .unwrap_or_else(|| panic!("/proc status has no {field}"))
+        memory_kib(self.pid(), field)
+            .unwrap_or_else(|| panic!("the server's /proc status has no {field}"))
     }
 
     /// Whether the server logged a line containing `text` since it started.
@@ -325,4 +320,14 @@ impl Drop for Registry {
         let _ = self.child.kill();
         let _ = self.child.wait();
     }
+}
+
+/// A memory field of process `pid`'s `/proc` status (`VmRSS`, `VmHWM`, ...), in KiB; `None`
+/// once the process is gone.
+pub fn memory_kib(pid: u32, field: &str) -> Option<u64> {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
+    status
+        .lines()
+        .find_map(|line| line.strip_prefix(field)?.strip_prefix(':'))
+        .and_then(|value| value.trim().trim_end_matches("kB").trim().parse().ok())
 }

@@ -7,27 +7,8 @@ use std::time::{Duration, Instant};
 
 use pps_server::identity::Role;
 use pps_test_kit::*;
-use reqwest::{Method, Response, StatusCode};
+use reqwest::{Method, StatusCode};
 use serde_json::{Value, json};
-
-const FLIP_SWITCH: &str = "355AB1C60000001000000001";
-const LAMP: &str = "355AB1C60000003000000001";
-
-async fn ask(server: &TestServer, body: Value) -> Response {
-    let request = server.request(Method::POST, "/api/v1/tasks", Some(&server.admin));
-    request.json(&body).send().await.unwrap()
-}
-
-async fn asked(server: &TestServer, body: Value) -> Value {
-    let response = ask(server, body).await;
-    assert_eq!(response.status(), StatusCode::CREATED);
-    response.json().await.unwrap()
-}
-
-async fn claim(server: &TestServer, token: &str, robot: &str, wait: f64) -> Response {
-    let path = format!("/api/v1/robots/{robot}/tasks/claim?wait={wait}");
-    server.request(Method::POST, &path, Some(token)).send().await.unwrap()
-}
 
 /// A claim running on its own, as a waiting robot's long poll: its status and body.
 fn claiming(
