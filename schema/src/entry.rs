@@ -54,6 +54,9 @@ pub struct Properties {
     /// Whether the tag lies on the surface behind it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub on_plane: Option<bool>,
+    /// The red tag's size as it is stuck on.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tag_size: Option<TagSize>,
     /// How far the switch moves when operated, metres (0..=0.15).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub switch_travel: Option<f64>,
@@ -119,6 +122,20 @@ pub enum LookDirection {
     Backward,
     Left,
     Right,
+}
+
+/// A tag's width and height as it is stuck on, metres (each 0.01..=1).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TagSize {
+    pub width: f64,
+    pub height: f64,
+}
+
+impl TagSize {
+    /// How far the tag reaches from its middle: half its diagonal, metres.
+    pub fn reach(&self) -> f64 {
+        self.width.hypot(self.height) / 2.0
+    }
 }
 
 /// Where the thing is in the home.

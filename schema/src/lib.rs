@@ -25,7 +25,7 @@ pub use behavior::{
 pub use effective::{EffectiveEntry, Provenance, ProvenanceError, UnavailableAction};
 pub use entry::{
     ColorSegmentation, HOUSEHOLD_COLOR, LEARNED_COLOR, LearnedColor, Location, LookDirection,
-    PpsTagMaterial, Properties, RobotProperties, StateChange, TagEntry,
+    PpsTagMaterial, Properties, RobotProperties, StateChange, TagEntry, TagSize,
 };
 pub use epc::{Epc, EpcError};
 pub use link::{Link, LinkRel};

@@ -7,7 +7,7 @@ use std::time::Instant;
 use anyhow::Context;
 use clap::{ArgGroup, Args};
 use nalgebra::Point3;
-use pps_schema::ColorSegmentation;
+use pps_schema::{ColorSegmentation, TagSize};
 use serde::Serialize;
 
 use crate::hal::PointCloud;
@@ -49,6 +49,11 @@ pub struct PerceiveArgs {
     /// and value 0..1. Default 340,20,0.6,1.0,0.15,1.0.
     #[arg(long, value_name = "HMIN,HMAX,SMIN,SMAX,VMIN,VMAX", allow_hyphen_values = true, value_parser = parse_hsv)]
     pub hsv: Option<HsvThresholds>,
+    /// The home's largest tag as registered (`tag_size`), WIDTH,HEIGHT in metres: a red region
+    /// reaching further than its half diagonal and 3 cm is never taken as a tag. Default: a
+    /// towel over a wide drawer's handle (60 × 35 cm).
+    #[arg(long, value_name = "WIDTH,HEIGHT", value_parser = parse_largest_tag)]
+    pub largest_tag: Option<TagSize>,
     /// Print one JSON document on stdout and nothing else.
     #[arg(long)]
     pub json: bool,
@@ -86,6 +91,18 @@ fn parse_depth_noise(text: &str) -> Result<f64, String> {
         ));
     }
     Ok(sigma)
+}
+
+fn parse_largest_tag(text: &str) -> Result<TagSize, String> {
+    let v = parse_numbers(text, 2, "--largest-tag")?;
+    if v.iter().any(|side| !(0.01..=1.0).contains(side)) {
+        return Err(format!(
+            "{},{} is not a tag's width and height: give each side in metres, from 0.01 to 1 \
+             (a patch on a rocker switch is 0.05,0.08)",
+            v[0], v[1]
+        ));
+    }
+    Ok(TagSize { width: v[0], height: v[1] })
 }
 
 fn parse_hsv(text: &str) -> Result<HsvThresholds, String> {
@@ -208,6 +225,9 @@ pub fn run(args: &PerceiveArgs) -> anyhow::Result<()> {
     }
     if let Some(hsv) = args.hsv {
         params.tag.thresholds = hsv;
+    }
+    if let Some(largest) = args.largest_tag {
+        params.tag = params.tag.for_home_tags([largest.reach()]);
     }
     // Turning depth into a cloud is a compute step, and the first; on a depth frame only the
     // pixels that can matter are turned into points.

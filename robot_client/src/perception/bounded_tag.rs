@@ -69,10 +69,11 @@ pub(super) fn bound_tags(
                  the target"
             )),
         }
+        let mut divided = Vec::new();
         for part in components_of(&members, target, params) {
             if part.radius <= params.max_tag_radius || part.distance_to_target > params.max_distance
             {
-                bounded.push(part);
+                divided.push(part);
                 continue;
             }
             match on_the_nearest_surface(&part, target, params) {
@@ -86,10 +87,26 @@ pub(super) fn bound_tags(
                         surface.kept.len(),
                         part.points,
                     ));
-                    bounded.extend(components_of(&surface.kept, target, params));
+                    divided.extend(components_of(&surface.kept, target, params));
                 }
-                None => bounded.push(part),
+                None => divided.push(part),
             }
+        }
+        // The tag the person pointed at is the part nearest the target. When that part is
+        // still larger than any tag, the region's other parts are pieces of the same red thing
+        // or of what touches it, and taking one of them would put the tag where it is not.
+        let nearest = divided
+            .iter()
+            .filter(|p| p.points >= params.min_points)
+            .min_by(|a, b| a.distance_to_target.total_cmp(&b.distance_to_target));
+        match nearest {
+            Some(part) if part.radius > params.max_tag_radius => notes.push(format!(
+                "its part nearest the target is still {:.0} cm across, larger than any tag, and \
+                 neither its colours nor its surfaces divide it further, so no part of it is \
+                 taken for a tag",
+                part.radius * 200.0
+            )),
+            _ => bounded.extend(divided),
         }
     }
     bounded

@@ -66,6 +66,19 @@ impl Default for TagSearchParams {
 }
 
 impl TagSearchParams {
+    /// These parameters bounded by the home's own tags: a red region reaching further from its
+    /// middle than the largest of `reaches` (metres, half each tag's diagonal) by more than a
+    /// tag's own fragments may lie apart (`fragment_gap`) is never a tag as a whole. Unchanged
+    /// when no reach is given, since an unknown tag may be as large as a towel.
+    pub fn for_home_tags(&self, reaches: impl IntoIterator<Item = f64>) -> Self {
+        let largest = reaches.into_iter().filter(|r| r.is_finite() && *r > 0.0).reduce(f64::max);
+        let mut params = self.clone();
+        if let Some(largest) = largest {
+            params.max_tag_radius = largest + self.fragment_gap;
+        }
+        params
+    }
+
     /// These parameters for depths scattering with standard deviation `sigma` (metres) about
     /// the target: the occlusion test lets a point lie as far behind its cell's nearest depth
     /// as two draws of the noise can part, and a tag's points reach as much further from its
@@ -320,6 +333,16 @@ pub fn choose_tag(components: Vec<Component>, params: &TagSearchParams) -> Optio
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_homes_largest_tag_bounds_a_tag_and_no_size_leaves_the_towels() {
+        let params = TagSearchParams::default();
+        // A rocker's 5 × 8 cm patch and a flip switch's 3 × 4 cm tube.
+        let small = params.for_home_tags([0.0472, 0.025]);
+        assert!((small.max_tag_radius - (0.0472 + params.fragment_gap)).abs() < 1e-12);
+        assert_eq!(params.for_home_tags([]), params);
+        assert_eq!(params.for_home_tags([f64::NAN]), params);
+    }
 
     fn component(distance: f64, points: usize) -> Component {
         Component {

@@ -1,6 +1,6 @@
 //! The four phases in order, ending in a trial recorded through the registry client.
 
-use pps_schema::{Purpose, StartPose};
+use pps_schema::{Purpose, StartPose, TagSize};
 use uuid::Uuid;
 
 use super::approach::{Look, drive_to_waypoint, look_for_tag_and_surface};
@@ -100,6 +100,7 @@ pub async fn run_task(
     // Phase 2: find the tag and the surface behind it; drive to the waypoint.
     let phase = report.phase(2, "approach the tag perpendicular to its surface");
     let config = &with_known_tag_colours(config, registry, phase);
+    let config = &with_known_tag_sizes(config, registry, phase);
     let seen =
         look_for_tag_and_surface(robot, operator, &target, &config.sweep, &config.approach, phase)?;
     let Some(mut tag) = drive_to_waypoint(robot, &seen.plan, phase)? else {
@@ -185,6 +186,42 @@ fn with_known_tag_colours(
         Err(error) => phase.note(format!(
             "the entries' colours cannot be used ({error}); looking for the default red"
         )),
+    }
+    config
+}
+
+/// The task's settings with the tag search bounded by the largest tag of this household, when
+/// the registry knows every known tag's size; otherwise a tag may be as large as a towel.
+fn with_known_tag_sizes(
+    config: &TaskConfig,
+    registry: &RegistryClient,
+    phase: &mut PhaseReport,
+) -> TaskConfig {
+    let known = registry.known_entries();
+    let sizes: Option<Vec<TagSize>> = known.iter().map(|e| e.entry.properties.tag_size).collect();
+    let mut config = config.clone();
+    match sizes {
+        Some(sizes) if !sizes.is_empty() => {
+            let tag = config.approach.tag.for_home_tags(sizes.iter().map(TagSize::reach));
+            phase.note(format!(
+                "no red region reaching more than {:.0} cm from its middle is taken for a tag \
+                 (the largest of this household's {} tags, by their registered sizes)",
+                tag.max_tag_radius * 100.0,
+                sizes.len()
+            ));
+            config.approach.tag = tag;
+        }
+        _ => {
+            let without_size =
+                known.iter().filter(|e| e.entry.properties.tag_size.is_none()).count();
+            if without_size > 0 {
+                phase.note(format!(
+                    "{without_size} of {} known tags have no registered size, so a tag may be as \
+                     large as a towel",
+                    known.len()
+                ));
+            }
+        }
     }
     config
 }

@@ -132,6 +132,10 @@ fn bad_input_is_a_clear_error_and_a_failing_exit() {
         perceive(dir.path(), &target, &["--depth-noise-at-1m", "0.5"]),
         "not a depth camera's noise at 1 m",
     );
+    fails_saying(
+        perceive(dir.path(), &target, &["--largest-tag", "5,8"]),
+        "not a tag's width and height",
+    );
 
     // The files are read camera, image, cloud: break them last to first.
     std::fs::write(dir.path().join("cloud.ply"), "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nend_header\n1 2 3\n").unwrap();
@@ -140,6 +144,21 @@ fn bad_input_is_a_clear_error_and_a_failing_exit() {
     fails_saying(perceive(dir.path(), &target, &["--json"]), "image.png");
     std::fs::write(dir.path().join("camera.json"), "{\"width\": 320}").unwrap();
     fails_saying(perceive(dir.path(), &target, &["--json"]), "camera.json");
+}
+
+#[test]
+fn a_towel_is_not_taken_for_a_tag_in_a_home_whose_largest_tag_is_a_patch() {
+    let dir = tempfile::tempdir().unwrap();
+    // The simulator's towel is 16 × 24 cm.
+    let scene = export_scene(dir.path(), "drawer");
+    let target = target_of(&scene);
+    let towels = json_of(&perceive(dir.path(), &target, &["--json", "--largest-tag", "0.2,0.3"]));
+    assert!(towels["tag"].is_object(), "{towels}");
+    let patches =
+        json_of(&perceive(dir.path(), &target, &["--json", "--largest-tag", "0.05,0.05"]));
+    assert!(patches["tag"].is_null(), "{patches}");
+    let notes = patches["tag_notes"].to_string();
+    assert!(notes.contains("larger than any tag"), "{notes}");
 }
 
 #[test]

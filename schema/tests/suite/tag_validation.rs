@@ -252,3 +252,22 @@ fn a_document_that_is_not_an_object_is_one_error_at_the_root() {
     assert_eq!(pointers(&errors), [""]);
     assert!(errors.errors()[0].message.contains("an object"));
 }
+
+#[test]
+fn a_tag_size_is_a_width_and_a_height_in_metres() {
+    let entry = with(lamp(), "/properties/tag_size", json!({"width": 0.05, "height": 0.08}));
+    validate_tag(&entry).unwrap();
+    let typed: TagEntry = serde_json::from_value(entry).unwrap();
+    let size = typed.properties.tag_size.expect("typed");
+    assert!((size.reach() - 0.0472).abs() < 1e-4, "{}", size.reach());
+
+    let errors = rejected(&with(lamp(), "/properties/tag_size", json!({"width": 5, "height": 0})));
+    assert_eq!(
+        pointers(&errors),
+        ["/properties/tag_size/height", "/properties/tag_size/width"],
+        "{errors}"
+    );
+    let errors = rejected(&with(lamp(), "/properties/tag_size", json!({"width": 0.05})));
+    let message = message_at(&errors, "/properties/tag_size/height");
+    assert!(message.contains("required"), "{message}");
+}
