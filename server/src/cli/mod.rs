@@ -117,6 +117,12 @@ struct ServeArgs {
           default_value_t = transport::DEFAULT_WRITE_TIMEOUT.as_secs(),
           value_parser = durations::timeout_seconds)]
     write_timeout: u64,
+    /// Seconds (1 to 3600) a write waits for the database while another process (a backup, a
+    /// command) holds its write lock; then it is answered 503 with Retry-After.
+    #[arg(long, env = "PPS_LOCK_TIMEOUT", value_name = "SECONDS",
+          default_value_t = crate::store::db::DEFAULT_LOCK_TIMEOUT.as_secs(),
+          value_parser = durations::timeout_seconds)]
+    lock_timeout: u64,
     /// Once a day, thin the force samples of trials received more than DAYS ago.
     #[arg(long, env = "PPS_THIN_FORCES_AFTER_DAYS", value_name = "DAYS",
           value_parser = clap::value_parser!(u32).range(..=retention::MAX_AGE_DAYS as i64))]

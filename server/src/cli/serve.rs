@@ -57,7 +57,8 @@ pub(super) async fn serve(location: &Location, args: ServeArgs) -> anyhow::Resul
     let listener = tokio::net::TcpListener::bind(args.listen)
         .await
         .with_context(|| format!("cannot listen on {}", args.listen))?;
-    let db = Db::open(location).await?;
+    let lock_timeout = std::time::Duration::from_secs(args.lock_timeout);
+    let db = Db::open_waiting(location, lock_timeout).await?;
     let seeded = seed::seed_if_empty(&db).await?;
     if seeded > 0 {
         tracing::info!(tags = seeded, "seeded an empty registry with the paper's devices");

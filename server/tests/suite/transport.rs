@@ -16,7 +16,10 @@ use tokio::net::TcpStream;
 use tokio_rustls::rustls;
 
 /// Short, so the tests are quick; the trickling client still needs several bytes to fail.
-const HEADER_TIMEOUT: Duration = Duration::from_secs(2);
+const HEADER_TIMEOUT: Duration = Duration::from_secs(1);
+/// How often the trickling client sends a byte: several within the header timeout, each of
+/// which would restart a timer that counted idle time instead of the whole request's.
+const TRICKLE_EVERY: Duration = Duration::from_millis(250);
 
 /// An in-process registry on a SQLite file, holding connections as `transport` says.
 async fn serve(transport: Transport) -> TestServer {
@@ -39,12 +42,12 @@ async fn half_a_request(address: SocketAddr) -> TcpStream {
     stream
 }
 
-/// Trickles the rest of a request one byte a second until the server hangs up; returns how
-/// long after connecting that was.
+/// Trickles the rest of a request one byte every [`TRICKLE_EVERY`] until the server hangs up;
+/// returns how long after connecting that was.
 async fn trickle_until_cut_off(mut stream: TcpStream, connected: Instant) -> Duration {
     let rest = b"TP/1.1\r\nHost: registry\r\nUser-Agent: a-very-slow-client\r\nAccept: */*\r\n\r\n";
     let mut next = rest.iter();
-    let mut tick = tokio::time::interval(Duration::from_secs(1));
+    let mut tick = tokio::time::interval(TRICKLE_EVERY);
     let mut buffer = [0; 1024];
     loop {
         tokio::select! {
@@ -71,7 +74,7 @@ async fn a_client_trickling_its_headers_is_cut_off_while_others_are_served() {
     let cut_off = tokio::spawn(trickle_until_cut_off(slow, connected));
 
     let client = reqwest::Client::new();
-    let mut pace = tokio::time::interval(Duration::from_millis(200));
+    let mut pace = tokio::time::interval(Duration::from_millis(100));
     let (mut served_meanwhile, mut slowest) = (0, Duration::ZERO);
     while !cut_off.is_finished() {
         pace.tick().await;

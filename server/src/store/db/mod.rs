@@ -35,8 +35,9 @@ pub use unwritable::Unwritable;
 static SQLITE_MIGRATIONS: sqlx::migrate::Migrator = sqlx::migrate!("../migrations");
 static POSTGRES_MIGRATIONS: sqlx::migrate::Migrator = sqlx::migrate!("../migrations/postgres");
 
-/// How long a write waits for a lock another process holds before it is answered 503.
-const BUSY_TIMEOUT: Duration = Duration::from_secs(10);
+/// How long a write waits for a lock another process holds before it is answered 503, unless
+/// the operator says otherwise (`serve --lock-timeout`).
+pub const DEFAULT_LOCK_TIMEOUT: Duration = Duration::from_secs(10);
 /// Connections for reads, per process.
 const READERS: u32 = 8;
 /// The advisory lock every PostgreSQL write transaction holds: the registry's write lock.
@@ -51,22 +52,34 @@ pub struct Db {
     location: Arc<Location>,
     /// Held by the one readiness probe that may wait for the write lock at a time.
     probe: Arc<tokio::sync::Mutex<()>>,
+    /// How long a write waits for the lock before giving up.
+    lock_timeout: Duration,
 }
 
 impl Db {
     /// Opens (creating a missing SQLite file) and migrates the database at `location`.
     pub async fn open(location: &Location) -> anyhow::Result<Self> {
-        Self::open_as(location, Create::IfMissing).await
+        Self::open_as(location, Create::IfMissing, DEFAULT_LOCK_TIMEOUT).await
+    }
+
+    /// Like [`Db::open`], with writes waiting at most `lock_timeout` for a lock another process
+    /// holds (on PostgreSQL: for a connection) before they fail, to be answered 503.
+    pub async fn open_waiting(location: &Location, lock_timeout: Duration) -> anyhow::Result<Self> {
+        Self::open_as(location, Create::IfMissing, lock_timeout).await
     }
 
     /// Opens and migrates the registry at `location`, refusing one that does not exist yet:
     /// for every command but `serve` and `migrate`, a missing database is a typo or the wrong
     /// directory, and a fresh empty one would only hide that.
     pub async fn open_existing(location: &Location) -> anyhow::Result<Self> {
-        Self::open_as(location, Create::Never).await
+        Self::open_as(location, Create::Never, DEFAULT_LOCK_TIMEOUT).await
     }
 
-    async fn open_as(location: &Location, create: Create) -> anyhow::Result<Self> {
+    async fn open_as(
+        location: &Location,
+        create: Create,
+        lock_timeout: Duration,
+    ) -> anyhow::Result<Self> {
         sqlx::any::install_default_drivers();
         if let (Location::File(path), Create::Never) = (location, create)
             && !path.exists()
@@ -74,8 +87,8 @@ impl Db {
             bail!("{}", missing::sqlite(path));
         }
         let (read, write, dialect) = match location {
-            Location::File(path) => open_sqlite(path).await?,
-            Location::Postgres(url) => open_postgres(url, location).await?,
+            Location::File(path) => open_sqlite(path, lock_timeout).await?,
+            Location::Postgres(url) => open_postgres(url, location, lock_timeout).await?,
         };
         if create == Create::Never && dialect == Dialect::Postgres && !migrated(&write).await? {
             read.close().await;
@@ -98,6 +111,7 @@ impl Db {
             dialect,
             location: Arc::new(location.clone()),
             probe: Arc::default(),
+            lock_timeout,
         })
     }
 
@@ -163,10 +177,13 @@ async fn migrated(pool: &AnyPool) -> anyhow::Result<bool> {
     Ok(count > 0)
 }
 
-async fn open_sqlite(path: &Path) -> anyhow::Result<(AnyPool, AnyPool, Dialect)> {
+async fn open_sqlite(
+    path: &Path,
+    lock_timeout: Duration,
+) -> anyhow::Result<(AnyPool, AnyPool, Dialect)> {
     create_private(path)?;
     let url = sqlite_url(path)?;
-    let busy = BUSY_TIMEOUT.as_millis();
+    let busy = lock_timeout.as_millis();
     let write = AnyPoolOptions::new()
         .max_connections(1)
         .after_connect(move |conn, _| {
@@ -203,10 +220,11 @@ async fn open_sqlite(path: &Path) -> anyhow::Result<(AnyPool, AnyPool, Dialect)>
 async fn open_postgres(
     url: &str,
     location: &Location,
+    lock_timeout: Duration,
 ) -> anyhow::Result<(AnyPool, AnyPool, Dialect)> {
     let write = AnyPoolOptions::new()
         .max_connections(1)
-        .acquire_timeout(BUSY_TIMEOUT)
+        .acquire_timeout(lock_timeout)
         .after_release(|conn, _| Box::pin(outside_transaction(conn)))
         .before_acquire(|conn, _| Box::pin(outside_transaction(conn)))
         .connect(url)
@@ -214,7 +232,7 @@ async fn open_postgres(
         .with_context(|| format!("cannot connect to the database {location}"))?;
     let read = AnyPoolOptions::new()
         .max_connections(READERS)
-        .acquire_timeout(BUSY_TIMEOUT)
+        .acquire_timeout(lock_timeout)
         .connect(url)
         .await
         .with_context(|| format!("cannot connect to the database {location} for reading"))?;

@@ -9,7 +9,8 @@ use super::Db;
 /// Less free space than this on the database's file system counts as full: a commit needs
 /// room for its WAL frames, and a trial with force samples is a few hundred kilobytes.
 pub const MIN_FREE_BYTES: u64 = 1 << 20;
-/// How long the check waits for the write lock before calling the database locked.
+/// How long the check waits for the write lock before calling the database locked, at most:
+/// never longer than a write would wait.
 const LOCK_WAIT: Duration = Duration::from_secs(2);
 
 /// Why the registry cannot write, in words for the operator.
@@ -21,8 +22,11 @@ pub enum NotReady {
         MIN_FREE_BYTES
     )]
     DiskFull { free_bytes: u64 },
-    #[error("the database stayed locked for {} s (another process holds its write lock)", LOCK_WAIT.as_secs())]
-    Locked,
+    #[error(
+        "the database stayed locked for {} s (another process holds its write lock)",
+        waited.as_secs()
+    )]
+    Locked { waited: Duration },
     #[error("the database server cannot be reached: {0}")]
     Unreachable(String),
     #[error("the database cannot be written: {0}")]
@@ -47,22 +51,22 @@ impl Db {
         // Taking the write lock and letting go writes nothing. The probe runs to its end on
         // its own, since a BEGIN abandoned half-way would leave the connection in a
         // transaction, and one probe at a time, so a flood of probes cannot crowd out writes.
-        let turn = tokio::time::timeout(LOCK_WAIT, self.probe.clone().lock_owned())
+        let wait = LOCK_WAIT.min(self.lock_timeout);
+        let locked = NotReady::Locked { waited: wait };
+        let turn = tokio::time::timeout(wait, self.probe.clone().lock_owned())
             .await
-            .map_err(|_| NotReady::Locked)?;
+            .map_err(|_| locked.clone())?;
         let db = self.clone();
         let probe = tokio::spawn(async move {
             let _turn = turn;
             let tx = db.begin_write().await?;
             tx.rollback().await
         });
-        match tokio::time::timeout(LOCK_WAIT, probe).await {
-            Err(_) => Err(NotReady::Locked),
+        match tokio::time::timeout(wait, probe).await {
+            Err(_) => Err(locked),
             Ok(Err(panicked)) => Err(NotReady::Failing(panicked.to_string())),
             Ok(Ok(Err(error))) => match super::Unwritable::of(&error) {
-                Some(super::Unwritable::Locked | super::Unwritable::Overloaded) => {
-                    Err(NotReady::Locked)
-                }
+                Some(super::Unwritable::Locked | super::Unwritable::Overloaded) => Err(locked),
                 Some(super::Unwritable::Unreachable) => {
                     Err(NotReady::Unreachable(error.to_string()))
                 }
