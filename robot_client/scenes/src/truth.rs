@@ -6,7 +6,7 @@ use nalgebra::{Point3, Vector3};
 use pps_robot::navigation::ApproachPlan;
 use serde::{Deserialize, Serialize};
 
-use crate::devices::DeviceKind;
+use crate::devices::{DeviceKind, Extent};
 
 /// Largest tag centroid error that is right, metres.
 pub const TAG_TOLERANCE_M: f64 = 0.04;
@@ -29,6 +29,10 @@ pub struct Truth {
     pub backing_foot: [f64; 3],
     /// The tag centre plus `STANDOFF_M` along the horizontal normal.
     pub expected_waypoint: [f64; 3],
+    /// The tag's size as a caretaker registers it (`tag_size`: its two largest sides), metres;
+    /// zero when not known.
+    #[serde(default)]
+    pub tag_size_m: [f64; 2],
 }
 
 impl Truth {
@@ -46,7 +50,20 @@ impl Truth {
             backing_normal: n.into(),
             backing_foot: backing_foot.coords.into(),
             expected_waypoint: (tag_center + out * STANDOFF_M).coords.into(),
+            tag_size_m: [0.0; 2],
         }
+    }
+
+    /// The same truth with the tag's registered size: the two largest sides of `extent`.
+    pub fn with_tag_size(self, extent: &Extent) -> Self {
+        let mut sides: Vec<f64> = (extent.max - extent.min).iter().copied().collect();
+        sides.sort_by(|a, b| b.total_cmp(a));
+        Self { tag_size_m: [sides[0], sides[1]], ..self }
+    }
+
+    /// How far the tag reaches from its middle as registered (half its diagonal), metres.
+    pub fn registered_reach(&self) -> f64 {
+        self.tag_size_m[0].hypot(self.tag_size_m[1]) / 2.0
     }
 }
 

@@ -100,12 +100,16 @@ pub(super) fn bound_tags(
             .filter(|p| p.points >= params.min_points)
             .min_by(|a, b| a.distance_to_target.total_cmp(&b.distance_to_target));
         match nearest {
-            Some(part) if part.radius > params.max_tag_radius => notes.push(format!(
-                "its part nearest the target is still {:.0} cm across, larger than any tag, and \
-                 neither its colours nor its surfaces divide it further, so no part of it is \
-                 taken for a tag",
-                part.radius * 200.0
-            )),
+            Some(part) if part.radius > params.max_tag_radius => {
+                notes.push(format!(
+                    "its part nearest the target is still {:.0} cm across, larger than any tag, \
+                     and neither its colours nor its surfaces divide it further, so no part of \
+                     it is taken for a tag",
+                    part.radius * 200.0
+                ));
+                // Kept whole, so that nothing farther from the target is taken in its stead.
+                bounded.push(part.clone());
+            }
             _ => bounded.extend(divided),
         }
     }

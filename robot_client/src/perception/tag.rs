@@ -306,19 +306,21 @@ fn join_fragments(
     joined.into_values().chain(far).collect()
 }
 
-/// The component closest to the target among those big enough to be a tag, no larger than any
-/// tag, and near enough to be the one meant; ambiguous when another tag, apart from it, is
-/// nearly as close.
+/// The component closest to the target among those big enough to be a tag and near enough to
+/// be the one meant, when it is no larger than any tag; ambiguous when another tag, apart from
+/// it, is nearly as close. None when the closest is larger than any tag: the red thing the
+/// person pointed at is not a tag, and a red thing farther away is not what they meant.
 pub fn choose_tag(components: Vec<Component>, params: &TagSearchParams) -> Option<TagSighting> {
-    let mut candidates: Vec<Component> = components
+    let mut near: Vec<Component> = components
         .into_iter()
-        .filter(|c| {
-            c.points >= params.min_points
-                && c.distance_to_target <= params.max_distance
-                && c.radius <= params.max_tag_radius
-        })
+        .filter(|c| c.points >= params.min_points && c.distance_to_target <= params.max_distance)
         .collect();
-    candidates.sort_by(|a, b| a.distance_to_target.total_cmp(&b.distance_to_target));
+    near.sort_by(|a, b| a.distance_to_target.total_cmp(&b.distance_to_target));
+    if near.first()?.radius > params.max_tag_radius {
+        return None;
+    }
+    let candidates: Vec<Component> =
+        near.into_iter().filter(|c| c.radius <= params.max_tag_radius).collect();
     let nearest = TagDetection::from(candidates.first()?);
     let rival = candidates[1..].iter().find(|c| {
         (c.centroid - nearest.centroid).norm() >= params.min_tag_separation
@@ -362,6 +364,19 @@ mod tests {
         let found =
             choose_tag(vec![component(0.01, 3), component(0.05, 40), component(0.3, 400)], &params);
         assert_eq!(found, Some(TagSighting::Found(TagDetection::from(&component(0.05, 40)))));
+    }
+
+    #[test]
+    fn a_red_thing_farther_than_one_larger_than_any_tag_is_not_taken() {
+        let params = TagSearchParams::default();
+        let mut too_large = component(0.02, 5000);
+        too_large.radius = params.max_tag_radius * 1.5;
+        let mug = component(0.25, 300);
+        assert_eq!(choose_tag(vec![too_large.clone(), mug.clone()], &params), None);
+        // Farther than the mug, the large thing does not stand in its way.
+        too_large.distance_to_target = 0.3;
+        let found = choose_tag(vec![too_large, mug.clone()], &params);
+        assert_eq!(found, Some(TagSighting::Found(TagDetection::from(&mug))));
     }
 
     #[test]

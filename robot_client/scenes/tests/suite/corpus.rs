@@ -9,6 +9,9 @@
 //! stereo or structured-light depth sensor with its own noise and holes, at 0.5–5 m, under warm
 //! and cool light without a flash. `pps-scenes write --rgbd` writes such a scene.
 //!
+//! What the robot knows of the home's tags matters where red things touch them: with every tag's
+//! size registered, a red region larger than the home's largest tag is divided or refused.
+//!
 //! Each variant is one test per device kind. `PPS_SCENES_PER_KIND` changes the number of scenes
 //! per kind (100 by default; 40 for the RGB-D frames to 5 m, whose scenes are the largest, and
 //! for the variant not yet held to the bar, which is ignored with its reason).
@@ -29,9 +32,27 @@ struct Outcome {
     render_ms: f64,
 }
 
-fn run(kind: DeviceKind, seed: u64, source: fn(u64, DeviceKind) -> GeneratedScene) -> Outcome {
+/// What the robot knows of the home's tags before it reads one.
+#[derive(Clone, Copy)]
+enum TagSizes {
+    /// Nothing: a tag may be as large as a towel.
+    Unregistered,
+    /// Every tag's size is registered, and the scene's tag is the home's largest.
+    Registered,
+}
+
+fn run(
+    kind: DeviceKind,
+    seed: u64,
+    source: fn(u64, DeviceKind) -> GeneratedScene,
+    sizes: TagSizes,
+) -> Outcome {
     let scene = source(seed, kind);
-    let params = ApproachParams { depth_noise: scene.depth_noise(), ..ApproachParams::default() };
+    let mut params =
+        ApproachParams { depth_noise: scene.depth_noise(), ..ApproachParams::default() };
+    if let TagSizes::Registered = sizes {
+        params.tag = params.tag.for_home_tags([scene.truth().registered_reach()]);
+    }
     let verdict =
         plan_approach(&scene.image, &scene.cloud, &scene.calibration, &scene.target, &params)
             .map(|plan| judge(scene.truth(), &plan))
@@ -57,37 +78,40 @@ fn run(kind: DeviceKind, seed: u64, source: fn(u64, DeviceKind) -> GeneratedScen
 /// (each of these tests renders and perceives its scenes on one).
 macro_rules! per_kind {
     ($(#[$attribute:meta])* $variant:ident, $per_kind:expr, $source:expr) => {
+        per_kind!($(#[$attribute])* $variant, $per_kind, $source, TagSizes::Unregistered);
+    };
+    ($(#[$attribute:meta])* $variant:ident, $per_kind:expr, $source:expr, $sizes:expr) => {
         mod $variant {
             use super::*;
 
             $(#[$attribute])*
             #[test]
             fn flip_switch() {
-                holds_the_bar(DeviceKind::FlipSwitch, $per_kind, $source);
+                holds_the_bar(DeviceKind::FlipSwitch, $per_kind, $source, $sizes);
             }
 
             $(#[$attribute])*
             #[test]
             fn rocker() {
-                holds_the_bar(DeviceKind::Rocker, $per_kind, $source);
+                holds_the_bar(DeviceKind::Rocker, $per_kind, $source, $sizes);
             }
 
             $(#[$attribute])*
             #[test]
             fn lamp() {
-                holds_the_bar(DeviceKind::Lamp, $per_kind, $source);
+                holds_the_bar(DeviceKind::Lamp, $per_kind, $source, $sizes);
             }
 
             $(#[$attribute])*
             #[test]
             fn drawer() {
-                holds_the_bar(DeviceKind::Drawer, $per_kind, $source);
+                holds_the_bar(DeviceKind::Drawer, $per_kind, $source, $sizes);
             }
 
             $(#[$attribute])*
             #[test]
             fn trash_can() {
-                holds_the_bar(DeviceKind::TrashCan, $per_kind, $source);
+                holds_the_bar(DeviceKind::TrashCan, $per_kind, $source, $sizes);
             }
         }
     };
@@ -118,16 +142,31 @@ per_kind!(
     }
 );
 
+per_kind!(
+    #[ignore = "not yet 99 % per kind: 34, 31, 29, 28 and 26 of 40 (flip switch, rocker, lamp, \
+                drawer, trash can); 45 of the 52 misses are refusals in words, a red thing of \
+                the tag's colour on its surface that neither colour nor surface divides; \
+                figures in FINDINGS.md"]
+    perception_is_right_with_red_things_touching_tags_of_registered_size,
+    40,
+    |seed, kind| {
+        let near_homes = RgbdVariants { farthest_m: 2.5, ..RgbdVariants::HOMES };
+        generate_rgbd(seed, Some(kind), near_homes)
+    },
+    TagSizes::Registered
+);
+
 fn holds_the_bar(
     kind: DeviceKind,
     default_per_kind: u64,
     source: fn(u64, DeviceKind) -> GeneratedScene,
+    sizes: TagSizes,
 ) {
     let per_kind: u64 = std::env::var("PPS_SCENES_PER_KIND")
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(default_per_kind);
-    let outcomes: Vec<Outcome> = (0..per_kind).map(|seed| run(kind, seed, source)).collect();
+    let outcomes: Vec<Outcome> = (0..per_kind).map(|seed| run(kind, seed, source, sizes)).collect();
     let mut right = 0;
     for o in &outcomes {
         match &o.verdict {
