@@ -1,7 +1,9 @@
 //! A tag is a bounded thing (issue 34). A red region far larger than any tag in the home (a
 //! plywood cabinet whose orange-brown passes the thresholds, a red bin touching the towel) is
-//! never the tag as a whole: it is divided, by colour first and then by surface, and what stays
-//! larger than a tag is not taken for one. Every division and every refusal is said in words.
+//! never the tag as a whole: it is divided, by colour first, then by surface, and last by the
+//! two colours its voxels may fall into ([`super::two_colours`]); when its part nearest the
+//! target stays larger than a tag, neither it nor anything farther is taken for one. Every
+//! division and every refusal is said in words.
 //!
 //! Both divisions take their limits from the data: the tag's colour is the colour of the part
 //! nearest the pointed location, within that part's own spread, and the tag's surface is the
@@ -10,10 +12,10 @@
 
 use nalgebra::{Matrix3, Point3, Vector3};
 
-use super::hsv::chroma_point;
 use super::mask::Mask;
 use super::occupancy::{Component, OccupancyGrid};
 use super::tag::TagSearchParams;
+use super::two_colours::{colours_of, of_the_core_colour};
 use crate::hal::{CameraCalibration, ColorImage};
 
 /// How far a point's colour may lie from the tag's, in standard deviations of the tag's own
@@ -95,25 +97,55 @@ pub(super) fn bound_tags(
         // The tag the person pointed at is the part nearest the target. When that part is
         // still larger than any tag, the region's other parts are pieces of the same red thing
         // or of what touches it, and taking one of them would put the tag where it is not.
-        let nearest = divided
-            .iter()
-            .filter(|p| p.points >= params.min_points)
-            .min_by(|a, b| a.distance_to_target.total_cmp(&b.distance_to_target));
-        match nearest {
-            Some(part) if part.radius > params.max_tag_radius => {
-                notes.push(format!(
-                    "its part nearest the target is still {:.0} cm across, larger than any tag, \
-                     and neither its colours nor its surfaces divide it further, so no part of \
-                     it is taken for a tag",
-                    part.radius * 200.0
-                ));
-                // Kept whole, so that nothing farther from the target is taken in its stead.
-                bounded.push(part.clone());
-            }
+        if let Some(part) = nearest_part(&divided, params)
+            && part.radius > params.max_tag_radius
+            && let Some(parts) = of_two_colours(part, image, calibration, target, params, notes)
+        {
+            divided = parts;
+        }
+        match nearest_part(&divided, params) {
+            // Kept whole, so that nothing farther from the target is taken in its stead, and
+            // `refusal` says why it is not a tag.
+            Some(part) if part.radius > params.max_tag_radius => bounded.push(part.clone()),
             _ => bounded.extend(divided),
         }
     }
     bounded
+}
+
+/// The part of `parts` nearest the target that is large enough to be a tag.
+fn nearest_part<'a>(parts: &'a [Component], params: &TagSearchParams) -> Option<&'a Component> {
+    parts
+        .iter()
+        .filter(|p| p.points >= params.min_points)
+        .min_by(|a, b| a.distance_to_target.total_cmp(&b.distance_to_target))
+}
+
+/// `part` divided by its voxels' colours when they fall into two (a red plastic of nearly the
+/// tag's colour against it), into the parts of its part nearest the target's colour.
+fn of_two_colours(
+    part: &Component,
+    image: &ColorImage,
+    calibration: &CameraCalibration,
+    target: &Point3<f64>,
+    params: &TagSearchParams,
+    notes: &mut Vec<String>,
+) -> Option<Vec<Component>> {
+    let colours = colours_of(&part.members, image, calibration);
+    let core = core_of(&part.members, target, params);
+    let half =
+        of_the_core_colour(&part.members, &colours, &core, params.voxel_size, params.min_points)?;
+    notes.push(format!(
+        "a part {:.0} cm across is of two colours voxel by voxel ({:.3} apart on the chroma \
+         disc, {:.0} times their spread): {} of its {} points have the colour of its part \
+         nearest the target",
+        part.radius * 200.0,
+        half.distance,
+        half.distance / half.spread,
+        half.kept.len(),
+        part.points,
+    ));
+    Some(components_of(&half.kept, target, params))
 }
 
 /// The points of `points` that have the colour of those nearest `anchor` (all of them when
@@ -188,19 +220,7 @@ fn tag_coloured(
     calibration: &CameraCalibration,
     core: &[usize],
 ) -> Option<ColourSplit> {
-    let camera_from_base = calibration.base_from_camera.inverse();
-    let k = &calibration.intrinsics;
-    let colours: Vec<Option<[f32; 2]>> = points
-        .iter()
-        .map(|p| {
-            let uv = k.project(&(camera_from_base * p.cast::<f64>()))?;
-            let inside = uv.x >= 0.0
-                && uv.y >= 0.0
-                && uv.x < f64::from(image.width)
-                && uv.y < f64::from(image.height);
-            inside.then(|| chroma_point(image.pixel(uv.x as u32, uv.y as u32)))
-        })
-        .collect();
+    let colours = colours_of(points, image, calibration);
     let core_size = core.len();
     let core: Vec<[f32; 2]> = core.iter().filter_map(|&i| colours[i]).collect();
     if core.len() < core_size / 2 || core.is_empty() {

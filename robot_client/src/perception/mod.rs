@@ -28,6 +28,7 @@ mod seeded_segmentation;
 mod tag;
 mod tag_colour_stats;
 mod tag_colours;
+mod two_colours;
 pub(crate) mod voxel_coords;
 
 pub use blobs::Blobs;
