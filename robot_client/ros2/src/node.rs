@@ -5,6 +5,7 @@
 use std::sync::{Arc, Mutex};
 
 use pps_robot::navigation::ApproachParams;
+use pps_robot::perception::DepthNoise;
 use pps_robot::registry::RegistryClient;
 use ros2_client::{Context, NodeName, NodeOptions, Publisher};
 use time::OffsetDateTime;
@@ -32,6 +33,9 @@ pub struct NodeSettings {
     /// The frame the cloud and the click are in, and the goal is given in.
     pub base_frame: String,
     pub approach: ApproachParams,
+    /// The range sensor's noise as stated; when not, a depth camera's or a laser's by what the
+    /// range data came as.
+    pub depth_noise: Option<DepthNoise>,
     /// Two tags closer than this in RSSI are ambiguous, dB.
     pub rfid_margin_db: f64,
     /// The layout of the markers the robot's RViz reads.
@@ -232,7 +236,14 @@ async fn on_click(shared: &Arc<Shared>, click: PointStamped) {
     let work = shared.clone();
     // The chain takes tens of milliseconds of computation: off the tasks that move messages.
     let answered = tokio::task::spawn_blocking(move || {
-        answer_click(&snapshot, &click, &work.settings.base_frame, &work.settings.approach)
+        let settings = &work.settings;
+        answer_click(
+            &snapshot,
+            &click,
+            &settings.base_frame,
+            &settings.approach,
+            settings.depth_noise,
+        )
     })
     .await;
     let answer = match answered {
