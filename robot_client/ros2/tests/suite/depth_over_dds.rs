@@ -185,3 +185,29 @@ async fn aligned_depth_over_dds_gives_perceive_s_answer_with_the_camera_s_noise(
     let off = ((g.x - waypoint.x).powi(2) + (g.y - waypoint.y).powi(2)).sqrt();
     assert!(off < 1e-3, "the node's goal is {off} m from perceive's waypoint");
 }
+
+#[test]
+fn a_noise_no_depth_camera_has_is_refused_in_one_sentence() {
+    if !isolated("depth_over_dds::a_noise_no_depth_camera_has_is_refused_in_one_sentence") {
+        return;
+    }
+    let refusals = [
+        (
+            "0.5",
+            "error: invalid value '0.5' for '--depth-noise-at-1m <METRES>': 0.5 m is not a depth camera's noise at 1 m: give a σ between 0 and 0.1 m (a RealSense D435 has about 0.0036)",
+        ),
+        ("0", "0 m is not a depth camera's noise at 1 m"),
+        ("much", "`much` is not a number"),
+    ];
+    for (given, said) in refusals {
+        let output = Command::new(env!("CARGO_BIN_EXE_pps-ros2"))
+            .args(["--server", "http://127.0.0.1:9", "--token", "none", "--robot", "el-e-1"])
+            .args(["--depth-noise-at-1m", given])
+            .stdin(Stdio::null())
+            .output()
+            .expect("pps-ros2 runs");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(!output.status.success(), "{given} was taken");
+        assert!(stderr.contains(said), "{given}: {stderr}");
+    }
+}
