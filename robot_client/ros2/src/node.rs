@@ -303,10 +303,10 @@ async fn on_round(shared: &Arc<Shared>, round: TagReads) {
         None => shared.once.recovered(TOPIC),
     }
     let entry = entry_for_round(&shared.registry, &round, shared.settings.rfid_margin_db).await;
-    if !entry.ambiguous
-        && let Ok(epc) = Epc::parse(&entry.epc)
-    {
-        shared.last_view.read(epc);
+    // A round in which tags answered says which the fingers are on, if any one; a round in
+    // which none did says nothing.
+    if let Ok(epc) = Epc::parse(&entry.epc) {
+        shared.last_view.read((!entry.ambiguous).then_some(epc));
     }
     if !entry.error.is_empty() {
         tracing::info!("inventory round: {}", entry.error);

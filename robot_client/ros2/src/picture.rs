@@ -7,8 +7,8 @@
 //! The rule, since a trial on `/pps/trial` does not say which click led to it: a view goes with
 //! a trial that finished after the click and started at most [`VIEW_FRESH_FOR`] after it, and
 //! with one trial only. A trial with no such view is recorded without a picture. The tag's
-//! colour goes only when the latest inventory round of the fingers since the click chose the
-//! trial's EPC unambiguously: only then are the pixels known to be that tag.
+//! colour goes only when the fingers' latest inventory round since the click in which tags
+//! answered chose the trial's EPC unambiguously: only then are the pixels known to be that tag.
 
 use std::sync::Mutex;
 use std::time::Duration;
@@ -30,7 +30,8 @@ pub struct PerceivedView {
     pub calibration: CameraCalibration,
     pub plan: ApproachPlan,
     pub at: OffsetDateTime,
-    /// The EPC the fingers' latest inventory round since the click chose unambiguously.
+    /// The EPC the fingers' latest inventory round since the click chose unambiguously; `None`
+    /// before any, or when that round found two tags alike.
     pub read: Option<Epc>,
 }
 
@@ -74,11 +75,11 @@ impl LastView {
         *self.0.lock().unwrap_or_else(|e| e.into_inner()) = Some(view);
     }
 
-    /// The fingers' inventory round chose `epc` unambiguously: the waiting view's tag, if the
-    /// next trial names it.
-    pub fn read(&self, epc: Epc) {
+    /// The fingers' latest inventory round in which tags answered chose `epc` unambiguously
+    /// (`None`: two tags alike): the waiting view's tag, if the next trial names it.
+    pub fn read(&self, epc: Option<Epc>) {
         if let Some(view) = self.0.lock().unwrap_or_else(|e| e.into_inner()).as_mut() {
-            view.read = Some(epc);
+            view.read = epc;
         }
     }
 
@@ -161,15 +162,19 @@ mod tests {
         let click = datetime!(2026-12-05 10:00:00 UTC);
         let epc = Epc::parse("355AB1C60000001000000001").unwrap();
         let views = LastView::default();
-        views.read(epc.clone());
+        views.read(Some(epc.clone()));
         views.perceived(view_at(click));
         let next = trial(click + Duration::from_secs(5), click + Duration::from_secs(25));
         assert_eq!(views.take_for(&next).unwrap().read, None, "a read before the click");
         views.perceived(view_at(click));
-        views.read(epc.clone());
+        views.read(Some(epc.clone()));
         assert_eq!(views.take_for(&next).unwrap().read, Some(epc.clone()));
         views.perceived(view_at(click));
-        views.read(epc);
+        views.read(Some(epc.clone()));
+        views.read(None);
+        assert_eq!(views.take_for(&next).unwrap().read, None, "then two tags alike");
+        views.perceived(view_at(click));
+        views.read(Some(epc));
         views.perceived(view_at(click + Duration::from_secs(1)));
         assert_eq!(views.take_for(&next).unwrap().read, None, "a new click forgets the read");
     }
