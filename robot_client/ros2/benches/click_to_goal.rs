@@ -106,8 +106,9 @@ fn in_process(scene: &SceneCapture) -> f64 {
     state.transforms.insert(&camera_transform(scene));
     let click = PointStamped { header: header("base_link"), point: Point::from(scene.target) };
     let params = ApproachParams::default();
-    let chain =
-        timed(10, || answer_click(&state, &click, "base_link", &params).expect("the chain runs"));
+    let chain = timed(10, || {
+        answer_click(&state, &click, "base_link", &params, None).expect("the chain runs")
+    });
     let mut sorted = chain.clone();
     sorted.sort_by(f64::total_cmp);
     println!(

@@ -10,7 +10,7 @@ use pps_robot::hal::{CameraCalibration, ColorImage, PointCloud};
 use pps_robot::navigation::{
     ApproachParams, ApproachPlan, BackingPlane, plan_approach, plan_approach_on_depth,
 };
-use pps_robot::perception::DepthRange;
+use pps_robot::perception::{DepthNoise, DepthRange};
 
 use crate::camera::calibration;
 use crate::depth::{DepthFrame, depth_cloud};
@@ -60,12 +60,15 @@ pub struct ClickAnswer {
     pub markers: MarkerArray,
 }
 
-/// Runs the chain for `click`, or says which input is missing or wrong.
+/// Runs the chain for `click`, or says which input is missing or wrong. The chain's tolerances
+/// follow the range sensor's noise: `stated_noise` when given, otherwise what the range data
+/// came as says (a depth image: a D435's; a cloud: a laser's), as `pps-robot perceive` decides.
 pub fn answer_click(
     state: &SensorState,
     click: &PointStamped,
     base_frame: &str,
     params: &ApproachParams,
+    stated_noise: Option<DepthNoise>,
 ) -> Result<ClickAnswer, InputError> {
     let frame = click.header.frame_id.trim_start_matches('/');
     if !frame.is_empty() && frame != base_frame {
@@ -84,6 +87,11 @@ pub fn answer_click(
     })?;
     let colour = color_image(image)?;
     let calibration = calibration(info, base_from_camera, (colour.width, colour.height))?;
+    let depth_image = matches!(range, RangeInput::Depth(_));
+    let params = &ApproachParams {
+        depth_noise: DepthNoise::stated_or_typical(stated_noise, depth_image),
+        ..params.clone()
+    };
     let plan = match range {
         RangeInput::Cloud(cloud) => plan_approach(&colour, cloud, &calibration, &target, params)
             .map_err(|e| InputError::Perception(e.to_string()))?,
@@ -174,13 +182,13 @@ mod tests {
             point: crate::msg::geometry::Point { x: 1.0, y: 0.0, z: 1.0 },
         };
         let params = ApproachParams::default();
-        let missing = answer_click(&state, &click, "base_link", &params).unwrap_err();
+        let missing = answer_click(&state, &click, "base_link", &params, None).unwrap_err();
         assert_eq!(missing, InputError::Missing("point cloud or depth image"));
         let elsewhere = PointStamped {
             header: Header { frame_id: "map".into(), ..Header::default() },
             ..click
         };
-        let wrong = answer_click(&state, &elsewhere, "base_link", &params).unwrap_err();
+        let wrong = answer_click(&state, &elsewhere, "base_link", &params, None).unwrap_err();
         assert!(wrong.to_string().contains("`map`"), "{wrong}");
     }
 }

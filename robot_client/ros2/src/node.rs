@@ -5,7 +5,9 @@
 use std::sync::{Arc, Mutex};
 
 use pps_robot::navigation::ApproachParams;
+use pps_robot::perception::DepthNoise;
 use pps_robot::registry::RegistryClient;
+use pps_schema::Epc;
 use ros2_client::{Context, NodeName, NodeOptions, Publisher};
 use time::OffsetDateTime;
 
@@ -32,6 +34,9 @@ pub struct NodeSettings {
     /// The frame the cloud and the click are in, and the goal is given in.
     pub base_frame: String,
     pub approach: ApproachParams,
+    /// The range sensor's noise as stated; when not, a depth camera's or a laser's by what the
+    /// range data came as.
+    pub depth_noise: Option<DepthNoise>,
     /// Two tags closer than this in RSSI are ambiguous, dB.
     pub rfid_margin_db: f64,
     /// The layout of the markers the robot's RViz reads.
@@ -232,7 +237,14 @@ async fn on_click(shared: &Arc<Shared>, click: PointStamped) {
     let work = shared.clone();
     // The chain takes tens of milliseconds of computation: off the tasks that move messages.
     let answered = tokio::task::spawn_blocking(move || {
-        answer_click(&snapshot, &click, &work.settings.base_frame, &work.settings.approach)
+        let settings = &work.settings;
+        answer_click(
+            &snapshot,
+            &click,
+            &settings.base_frame,
+            &settings.approach,
+            settings.depth_noise,
+        )
     })
     .await;
     let answer = match answered {
@@ -252,14 +264,14 @@ async fn on_click(shared: &Arc<Shared>, click: PointStamped) {
     let topics = &shared.settings.topics;
     let outputs = &shared.outputs;
     outputs.markers.publish(&topics.markers, answer.markers);
-    if shared.settings.picture {
-        shared.last_view.perceived(PerceivedView {
-            image: answer.image,
-            calibration: answer.calibration,
-            plan: answer.plan,
-            at: OffsetDateTime::now_utc(),
-        });
-    }
+    // Kept also without pictures: the next trial's tag colour is measured in it.
+    shared.last_view.perceived(PerceivedView {
+        image: answer.image,
+        calibration: answer.calibration,
+        plan: answer.plan,
+        at: OffsetDateTime::now_utc(),
+        read: None,
+    });
     match (answer.tag_pose, answer.goal_pose) {
         (Some(tag), Some(goal)) => {
             tracing::info!(
@@ -291,6 +303,11 @@ async fn on_round(shared: &Arc<Shared>, round: TagReads) {
         None => shared.once.recovered(TOPIC),
     }
     let entry = entry_for_round(&shared.registry, &round, shared.settings.rfid_margin_db).await;
+    // A round in which tags answered says which the fingers are on, if any one; a round in
+    // which none did says nothing.
+    if let Ok(epc) = Epc::parse(&entry.epc) {
+        shared.last_view.read((!entry.ambiguous).then_some(epc));
+    }
     if !entry.error.is_empty() {
         tracing::info!("inventory round: {}", entry.error);
     }
@@ -298,22 +315,40 @@ async fn on_round(shared: &Arc<Shared>, round: TagReads) {
 }
 
 async fn on_trial(shared: &Arc<Shared>, message: Trial) {
-    let trial = match trial_document(&shared.registry, &message) {
+    let mut trial = match trial_document(&shared.registry, &message) {
         Ok(trial) => trial,
         Err(e) => {
             tracing::warn!(topic = "trial", "{e} (ignored)");
             return;
         }
     };
-    let picture = match shared.last_view.take_for(&trial) {
+    let (picture, tag_color) = match shared.last_view.take_for(&trial) {
         Some(view) => {
-            let footprint = shared.settings.approach.footprint;
-            // Drawing and encoding take milliseconds: off the tasks that move messages.
-            tokio::task::spawn_blocking(move || view.picture(&footprint)).await.ok().flatten()
+            let settings = &shared.settings;
+            let (footprint, search, draw) =
+                (settings.approach.footprint, settings.approach.tag.clone(), settings.picture);
+            let for_trial = trial.clone();
+            // Drawing, encoding and the colour's statistics take milliseconds: off the tasks
+            // that move messages.
+            let made = tokio::task::spawn_blocking(move || {
+                let picture = if draw { view.picture(&footprint) } else { None };
+                (picture, view.tag_color(&for_trial, &search))
+            });
+            made.await.unwrap_or_default()
         }
-        None => None,
+        None => (None, None),
     };
-    let with = if picture.is_some() { " with its picture" } else { "" };
+    // A colour the trial's sender measured itself is its own to give.
+    let coloured = trial.tag_color.is_none() && tag_color.is_some();
+    if coloured {
+        trial.tag_color = tag_color;
+    }
+    let with = match (picture.is_some(), coloured) {
+        (true, true) => " with its picture and its tag's colour",
+        (true, false) => " with its picture",
+        (false, true) => " with its tag's colour",
+        (false, false) => "",
+    };
     match record_trial(&shared.registry, &trial, picture.as_deref()).await {
         Ok((id, report)) if report.remaining > 0 => tracing::info!(
             "trial {id} kept in the outbox; {} waiting for the registry",

@@ -1,18 +1,23 @@
-//! The picture a trial is sent with (DESIGN §10): the view of the latest click — the camera
-//! image, its calibration and what perception made of it — goes with the next trial recorded
-//! after it, drawn as the paper's Fig. 5 by the code `pps-robot run` uses.
+//! What a trial is sent with from the click that led to it (DESIGN §10): the view of the latest
+//! click — the camera image, its calibration and what perception made of it — goes with the
+//! next trial recorded after it, drawn as the paper's Fig. 5 by the code `pps-robot run` uses;
+//! and once the fingers have read the tag's EPC, the colour of the pixels the click took for
+//! the tag, by the function `pps-robot run` uses, so that the registry learns the tag's colour.
 //!
 //! The rule, since a trial on `/pps/trial` does not say which click led to it: a view goes with
 //! a trial that finished after the click and started at most [`VIEW_FRESH_FOR`] after it, and
-//! with one trial only. A trial with no such view is recorded without a picture.
+//! with one trial only. A trial with no such view is recorded without a picture. The tag's
+//! colour goes only when the fingers' latest inventory round since the click in which tags
+//! answered chose the trial's EPC unambiguously: only then are the pixels known to be that tag.
 
 use std::sync::Mutex;
 use std::time::Duration;
 
 use pps_robot::hal::{CameraCalibration, ColorImage};
 use pps_robot::navigation::{ApproachPlan, RobotFootprint};
+use pps_robot::perception::{TagSearchParams, tag_color};
 use pps_robot::picture::trial_picture;
-use pps_schema::Trial;
+use pps_schema::{Epc, TagColor, Trial};
 use time::OffsetDateTime;
 
 /// How long after a click the robot may start acting on what it showed.
@@ -25,12 +30,26 @@ pub struct PerceivedView {
     pub calibration: CameraCalibration,
     pub plan: ApproachPlan,
     pub at: OffsetDateTime,
+    /// The EPC the fingers' latest inventory round since the click chose unambiguously; `None`
+    /// before any, or when that round found two tags alike.
+    pub read: Option<Epc>,
 }
 
 impl PerceivedView {
     /// Whether `trial` may be what the robot did after this view.
     fn led_to(&self, trial: &Trial) -> bool {
         trial.finished_at >= self.at && trial.started_at <= self.at + VIEW_FRESH_FOR
+    }
+
+    /// The colour statistics of the pixels this view took for the tag, for `trial`: `None`
+    /// unless the fingers read the trial's EPC since, or when no tag was found. `params` are the
+    /// tag search's, whose thresholds every pixel counted passed.
+    pub fn tag_color(&self, trial: &Trial, params: &TagSearchParams) -> Option<TagColor> {
+        if self.read.as_ref() != Some(&trial.epc) {
+            return None;
+        }
+        let tag = self.plan.tag.as_ref()?.nearest();
+        tag_color(&self.image, &self.calibration, tag, params)
     }
 
     /// The Fig. 5 picture of this view, PNG bytes; `None` (and a warning) when it cannot be
@@ -54,6 +73,14 @@ impl LastView {
     /// A new click's view replaces any view still waiting.
     pub fn perceived(&self, view: PerceivedView) {
         *self.0.lock().unwrap_or_else(|e| e.into_inner()) = Some(view);
+    }
+
+    /// The fingers' latest inventory round in which tags answered chose `epc` unambiguously
+    /// (`None`: two tags alike): the waiting view's tag, if the next trial names it.
+    pub fn read(&self, epc: Option<Epc>) {
+        if let Some(view) = self.0.lock().unwrap_or_else(|e| e.into_inner()).as_mut() {
+            view.read = epc;
+        }
     }
 
     /// The view that goes with `trial`, taken so that it goes with no other.
@@ -94,7 +121,7 @@ mod tests {
             &ApproachParams::default(),
         )
         .unwrap();
-        PerceivedView { image, calibration, plan, at }
+        PerceivedView { image, calibration, plan, at, read: None }
     }
 
     fn trial(started: OffsetDateTime, finished: OffsetDateTime) -> Trial {
@@ -128,6 +155,28 @@ mod tests {
         views.perceived(view_at(click + Duration::from_secs(30)));
         let after_both = trial(click + Duration::from_secs(40), click + Duration::from_secs(50));
         assert_eq!(views.take_for(&after_both).unwrap().at, click + Duration::from_secs(30));
+    }
+
+    #[test]
+    fn a_read_belongs_to_the_click_it_followed() {
+        let click = datetime!(2026-12-05 10:00:00 UTC);
+        let epc = Epc::parse("355AB1C60000001000000001").unwrap();
+        let views = LastView::default();
+        views.read(Some(epc.clone()));
+        views.perceived(view_at(click));
+        let next = trial(click + Duration::from_secs(5), click + Duration::from_secs(25));
+        assert_eq!(views.take_for(&next).unwrap().read, None, "a read before the click");
+        views.perceived(view_at(click));
+        views.read(Some(epc.clone()));
+        assert_eq!(views.take_for(&next).unwrap().read, Some(epc.clone()));
+        views.perceived(view_at(click));
+        views.read(Some(epc.clone()));
+        views.read(None);
+        assert_eq!(views.take_for(&next).unwrap().read, None, "then two tags alike");
+        views.perceived(view_at(click));
+        views.read(Some(epc));
+        views.perceived(view_at(click + Duration::from_secs(1)));
+        assert_eq!(views.take_for(&next).unwrap().read, None, "a new click forgets the read");
     }
 
     #[test]

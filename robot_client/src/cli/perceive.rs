@@ -38,7 +38,7 @@ pub struct PerceiveArgs {
     /// the square of the range. Default with --depth 0.0036 (a RealSense D435 at 848 pixels);
     /// with --cloud, a laser's few millimetres at any range.
     #[arg(long, value_name = "METRES", value_parser = parse_depth_noise)]
-    pub depth_noise_at_1m: Option<f64>,
+    pub depth_noise_at_1m: Option<DepthNoise>,
     /// Camera calibration JSON: width, height, fx, fy, cx, cy, base_from_camera.
     #[arg(long)]
     pub camera: PathBuf,
@@ -82,15 +82,9 @@ fn parse_target(text: &str) -> Result<Point3<f64>, String> {
     Ok(Point3::new(v[0], v[1], v[2]))
 }
 
-fn parse_depth_noise(text: &str) -> Result<f64, String> {
+fn parse_depth_noise(text: &str) -> Result<DepthNoise, String> {
     let sigma = parse_numbers(text, 1, "--depth-noise-at-1m")?[0];
-    if !(sigma > 0.0 && sigma <= 0.1) {
-        return Err(format!(
-            "{sigma} m is not a depth camera's noise at 1 m: give a σ between 0 and 0.1 m \
-             (a RealSense D435 has about 0.0036)"
-        ));
-    }
-    Ok(sigma)
+    DepthNoise::stated_at_one_metre(sigma).map_err(|e| e.to_string())
 }
 
 fn parse_largest_tag(text: &str) -> Result<TagSize, String> {
@@ -220,9 +214,8 @@ pub fn run(args: &PerceiveArgs) -> anyhow::Result<()> {
     };
     let load_ms = start.elapsed().as_secs_f64() * 1e3;
     let mut params = ApproachParams::default();
-    if let Some(sigma) = args.depth_noise_at_1m {
-        params.depth_noise = DepthNoise::from_one_metre(sigma);
-    }
+    let depth_image = matches!(range_data, RangeData::Depth(_));
+    params.depth_noise = DepthNoise::stated_or_typical(args.depth_noise_at_1m, depth_image);
     if let Some(hsv) = args.hsv {
         params.tag.thresholds = hsv;
     }
@@ -238,9 +231,6 @@ pub fn run(args: &PerceiveArgs) -> anyhow::Result<()> {
             (plan, format!("cloud: {} points", cloud.len()))
         }
         RangeData::Depth(depth) => {
-            if args.depth_noise_at_1m.is_none() {
-                params.depth_noise = DepthNoise::d435();
-            }
             let range = DepthRange::default();
             let plan =
                 plan_approach_on_depth(&image, &depth, &calibration, &args.target, &range, &params)

@@ -25,6 +25,18 @@ const SMOOTHED_SIGMA: f64 = 0.01;
 /// smallest surface a tag is put on.
 const MAX_SMOOTHING_WINDOW: u32 = 24;
 
+/// The largest σ at 1 m a person may state for a depth camera, metres: ten centimetres at 1 m is
+/// already half a metre at 2.2 m, no longer a measurement a tag can be found in.
+const MAX_SIGMA_AT_ONE_METRE: f64 = 0.1;
+
+/// A stated σ at 1 m that no depth camera has.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[error(
+    "{0} m is not a depth camera's noise at 1 m: give a σ between 0 and 0.1 m \
+     (a RealSense D435 has about 0.0036)"
+)]
+pub struct NotADepthNoise(pub f64);
+
 impl DepthNoise {
     /// A tilting laser scanner (the paper's Hokuyo): a few millimetres at any range indoors.
     /// Every tolerance sized by it keeps its laser value.
@@ -41,6 +53,26 @@ impl DepthNoise {
     /// A disparity camera given by its σ at 1 m, metres.
     pub fn from_one_metre(sigma_at_one_metre: f64) -> Self {
         Self { floor: Self::LASER.floor, growth: sigma_at_one_metre }
+    }
+
+    /// A depth camera by the σ at 1 m a person stated (a flag, a parameter), refused in one
+    /// sentence unless it lies in (0, 0.1] metres.
+    pub fn stated_at_one_metre(sigma: f64) -> Result<Self, NotADepthNoise> {
+        if sigma > 0.0 && sigma <= MAX_SIGMA_AT_ONE_METRE {
+            Ok(Self::from_one_metre(sigma))
+        } else {
+            Err(NotADepthNoise(sigma))
+        }
+    }
+
+    /// The noise a frame is planned with: the sensor's, when stated; otherwise a D435's when
+    /// the frame is a camera's depth image, and a laser's when it is a cloud.
+    pub fn stated_or_typical(stated: Option<Self>, depth_image: bool) -> Self {
+        match stated {
+            Some(noise) => noise,
+            None if depth_image => Self::d435(),
+            None => Self::LASER,
+        }
     }
 
     /// A RealSense D435 at 848 pixels, 0.08 px subpixel over 447 px × 50 mm: 3.6 mm at 1 m.
@@ -91,5 +123,18 @@ mod tests {
         let growth = (d435.sigma_at(4.0) - d435.floor) / (d435.sigma_at(1.0) - d435.floor);
         assert!((growth - 16.0).abs() < 1e-9);
         assert_eq!(DepthNoise::LASER.sigma_at(5.0), DepthNoise::LASER.sigma_at(0.5));
+    }
+
+    #[test]
+    fn a_stated_noise_is_a_depth_camera_s_or_refused_in_a_sentence() {
+        let stated = DepthNoise::stated_at_one_metre(0.0036).unwrap();
+        assert_eq!(stated, DepthNoise::d435());
+        for bad in [0.0, -0.001, 0.2, f64::NAN, f64::INFINITY] {
+            let refused = DepthNoise::stated_at_one_metre(bad).unwrap_err().to_string();
+            assert!(refused.contains("between 0 and 0.1 m"), "{bad}: {refused}");
+        }
+        assert_eq!(DepthNoise::stated_or_typical(None, true), DepthNoise::d435());
+        assert_eq!(DepthNoise::stated_or_typical(None, false), DepthNoise::LASER);
+        assert_eq!(DepthNoise::stated_or_typical(Some(stated), false), stated);
     }
 }

@@ -37,7 +37,7 @@ pub use depth_cloud::{
     DepthEncoding, DepthImage, DepthRange, DepthSizeMismatch, PixelWindow, cloud_from_depth,
     cloud_from_depth_in,
 };
-pub use depth_noise::DepthNoise;
+pub use depth_noise::{DepthNoise, NotADepthNoise};
 pub use hsv::{HsvThresholds, ThresholdError, chroma_point, hsv_of, segment_color};
 pub use mask::Mask;
 pub use occupancy::{Component, OccupancyGrid};

@@ -4,6 +4,7 @@
 use std::sync::Arc;
 
 use pps_robot::navigation::{ApproachParams, plan_approach};
+use pps_robot::perception::DepthNoise;
 use pps_robot::sim::{
     AlignedDepth, CaptureSettings, DeviceKind, Room, SceneCapture, StartDirection, capture_scene,
 };
@@ -68,7 +69,7 @@ fn click(scene: &SceneCapture) -> PointStamped {
 fn the_answer_is_the_chain_of_pps_robot_on_the_same_data() {
     let scene = scene();
     let params = ApproachParams::default();
-    let answer = answer_click(&state(&scene), &click(&scene), "base_link", &params).unwrap();
+    let answer = answer_click(&state(&scene), &click(&scene), "base_link", &params, None).unwrap();
     let direct =
         plan_approach(&scene.image, &scene.cloud, &scene.calibration, &scene.target, &params)
             .unwrap();
@@ -85,10 +86,11 @@ fn the_answer_is_the_chain_of_pps_robot_on_the_same_data() {
     assert_eq!(answer.markers.markers[0].action, pps_ros2::msg::visualization::Marker::DELETEALL);
 }
 
-/// Where a click sends the robot: the tag's position and the goal's.
-fn destination(state: &SensorState, scene: &SceneCapture) -> [f64; 5] {
-    let answer =
-        answer_click(state, &click(scene), "base_link", &ApproachParams::default()).unwrap();
+/// Where a click sends the robot, the range sensor's noise stated or not: the tag's position
+/// and the goal's.
+fn destination(state: &SensorState, scene: &SceneCapture, noise: Option<DepthNoise>) -> [f64; 5] {
+    let params = ApproachParams::default();
+    let answer = answer_click(state, &click(scene), "base_link", &params, noise).unwrap();
     let tag = answer.tag_pose.expect("a tag pose").pose.position;
     let goal = answer.goal_pose.expect("a goal").pose;
     [tag.x, tag.y, tag.z, goal.position.x, goal.position.y]
@@ -100,7 +102,8 @@ fn aligned_depth_gives_the_answer_of_the_same_frame_as_a_cloud() {
     let depth = AlignedDepth::of(&scene, &Room::paper());
     let mut from_cloud = state(&scene);
     from_cloud.range = Some(RangeInput::Cloud(Arc::new(depth.cloud.clone())));
-    let expected = destination(&from_cloud, &scene);
+    // The same rays as a cloud, planned with the noise a depth image is planned with by default.
+    let expected = destination(&from_cloud, &scene, Some(DepthNoise::d435()));
     let (width, height) = (depth.width, depth.height);
     let millimetres =
         depth_message(width, height, &depth.millimetres(), header("head_camera_optical"));
@@ -118,12 +121,17 @@ fn aligned_depth_gives_the_answer_of_the_same_frame_as_a_cloud() {
             &scene.calibration.intrinsics,
             header("head_camera_optical"),
         )));
-        let got = destination(&from_depth, &scene);
+        let got = destination(&from_depth, &scene, None);
         let worst = got.iter().zip(&expected).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
         assert!(worst < 1e-3, "{encoding}: {got:?} against {expected:?}");
         from_depth.depth_info = None;
-        let refused =
-            answer_click(&from_depth, &click(&scene), "base_link", &ApproachParams::default());
+        let refused = answer_click(
+            &from_depth,
+            &click(&scene),
+            "base_link",
+            &ApproachParams::default(),
+            None,
+        );
         assert_eq!(refused.unwrap_err(), InputError::Missing("depth camera info"));
     }
 }
@@ -134,7 +142,8 @@ fn unusable_inputs_are_refused_in_words() {
     let params = ApproachParams::default();
     let mut no_transform = state(&scene);
     no_transform.transforms = Default::default();
-    let refused = answer_click(&no_transform, &click(&scene), "base_link", &params).unwrap_err();
+    let refused =
+        answer_click(&no_transform, &click(&scene), "base_link", &params, None).unwrap_err();
     assert!(matches!(refused, InputError::NoTransform { .. }));
     assert!(refused.to_string().contains("`head_camera_optical`"), "{refused}");
 
@@ -142,25 +151,25 @@ fn unusable_inputs_are_refused_in_words() {
     let mut image = (**mono.image.as_ref().unwrap()).clone();
     image.encoding = "mono8".into();
     mono.image = Some(Arc::new(image));
-    let refused = answer_click(&mono, &click(&scene), "base_link", &params).unwrap_err();
+    let refused = answer_click(&mono, &click(&scene), "base_link", &params, None).unwrap_err();
     assert_eq!(refused, InputError::ImageEncoding("mono8".into()));
 
     let mut resized = state(&scene);
     let mut info = (**resized.camera_info.as_ref().unwrap()).clone();
     info.width *= 2;
     resized.camera_info = Some(Arc::new(info));
-    let refused = answer_click(&resized, &click(&scene), "base_link", &params).unwrap_err();
+    let refused = answer_click(&resized, &click(&scene), "base_link", &params, None).unwrap_err();
     assert!(matches!(refused, InputError::SizeMismatch { .. }), "{refused}");
 
     let mut nowhere = click(&scene);
     nowhere.point.x = f64::NAN;
     assert_eq!(
-        answer_click(&state(&scene), &nowhere, "base_link", &params).unwrap_err(),
+        answer_click(&state(&scene), &nowhere, "base_link", &params, None).unwrap_err(),
         InputError::ClickNotFinite
     );
 
     let mut no_image = state(&scene);
     no_image.image = None;
-    let refused = answer_click(&no_image, &click(&scene), "base_link", &params).unwrap_err();
+    let refused = answer_click(&no_image, &click(&scene), "base_link", &params, None).unwrap_err();
     assert_eq!(refused.to_string(), "a point was clicked before any camera image arrived");
 }

@@ -6,6 +6,7 @@ use crate::support::netns::isolated;
 use crate::support::{Peer, RosNode, logged_times, registry, stored_trial};
 use nalgebra::{Point3, UnitQuaternion, Vector3};
 use pps_robot::navigation::{ApproachParams, plan_approach};
+use pps_robot::perception::tag_color;
 use pps_robot::sim::{
     CaptureSettings, DeviceKind, Room, SceneCapture, StartDirection, capture_scene,
 };
@@ -178,6 +179,12 @@ async fn with_no_picture_the_trial_after_a_click_goes_without_one() {
     assert_eq!(status, 404, "--no-picture sends none");
 }
 
+/// A click at `t` that the node answers with a tag's pose.
+fn click_to_a_tag(peer: &mut Peer, node: &RosNode, t: &Point3<f64>) {
+    let answer = peer.command(json!({"click": [t.x, t.y, t.z], "timeout": 60}));
+    assert!(answer["tag_pose"].is_object(), "{answer}\nnode log:\n{}", node.log());
+}
+
 /// Waits until the node has logged `text`.
 async fn logged(node: &RosNode, text: &str) {
     logged_times(node, text, 1).await;
@@ -295,4 +302,74 @@ async fn with_the_registry_away_entries_still_answer_and_trials_wait_in_the_outb
     server.restart().await;
     let stored = stored_trial(&server, id, &node).await;
     assert_eq!(stored["epc"], drawer.as_str());
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn trials_after_a_confirmed_read_carry_the_tag_s_colour_and_teach_the_registry() {
+    if !isolated(
+        "interop::trials_after_a_confirmed_read_carry_the_tag_s_colour_and_teach_the_registry",
+    ) {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let scene = capture_scene(
+        Room::paper(),
+        DeviceKind::LightSwitch,
+        StartDirection::PAPER[0],
+        1.5,
+        3,
+        &CaptureSettings::small(),
+    );
+    write_scene(&scene, dir.path());
+    // What `pps-robot run` sends for the same look: the same function on the same plan.
+    let params = ApproachParams::default();
+    let plan =
+        plan_approach(&scene.image, &scene.cloud, &scene.calibration, &scene.target, &params)
+            .unwrap();
+    let tag = plan.tag.as_ref().expect("the library finds the tag").nearest();
+    let expected = tag_color(&scene.image, &scene.calibration, tag, &params.tag).unwrap();
+    let expected = serde_json::to_value(expected).unwrap();
+
+    let (server, token) = registry().await;
+    // Without pictures: the colour does not depend on them.
+    let node = RosNode::start_with(&server, &token, &dir.path().join("state"), &["--no-picture"]);
+    let mut peer = Peer::start();
+    matched(&mut peer, &node);
+    peer.command(json!({"scene": dir.path()}));
+    let switch = DeviceKind::LightSwitch.epc().as_hex().to_owned();
+    let drawer = DeviceKind::Drawer.epc().as_hex().to_owned();
+    let t = scene.target;
+    let learned =
+        |entry: &Value| entry["entry"]["properties"]["learned_color_segmentation"].clone();
+    let entry_path = format!("/api/v1/robots/el-e-1/tags/{switch}");
+
+    // The fingers read another tag, or two alike: the pixels are not known to be the switch's.
+    let unconfirmed =
+        [json!([[drawer, -45.0, 1]]), json!([[switch, -45.0, 1], [drawer, -46.0, 2]])];
+    for (n, round) in unconfirmed.into_iter().enumerate() {
+        click_to_a_tag(&mut peer, &node, &t);
+        peer.command(json!({"rfid": round}));
+        let id = format!("c010a000-0000-4000-8000-00000000000{n}");
+        assert_eq!(peer.command(json!({"trial": trial_now(&id, &switch)}))["sent"], true);
+        let stored = stored_trial(&server, &id, &node).await;
+        assert!(stored.get("tag_color").is_none_or(Value::is_null), "{n}: {stored}");
+    }
+
+    // Read after each click: the trials carry the colour, and the third teaches the registry.
+    for n in 1..=3 {
+        click_to_a_tag(&mut peer, &node, &t);
+        let answer = peer.command(json!({"rfid": [[switch, -45.0, 1], [drawer, -60.0, 2]]}));
+        assert_eq!(answer["entry"]["ambiguous"], false, "{answer}");
+        let id = format!("c010a000-0000-4000-8000-00000000001{n}");
+        assert_eq!(peer.command(json!({"trial": trial_now(&id, &switch)}))["sent"], true);
+        logged(&node, &format!("trial {id} recorded with its tag's colour")).await;
+        let stored = stored_trial(&server, &id, &node).await;
+        assert_eq!(stored["tag_color"], expected, "trial {n}");
+        let entry = server.get(&entry_path).await;
+        assert_eq!(learned(&entry).is_object(), n == 3, "after {n} confirmed reads: {entry}");
+    }
+    let entry = server.get(&entry_path).await;
+    assert_eq!(learned(&entry)["trials"], 3, "{entry}");
+    assert_eq!(entry["provenance"]["/properties/learned_color_segmentation/hue_deg"], "learned");
+    assert!(entry["entry"]["properties"]["household_color_segmentation"].is_object(), "{entry}");
 }
