@@ -8,7 +8,7 @@
 import { advancedSection } from './advanced.js';
 import { field, h, replace, uid } from './dom.js';
 import { fieldPath } from './format.js';
-import { getAt, join, parent, setAt } from './pointer.js';
+import { getAt, join, parent, setAt, split } from './pointer.js';
 import { appliesTo, choicesOf, deref, kindOf, labelOf, propertiesOf, requiredOf } from './schema.js';
 import { schemaField } from './schema-field.js';
 
@@ -97,8 +97,21 @@ export class EntryForm {
 
   changed(pointer, value) {
     setAt(this.entry, pointer, value);
+    if (value === undefined) this.dropEmptyGroups(pointer);
     this.touched.add(pointer);
     this.onChange();
+  }
+
+  /**
+   * A group of properties left empty once its last field is cleared (a tag's size) goes too:
+   * kept, it would ask for the fields it requires, though the caretaker meant to leave it out.
+   */
+  dropEmptyGroups(pointer) {
+    for (let at = parent(pointer); split(at).length >= 2; at = parent(at)) {
+      const group = getAt(this.entry, at);
+      if (group === null || typeof group !== 'object' || Object.keys(group).length) return;
+      setAt(this.entry, at, undefined);
+    }
   }
 
   /** Shows every error from now on, also in fields not changed yet (after a save attempt). */

@@ -105,6 +105,21 @@ async fn registering_a_tag_from_a_template_and_fixing_the_field_the_registry_fla
     page.fill(&format!("[data-focus-key='{force}']"), "4").await;
     page.wait_until("the error to clear", &format!("{error}.hidden")).await;
     page.wait_for_text(".save-bar .status", "No problems found").await;
+
+    // A tag size begun and cleared again is left out, not asked to be finished.
+    let width = "[data-focus-key='/properties/tag_size/width']";
+    let height = "[data-focus-key='/properties/tag_size/height']";
+    page.fill(width, "0.05").await;
+    page.wait_until(
+        "the half-given size to be missing its height",
+        "document.querySelector('.save-bar .status').textContent.includes('Still to fill in')",
+    )
+    .await;
+    page.wait_for(width).await.send_keys("\u{E003}\u{E003}\u{E003}\u{E003}").await.expect("erased");
+    page.wait_for_text(".save-bar .status", "No problems found").await;
+    page.fill(width, "0.05").await;
+    page.fill(height, "0.08").await;
+    page.wait_for_text(".save-bar .status", "No problems found").await;
     page.click_text("button", "Register tag").await;
     page.wait_for_text("h1.tag-title", "Hall switch").await;
 
@@ -112,6 +127,10 @@ async fn registering_a_tag_from_a_template_and_fixing_the_field_the_registry_fla
     assert_eq!(stored["behaviors"]["push_top"]["force_threshold"], 4.0);
     assert_eq!(stored["properties"]["type"], "ada light switch");
     assert_eq!(stored["properties"]["location"]["room"], "hallway");
+    assert_eq!(
+        stored["properties"]["tag_size"],
+        serde_json::json!({"width": 0.05, "height": 0.08})
+    );
     assert_eq!(stored["updated_by"], "anna");
     page.close().await;
 }
