@@ -3,7 +3,7 @@ with. Each step does what the Rust step of the same name does, with the same par
 the libraries' own calls wherever they have one (colour conversion, morphology, voxel grid,
 DBSCAN for 3D components, RANSAC plane segmentation); the rest is NumPy.
 
-    python chain.py SCENE_DIR [SCENE_DIR ...]
+    python chain.py [--window] SCENE_DIR [SCENE_DIR ...]
 
 reads each directory `pps-scenes write` made (image.png, cloud.ply, camera.json, truth.json,
 scene.json, and depth.png for an RGB-D scene, whose cloud it then makes from the depth with
@@ -11,6 +11,11 @@ Open3D, smooths along the rays around the target as the Rust chain does, and jud
 tolerances from the sensor's noise model in scene.json) and prints
 the median and p95 of every step in milliseconds, then the whole chain's, and each scene's whole
 chain by its directory's name, as JSON.
+
+With --window, an RGB-D frame is read as the Rust chain's organised path reads it: only the
+pixels whose rays can meet the box around the target (and, for the collision check, the box
+around the robot at the waypoint) become points, the rest of the depth image zeroed before
+Open3D makes the cloud.
 """
 
 import json
@@ -314,7 +319,31 @@ def depth_to_cloud(depth, camera):
     return np.asarray(cloud.points, dtype=np.float32)
 
 
-def chain(scene):
+def pixel_window(camera, lo, hi, pad):
+    """The rows and columns of the pixels whose rays can meet the box from `lo` to `hi` (base
+    frame), `pad` pixels wider; the whole image when a corner is not before the camera."""
+    t = np.array(camera["base_from_camera"]["translation"])
+    r = quaternion_matrix(*camera["base_from_camera"]["rotation_xyzw"])
+    corners = np.array([[(lo, hi)[(c >> a) & 1][a] for a in range(3)] for c in range(8)])
+    q = (corners - t) @ r
+    w, h = camera["width"], camera["height"]
+    if np.any(q[:, 2] <= 1e-3):
+        return slice(0, h), slice(0, w)
+    u = camera["fx"] * q[:, 0] / q[:, 2] + camera["cx"] - 0.5
+    v = camera["fy"] * q[:, 1] / q[:, 2] + camera["cy"] - 0.5
+    bound = lambda x, n: int(np.clip(x, 0, n))
+    columns = slice(bound(np.floor(u.min()) - pad, w), bound(np.ceil(u.max()) + 1 + pad, w))
+    rows = slice(bound(np.floor(v.min()) - pad, h), bound(np.ceil(v.max()) + 1 + pad, h))
+    return rows, columns
+
+
+def window_of(depth, window):
+    cropped = np.zeros_like(depth)
+    cropped[window] = depth[window]
+    return cropped
+
+
+def chain(scene, windowed=False):
     bgr = cv2.imread(str(scene / "image.png"), cv2.IMREAD_COLOR)
     camera = json.loads((scene / "camera.json").read_text())
     target = np.array(json.loads((scene / "truth.json").read_text())["target"])
@@ -323,9 +352,17 @@ def chain(scene):
     noise = DepthNoise(**described) if described else DepthNoise(0.004, 0.0)
     range_m = np.linalg.norm(target - robot)
     t = Timings()
+    depth = None
     if (scene / "depth.png").exists():
         depth = cv2.imread(str(scene / "depth.png"), cv2.IMREAD_UNCHANGED)
-        points = t.time("depth_to_cloud", lambda: depth_to_cloud(depth, camera))
+        if windowed:
+            pad = int(np.ceil(OCCLUSION_CELL_RAD * max(camera["fx"], camera["fy"]))) + 2
+            box = pixel_window(camera, target - TAG_REACH_M, target + TAG_REACH_M, pad)
+            points = t.time(
+                "depth_to_cloud", lambda: depth_to_cloud(window_of(depth, box), camera)
+            )
+        else:
+            points = t.time("depth_to_cloud", lambda: depth_to_cloud(depth, camera))
     else:
         points = read_ply(scene / "cloud.ply")
     raw = t.time("segment", lambda: segment(bgr))
@@ -349,15 +386,27 @@ def chain(scene):
     found = t.time("ransac", lambda: planes(surface, inlier))
     plane = t.time("backing_plane", lambda: None if tag is None else backing_plane(found, tag, robot))
     goal = t.time("waypoint", lambda: None if plane is None else waypoint(tag, plane))
-    if goal is not None:
+    if goal is not None and windowed and depth is not None:
+        def around_robot():
+            reach = np.hypot(*BASE_HALF) + 0.01
+            (x, y, _), _ = goal
+            lo = np.array([x - reach, y - reach, FLOOR_CLEARANCE_M])
+            hi = np.array([x + reach, y + reach, BODY_HEIGHT_M])
+            near = depth_to_cloud(window_of(depth, pixel_window(camera, lo, hi, 1)), camera)
+            return collision_check(near, *goal)
+
+        t.time("collision_check", around_robot)
+    elif goal is not None:
         t.time("collision_check", lambda: collision_check(points, *goal))
     return t.steps, goal is not None
 
 
-def main(dirs):
+def main(args):
+    windowed = args[:1] == ["--window"]
+    dirs = args[1:] if windowed else args
     steps, totals, planned, per_scene = {}, [], 0, {}
     for scene in map(Path, dirs):
-        timed, ok = chain(scene)
+        timed, ok = chain(scene, windowed)
         planned += ok
         for name, ms in timed.items():
             steps.setdefault(name, []).append(ms)
