@@ -3,12 +3,19 @@ with. Each step does what the Rust step of the same name does, with the same par
 the libraries' own calls wherever they have one (colour conversion, morphology, voxel grid,
 DBSCAN for 3D components, RANSAC plane segmentation); the rest is NumPy.
 
-    python chain.py SCENE_DIR [SCENE_DIR ...]
+    python chain.py [--window] SCENE_DIR [SCENE_DIR ...]
 
-reads each directory `pps-scenes write` made (image.png, cloud.ply, camera.json, truth.json, and
-depth.png for an RGB-D scene, whose cloud it then makes from the depth with Open3D) and prints
+reads each directory `pps-scenes write` made (image.png, cloud.ply, camera.json, truth.json,
+scene.json, and depth.png for an RGB-D scene, whose cloud it then makes from the depth with
+Open3D, smooths along the rays around the target as the Rust chain does, and judges with
+tolerances from the sensor's noise model in scene.json) and prints
 the median and p95 of every step in milliseconds, then the whole chain's, and each scene's whole
 chain by its directory's name, as JSON.
+
+With --window, an RGB-D frame is read as the Rust chain's organised path reads it: only the
+pixels whose rays can meet the box around the target (and, for the collision check, the box
+around the robot at the waypoint) become points, the rest of the depth image zeroed before
+Open3D makes the cloud.
 """
 
 import json
@@ -41,6 +48,13 @@ STANDOFF_M = 0.5
 BASE_HALF = (0.25, 0.25)
 BODY_HEIGHT_M = 1.6
 FLOOR_CLEARANCE_M = 0.04
+# The tag's reach around the target (perception/tag.rs: max_distance + fragment_gap).
+TAG_REACH_M = 0.53
+# Ray smoothing (perception/ray_smoothing.rs, depth_noise.rs).
+SMOOTHED_SIGMA_M = 0.01
+MAX_SMOOTHING_WINDOW = 24
+MIN_BLOCK_POINTS = 6
+SURFACE_SIGMAS = 3.0
 
 
 class Timings:
@@ -103,7 +117,7 @@ def packed(cells):
     return key
 
 
-def project(points, mask, camera):
+def project(points, mask, camera, occlusion_tolerance=OCCLUSION_TOLERANCE_M):
     t = np.array(camera["base_from_camera"]["translation"])
     r = quaternion_matrix(*camera["base_from_camera"]["rotation_xyzw"])
     in_camera = (points - t) @ r
@@ -126,7 +140,7 @@ def project(points, mask, camera):
     cell_of = cell_of.ravel()
     nearest = np.full(cell_of.max() + 1 if len(cell_of) else 0, np.inf)
     np.minimum.at(nearest, cell_of, depth[idx])
-    seen = depth[idx] <= nearest[cell_of] + OCCLUSION_TOLERANCE_M
+    seen = depth[idx] <= nearest[cell_of] + occlusion_tolerance
     idx = idx[seen]
     on_red = mask[v[idx].astype(np.int64), u[idx].astype(np.int64)] > 0
     return points[idx[on_red]]
@@ -158,12 +172,12 @@ def volume_of_interest(points, target, tag):
     return voi[~np.isin(keys, own)]
 
 
-def planes(surface):
+def planes(surface, inlier=INLIER_M):
     cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(surface.astype(np.float64)))
     found = []
     while len(found) < MAX_PLANES and len(cloud.points) >= MIN_PLANE_POINTS:
         model, inliers = cloud.segment_plane(
-            distance_threshold=INLIER_M,
+            distance_threshold=inlier,
             ransac_n=3,
             num_iterations=MAX_ITERATIONS,
             probability=CONFIDENCE,
@@ -208,6 +222,84 @@ def collision_check(points, position, heading):
     return int(np.count_nonzero(body & tall))
 
 
+class DepthNoise:
+    """σ(z) = floor + growth·z², the range sensor's model (perception/depth_noise.rs)."""
+
+    def __init__(self, floor, growth):
+        self.floor, self.growth = floor, growth
+
+    def sigma_at(self, z):
+        return self.floor + self.growth * z * z
+
+    def smoothing_window(self, z):
+        side = np.ceil(np.sqrt(3.0) * self.sigma_at(z) / SMOOTHED_SIGMA_M)
+        return int(np.clip(side, 1, MAX_SMOOTHING_WINDOW))
+
+    def smoothed_sigma_at(self, z):
+        w = self.smoothing_window(z)
+        sigma = self.sigma_at(z)
+        return sigma if w == 1 else max(np.sqrt(3.0) * sigma / w, self.floor)
+
+
+def smooth_along_rays(points, raw_mask, camera, target, window, noise):
+    """Each point within the tag's reach of the target moved along its camera ray onto the plane
+    in inverse depth (1/z affine in the pixel) that its window × window pixel block shows, the
+    tag-coloured points (`raw_mask`) and the rest fitted apart; points beyond three σ of the fit
+    keep their depth. The Rust step's algorithm, in NumPy: every block fitted at once from
+    per-block sums (np.bincount), not a loop over blocks."""
+    out = points.copy()
+    inside = np.all(np.abs(points - target) <= TAG_REACH_M, axis=1)
+    t = np.array(camera["base_from_camera"]["translation"])
+    r = quaternion_matrix(*camera["base_from_camera"]["rotation_xyzw"])
+    idx = np.flatnonzero(inside)
+    q = (points[idx].astype(np.float64) - t) @ r
+    ahead = q[:, 2] > 1e-6
+    idx, q = idx[ahead], q[ahead]
+    z = q[:, 2]
+    u = camera["fx"] * q[:, 0] / z + camera["cx"]
+    v = camera["fy"] * q[:, 1] / z + camera["cy"]
+    in_image = (u >= 0) & (v >= 0) & (u < camera["width"]) & (v < camera["height"])
+    tag = np.zeros(len(idx), dtype=bool)
+    tag[in_image] = raw_mask[v[in_image].astype(np.int64), u[in_image].astype(np.int64)] > 0
+    cells = np.stack([np.floor(u / window), np.floor(v / window), tag], axis=1).astype(np.int64)
+    _, block = np.unique(packed(cells), return_inverse=True)
+    block = block.ravel()
+    blocks = block.max() + 1 if len(block) else 0
+    count = np.bincount(block, minlength=blocks)
+    # The median depth of each block: sorted by block, then depth; the upper middle one.
+    order = np.lexsort((z, block))
+    starts = np.concatenate([[0], np.cumsum(count)[:-1]])
+    median = z[order[np.minimum(starts + count // 2, len(z) - 1)]] if len(z) else z
+    on = np.abs(z - median[block]) <= SURFACE_SIGMAS * noise.sigma_at(median[block])
+    sigma = SURFACE_SIGMAS * noise.sigma_at(z)
+    fitted = count >= MIN_BLOCK_POINTS
+    inverse = np.zeros(len(z))
+    for _ in range(3):
+        w = on.astype(np.float64)
+        n = np.bincount(block, w, blocks)
+        fitted &= n >= MIN_BLOCK_POINTS
+        safe = np.where(n > 0, n, 1.0)
+        mu, mv = np.bincount(block, w * u, blocks) / safe, np.bincount(block, w * v, blocks) / safe
+        du, dv, iz = u - mu[block], v - mv[block], 1.0 / z
+        s = lambda x: np.bincount(block, w * x, blocks)
+        normal = np.empty((blocks, 3, 3))
+        normal[:, 0, 0], normal[:, 1, 1], normal[:, 2, 2] = n, s(du * du), s(dv * dv)
+        normal[:, 0, 1] = normal[:, 1, 0] = s(du)
+        normal[:, 0, 2] = normal[:, 2, 0] = s(dv)
+        normal[:, 1, 2] = normal[:, 2, 1] = s(du * dv)
+        right = np.stack([s(iz), s(du * iz), s(dv * iz)], axis=1)
+        fitted &= np.abs(np.linalg.det(normal)) > 1e-12
+        normal[~fitted] = np.eye(3)
+        c = np.linalg.solve(normal, right[:, :, None])[:, :, 0]
+        inverse = c[block, 0] + c[block, 1] * du + c[block, 2] * dv
+        with np.errstate(divide="ignore"):
+            on = (inverse > 0) & (np.abs(z - 1.0 / inverse) <= sigma)
+    move = fitted[block] & on
+    moved = q[move] * (1.0 / inverse[move] / z[move])[:, None]
+    out[idx[move]] = (moved @ r.T + t).astype(points.dtype)
+    return out
+
+
 def depth_to_cloud(depth, camera):
     """An RGB-D frame's aligned 16-bit depth (millimetres) as a base-frame cloud, through
     Open3D's own back-projection."""
@@ -227,38 +319,94 @@ def depth_to_cloud(depth, camera):
     return np.asarray(cloud.points, dtype=np.float32)
 
 
-def chain(scene):
+def pixel_window(camera, lo, hi, pad):
+    """The rows and columns of the pixels whose rays can meet the box from `lo` to `hi` (base
+    frame), `pad` pixels wider; the whole image when a corner is not before the camera."""
+    t = np.array(camera["base_from_camera"]["translation"])
+    r = quaternion_matrix(*camera["base_from_camera"]["rotation_xyzw"])
+    corners = np.array([[(lo, hi)[(c >> a) & 1][a] for a in range(3)] for c in range(8)])
+    q = (corners - t) @ r
+    w, h = camera["width"], camera["height"]
+    if np.any(q[:, 2] <= 1e-3):
+        return slice(0, h), slice(0, w)
+    u = camera["fx"] * q[:, 0] / q[:, 2] + camera["cx"] - 0.5
+    v = camera["fy"] * q[:, 1] / q[:, 2] + camera["cy"] - 0.5
+    bound = lambda x, n: int(np.clip(x, 0, n))
+    columns = slice(bound(np.floor(u.min()) - pad, w), bound(np.ceil(u.max()) + 1 + pad, w))
+    rows = slice(bound(np.floor(v.min()) - pad, h), bound(np.ceil(v.max()) + 1 + pad, h))
+    return rows, columns
+
+
+def window_of(depth, window):
+    cropped = np.zeros_like(depth)
+    cropped[window] = depth[window]
+    return cropped
+
+
+def chain(scene, windowed=False):
     bgr = cv2.imread(str(scene / "image.png"), cv2.IMREAD_COLOR)
     camera = json.loads((scene / "camera.json").read_text())
     target = np.array(json.loads((scene / "truth.json").read_text())["target"])
     robot = np.array(camera["base_from_camera"]["translation"])
+    described = json.loads((scene / "scene.json").read_text()).get("depth_noise")
+    noise = DepthNoise(**described) if described else DepthNoise(0.004, 0.0)
+    range_m = np.linalg.norm(target - robot)
     t = Timings()
+    depth = None
     if (scene / "depth.png").exists():
         depth = cv2.imread(str(scene / "depth.png"), cv2.IMREAD_UNCHANGED)
-        points = t.time("depth_to_cloud", lambda: depth_to_cloud(depth, camera))
+        if windowed:
+            pad = int(np.ceil(OCCLUSION_CELL_RAD * max(camera["fx"], camera["fy"]))) + 2
+            box = pixel_window(camera, target - TAG_REACH_M, target + TAG_REACH_M, pad)
+            points = t.time(
+                "depth_to_cloud", lambda: depth_to_cloud(window_of(depth, box), camera)
+            )
+        else:
+            points = t.time("depth_to_cloud", lambda: depth_to_cloud(depth, camera))
     else:
         points = read_ply(scene / "cloud.ply")
     raw = t.time("segment", lambda: segment(bgr))
+    window = noise.smoothing_window(range_m)
+    if window > 1:
+        points = t.time(
+            "ray_smoothing",
+            lambda: smooth_along_rays(points, raw, camera, target, window, noise),
+        )
+    # The tolerances the Rust chain sizes by the noise left after smoothing.
+    sigma = noise.smoothed_sigma_at(range_m)
+    occlusion, inlier = max(OCCLUSION_TOLERANCE_M, 5 * sigma), max(INLIER_M, 2.5 * sigma)
     red = t.time("morphology", lambda: morphology(raw))
-    red_points = t.time("project", lambda: project(points, red, camera))
+    red_points = t.time("project", lambda: project(points, red, camera, occlusion))
     t.time("occupancy_grid", lambda: o3d.geometry.VoxelGrid.create_from_point_cloud(
         o3d.geometry.PointCloud(o3d.utility.Vector3dVector(red_points.astype(np.float64))),
         VOXEL_M,
     ))
     tag = t.time("components", lambda: components(red_points, target))
     surface = t.time("volume_of_interest", lambda: volume_of_interest(points, target, tag))
-    found = t.time("ransac", lambda: planes(surface))
+    found = t.time("ransac", lambda: planes(surface, inlier))
     plane = t.time("backing_plane", lambda: None if tag is None else backing_plane(found, tag, robot))
     goal = t.time("waypoint", lambda: None if plane is None else waypoint(tag, plane))
-    if goal is not None:
+    if goal is not None and windowed and depth is not None:
+        def around_robot():
+            reach = np.hypot(*BASE_HALF) + 0.01
+            (x, y, _), _ = goal
+            lo = np.array([x - reach, y - reach, FLOOR_CLEARANCE_M])
+            hi = np.array([x + reach, y + reach, BODY_HEIGHT_M])
+            near = depth_to_cloud(window_of(depth, pixel_window(camera, lo, hi, 1)), camera)
+            return collision_check(near, *goal)
+
+        t.time("collision_check", around_robot)
+    elif goal is not None:
         t.time("collision_check", lambda: collision_check(points, *goal))
     return t.steps, goal is not None
 
 
-def main(dirs):
+def main(args):
+    windowed = args[:1] == ["--window"]
+    dirs = args[1:] if windowed else args
     steps, totals, planned, per_scene = {}, [], 0, {}
     for scene in map(Path, dirs):
-        timed, ok = chain(scene)
+        timed, ok = chain(scene, windowed)
         planned += ok
         for name, ms in timed.items():
             steps.setdefault(name, []).append(ms)

@@ -30,6 +30,7 @@ pub mod noise;
 pub mod rgbd;
 pub mod rig;
 pub mod scene;
+pub mod sensitivity;
 pub mod touching;
 pub mod truth;
 

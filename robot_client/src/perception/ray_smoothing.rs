@@ -29,11 +29,11 @@ const MIN_BLOCK_POINTS: usize = 6;
 /// deviations of the depth there.
 const SURFACE_SIGMAS: f64 = 3.0;
 
-/// `points` (base frame) with those inside the box from `min` to `max` moved along their camera
-/// rays onto the surface each `window × window`-pixel block of theirs shows, the points whose
-/// pixel in `image` has the tag's colour (`tag`) and the others each onto their own. Points
-/// outside the box, behind the camera, or off their block's surface are returned as they came,
-/// in the same order.
+/// `points` (base frame, a depth camera's: one a pixel) with those inside the box from `min` to
+/// `max` moved along their camera rays onto the surface each `window × window`-pixel block of
+/// theirs shows, the points whose pixel in `image` has the tag's colour (`tag`) and the others
+/// each onto their own. Points outside the box, behind the camera, or off their block's surface
+/// are returned as they came, in the same order.
 #[allow(clippy::too_many_arguments)]
 pub fn smooth_along_rays(
     points: &[Point3<f32>],
@@ -46,14 +46,21 @@ pub fn smooth_along_rays(
     noise: &DepthNoise,
 ) -> Vec<Point3<f32>> {
     let mut out = points.to_vec();
-    if window <= 1 {
+    // A depth camera gives one point a pixel, so a block holds at most `window²` points: below
+    // the fewest a fit needs, no block would be fitted and nothing would move (a D435 at 1 m).
+    if (window * window) < MIN_BLOCK_POINTS as u32 {
         return out;
     }
     let camera_from_base = calibration.base_from_camera.inverse();
     let k = &calibration.intrinsics;
     let w = f64::from(window);
-    // Each point in the box, in camera coordinates with its pixel, grouped by block.
-    let mut blocks: HashMap<(i64, i64, bool), Vec<RayPoint>> = HashMap::new();
+    // Each point in the box, in camera coordinates with its pixel, and the block it falls in,
+    // numbered as first met. A row of the frame crosses a block in `window` neighbouring
+    // points, so most points are in the block of the point before them and need no lookup.
+    let mut rays: Vec<RayPoint> = Vec::new();
+    let mut block_of: Vec<u32> = Vec::new();
+    let mut numbers: HashMap<(i64, i64, bool), u32> = HashMap::new();
+    let mut last: Option<((i64, i64, bool), u32)> = None;
     for (i, p) in points.iter().enumerate() {
         let p = p.cast::<f64>();
         let inside = (0..3).all(|a| p[a] >= min[a] && p[a] <= max[a]);
@@ -68,14 +75,39 @@ pub fn smooth_along_rays(
         let in_image =
             u >= 0.0 && v >= 0.0 && u < f64::from(image.width) && v < f64::from(image.height);
         let tag_coloured = in_image && tag.contains(image.pixel(u as u32, v as u32));
-        let block = ((u / w).floor() as i64, (v / w).floor() as i64, tag_coloured);
-        blocks.entry(block).or_default().push(RayPoint { index: i, q, u, v });
+        let key = ((u / w).floor() as i64, (v / w).floor() as i64, tag_coloured);
+        let number = match last {
+            Some((last_key, number)) if last_key == key => number,
+            _ => {
+                let next = numbers.len() as u32;
+                let number = *numbers.entry(key).or_insert(next);
+                last = Some((key, number));
+                number
+            }
+        };
+        rays.push(RayPoint { index: i, q, u, v });
+        block_of.push(number);
     }
-    for members in blocks.values() {
+    // The blocks' points side by side, each block's in the cloud's order (a counting sort).
+    let mut start = vec![0usize; numbers.len() + 1];
+    for &b in &block_of {
+        start[b as usize + 1] += 1;
+    }
+    for b in 0..numbers.len() {
+        start[b + 1] += start[b];
+    }
+    let mut next = start.clone();
+    let mut grouped = rays.clone();
+    for (ray, &b) in rays.iter().zip(&block_of) {
+        grouped[next[b as usize]] = *ray;
+        next[b as usize] += 1;
+    }
+    let mut scratch = Scratch::default();
+    for members in start.windows(2).map(|r| &grouped[r[0]..r[1]]) {
         if members.len() < MIN_BLOCK_POINTS {
             continue;
         }
-        let Some(fit) = surface_of(members, noise) else { continue };
+        let Some(fit) = surface_of(members, noise, &mut scratch) else { continue };
         for &RayPoint { index: i, q, u, v } in members {
             let inverse = fit.inverse_depth(u, v);
             if inverse <= 0.0 || !fit.holds(q.z, u, v, noise) {
@@ -86,6 +118,13 @@ pub fn smooth_along_rays(
         }
     }
     out
+}
+
+/// Room the blocks' fits reuse, one block after another.
+#[derive(Default)]
+struct Scratch {
+    depths: Vec<f64>,
+    on: Vec<(f64, f64, f64)>,
 }
 
 /// A point of the cloud in camera coordinates (`q`) and its pixel.
@@ -135,27 +174,32 @@ impl InverseDepthPlane {
 
 /// The surface most of a block's points lie on: first those within the noise of the block's
 /// median depth, then, twice, those within the noise of the fit to the last ones.
-fn surface_of(members: &[RayPoint], noise: &DepthNoise) -> Option<InverseDepthPlane> {
-    let mut depths: Vec<f64> = members.iter().map(|m| m.q.z).collect();
+fn surface_of(
+    members: &[RayPoint],
+    noise: &DepthNoise,
+    scratch: &mut Scratch,
+) -> Option<InverseDepthPlane> {
+    let Scratch { depths, on } = scratch;
+    depths.clear();
+    depths.extend(members.iter().map(|m| m.q.z));
     let half = depths.len() / 2;
     let median = *depths.select_nth_unstable_by(half, f64::total_cmp).1;
     let band = SURFACE_SIGMAS * noise.sigma_at(median);
-    let mut on: Vec<(f64, f64, f64)> = members
-        .iter()
-        .filter(|m| (m.q.z - median).abs() <= band)
-        .map(|m| (m.u, m.v, m.q.z))
-        .collect();
+    on.clear();
+    on.extend(members.iter().filter(|m| (m.q.z - median).abs() <= band).map(|m| (m.u, m.v, m.q.z)));
     let mut fit = None;
     for _ in 0..3 {
         if on.len() < MIN_BLOCK_POINTS {
             return None;
         }
-        let plane = InverseDepthPlane::fit(&on)?;
-        on = members
-            .iter()
-            .filter(|m| plane.holds(m.q.z, m.u, m.v, noise))
-            .map(|m| (m.u, m.v, m.q.z))
-            .collect();
+        let plane = InverseDepthPlane::fit(on)?;
+        on.clear();
+        on.extend(
+            members
+                .iter()
+                .filter(|m| plane.holds(m.q.z, m.u, m.v, noise))
+                .map(|m| (m.u, m.v, m.q.z)),
+        );
         fit = Some(plane);
     }
     fit
@@ -255,5 +299,20 @@ mod tests {
         let (image, tag) = (ColorImage::new(200, 200), HsvThresholds::default());
         let smoothed = smooth_along_rays(&points, &image, &tag, &camera(), &min, &max, 1, &noise);
         assert_eq!(smoothed, points);
+    }
+
+    #[test]
+    fn blocks_too_small_for_a_fit_move_nothing_and_the_next_size_smooths() {
+        let noise = DepthNoise::disparity(450.0, 0.05, 0.1);
+        let points = noisy_wall_and_post(&noise, &mut ChaCha8Rng::seed_from_u64(5));
+        let (min, max) = (Point3::new(-10.0, -10.0, 0.0), Point3::new(10.0, 10.0, 10.0));
+        let (image, tag) = (ColorImage::new(200, 200), HsvThresholds::default());
+        let smoothed = |window| {
+            smooth_along_rays(&points, &image, &tag, &camera(), &min, &max, window, &noise)
+        };
+        // Two pixels a side hold 4 of the frame's points, fewer than a fit needs; three hold 9.
+        assert_eq!(smoothed(2), points);
+        let moved = smoothed(3).iter().zip(&points).filter(|(a, b)| a != b).count();
+        assert!(moved > points.len() / 2, "{moved} of {} points moved", points.len());
     }
 }

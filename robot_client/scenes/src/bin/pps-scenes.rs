@@ -34,6 +34,9 @@ enum Command {
         /// image.png, is written too.
         #[arg(long)]
         rgbd: bool,
+        /// With --rgbd: wood in the furniture and red things touching the tag as well.
+        #[arg(long, requires = "rgbd")]
+        homes: bool,
         #[arg(long)]
         out: PathBuf,
     },
@@ -45,6 +48,9 @@ enum Command {
         /// The RGB-D scenes `bench --rgbd` runs, each with its depth.png.
         #[arg(long)]
         rgbd: bool,
+        /// With --rgbd: the scenes `bench --rgbd --homes` runs.
+        #[arg(long, requires = "rgbd")]
+        homes: bool,
         #[arg(long)]
         out: PathBuf,
     },
@@ -60,14 +66,37 @@ enum Command {
         /// chain_ms), for comparing scene by scene with a peer.
         #[arg(long)]
         per_scene: Option<PathBuf>,
-        /// On the RGB-D scenes (dense depth frames at 0.5–5 m), through the organised path.
+        /// On the RGB-D scenes (dense depth frames at 0.5–5 m), through the organised path, each
+        /// with its sensor's noise model as the corpus test gives it.
         #[arg(long)]
         rgbd: bool,
+        /// With --rgbd: wood in the furniture and red things touching the tag as well.
+        #[arg(long, requires = "rgbd")]
+        homes: bool,
         /// With --rgbd: turn the whole frame into a cloud and run the laser's path on it, for
         /// comparing with the organised path.
         #[arg(long, requires = "rgbd")]
         whole_frame: bool,
     },
+    /// How wrong the depth noise model may be: the RGB-D scenes to 5 m keep their sensor's true
+    /// noise while perception is given its model scaled, or the laser's; prints a Markdown table
+    /// of the scenes right per kind and every miss.
+    Sensitivity {
+        /// Scenes per device kind (seeds 0..N, as the corpus test draws them).
+        #[arg(long, default_value_t = 40)]
+        per_kind: u64,
+        /// Factors for the model's growth with range (σ at 1 m); the laser's model is run too.
+        #[arg(long, value_delimiter = ',', default_values_t = [1.0, 0.5, 2.0, 4.0])]
+        scales: Vec<f64>,
+        /// Wood in the furniture and red things touching the tag as well.
+        #[arg(long)]
+        homes: bool,
+    },
+}
+
+/// The RGB-D variant to run: the plain frames to 5 m, or with the homes' wood and red things.
+fn rgbd_variants(homes: bool) -> RgbdVariants {
+    if homes { RgbdVariants::HOMES } else { RgbdVariants::PLAIN }
 }
 
 fn parse_kind(text: &str) -> Result<DeviceKind, String> {
@@ -81,13 +110,20 @@ fn main() -> anyhow::Result<()> {
     // The benchmark runs the chain on this thread: it works beside the pool, not waiting on it.
     pps_robot::cores::work_on_this_thread();
     match Cli::parse().command {
-        Command::Write { seed, kind, rgbd, out } => write(seed, kind, rgbd, &out),
-        Command::WriteCorpus { scenes, rgbd, out } => (0..scenes).try_for_each(|i| {
+        Command::Write { seed, kind, rgbd, homes, out } => {
+            write(seed, kind, rgbd.then(|| rgbd_variants(homes)), &out)
+        }
+        Command::WriteCorpus { scenes, rgbd, homes, out } => (0..scenes).try_for_each(|i| {
             let (seed, kind) = corpus_scene(i);
-            write(seed, Some(kind), rgbd, &out.join(format!("{i:03}")))
+            let variants = rgbd.then(|| rgbd_variants(homes));
+            write(seed, Some(kind), variants, &out.join(format!("{i:03}")))
         }),
-        Command::Bench { scenes, per_scene, rgbd, whole_frame } => {
-            bench(scenes, per_scene.as_deref(), rgbd, whole_frame)
+        Command::Bench { scenes, per_scene, rgbd, homes, whole_frame } => {
+            bench(scenes, per_scene.as_deref(), rgbd.then(|| rgbd_variants(homes)), whole_frame)
+        }
+        Command::Sensitivity { per_kind, scales, homes } => {
+            sensitivity(per_kind, &scales, rgbd_variants(homes));
+            Ok(())
         }
         Command::Materials => {
             print_materials();
@@ -96,10 +132,17 @@ fn main() -> anyhow::Result<()> {
     }
 }
 
-fn write(seed: u64, kind: Option<DeviceKind>, rgbd: bool, out: &Path) -> anyhow::Result<()> {
+fn write(
+    seed: u64,
+    kind: Option<DeviceKind>,
+    rgbd: Option<RgbdVariants>,
+    out: &Path,
+) -> anyhow::Result<()> {
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
-    let scene =
-        if rgbd { generate_rgbd(seed, kind, RgbdVariants::PLAIN) } else { generate(seed, kind) };
+    let scene = match rgbd {
+        Some(variants) => generate_rgbd(seed, kind, variants),
+        None => generate(seed, kind),
+    };
     if let Some(mm) = &scene.depth_mm {
         let size = (scene.image.width, scene.image.height);
         write_depth_png(&out.join("depth.png"), size, mm)?;
@@ -117,10 +160,14 @@ fn write(seed: u64, kind: Option<DeviceKind>, rgbd: bool, out: &Path) -> anyhow:
         "visibility": scene.visibility,
     });
     std::fs::write(out.join("truth.json"), serde_json::to_string_pretty(&truth)? + "\n")?;
+    // The range sensor's noise model, σ(z) = floor + growth·z², as the corpus test gives it to
+    // perception: a peer sizes its smoothing and tolerances by the same.
+    let noise = scene.depth_noise();
     let described = serde_json::json!({
         "scene": scene.drawn.scene,
         "camera": scene.drawn.camera,
         "laser": scene.drawn.laser,
+        "depth_noise": { "floor": noise.floor, "growth": noise.growth },
     });
     std::fs::write(out.join("scene.json"), serde_json::to_string_pretty(&described)? + "\n")?;
     let [x, y, z] = scene.drawn.target;
@@ -157,10 +204,9 @@ fn quantile(sorted: &[f64], q: f64) -> f64 {
 fn bench(
     scenes: u64,
     per_scene: Option<&Path>,
-    rgbd: bool,
+    rgbd: Option<RgbdVariants>,
     whole_frame: bool,
 ) -> anyhow::Result<()> {
-    let params = ApproachParams::default();
     let mut steps: Vec<(&'static str, Vec<f64>)> = Vec::new();
     let (mut totals, mut renders) = (Vec::new(), Vec::new());
     let mut right = 0;
@@ -176,12 +222,15 @@ fn bench(
     }
     for i in 0..scenes {
         let (seed, kind) = corpus_scene(i);
-        let scene: GeneratedScene = if rgbd {
-            generate_rgbd(seed, Some(kind), RgbdVariants::PLAIN)
-        } else {
-            generate(seed, Some(kind))
+        let scene: GeneratedScene = match rgbd {
+            Some(variants) => generate_rgbd(seed, Some(kind), variants),
+            None => generate(seed, Some(kind)),
         };
         renders.push(scene.render_ms);
+        // As the corpus test runs it: with the range sensor's own noise model, so that a depth
+        // camera's frame is smoothed along its rays and judged by tolerances from its noise.
+        let params =
+            ApproachParams { depth_noise: scene.depth_noise(), ..ApproachParams::default() };
         let plan = match scene.depth_image() {
             Some(depth) if whole_frame => {
                 let start = std::time::Instant::now();
@@ -242,6 +291,31 @@ fn bench(
         table.flush()?;
     }
     Ok(())
+}
+
+/// Runs the model-mismatch measurement and prints its table, then each miss.
+fn sensitivity(per_kind: u64, scales: &[f64], variants: RgbdVariants) {
+    use pps_scenes::sensitivity::{GivenModel, measure};
+    let models: Vec<GivenModel> =
+        scales.iter().map(|&s| GivenModel::Scaled(s)).chain([GivenModel::Laser]).collect();
+    let start = std::time::Instant::now();
+    let result = measure(per_kind, variants, &models);
+    println!("{}", result.table());
+    println!(
+        "{per_kind} scenes a kind, each perceived with {} models, in {:.0} s",
+        models.len(),
+        start.elapsed().as_secs_f64()
+    );
+    for miss in &result.misses {
+        println!(
+            "MISS {} seed {} {}: {} — {}",
+            miss.model.label(),
+            miss.seed,
+            miss.kind,
+            miss.problems,
+            miss.scene
+        );
+    }
 }
 
 /// The home-materials table in Markdown, hue° / saturation in each cell.
