@@ -6,7 +6,7 @@ use clap::Parser;
 use pps_robot::cli::RegistryArgs;
 use pps_robot::navigation::ApproachParams;
 use pps_robot::perception::{DepthNoise, HsvThresholds};
-use pps_robot::task::TaskConfig;
+use pps_robot::task::{ColourSource, TaskConfig};
 use pps_ros2::dds::DdsSettings;
 use pps_ros2::msg::visualization::MarkerLayout;
 use pps_ros2::node::{NodeSettings, run};
@@ -23,7 +23,8 @@ struct Cli {
     #[arg(long, default_value = "base_link")]
     base_frame: String,
     /// Tag colour HMIN,HMAX,SMIN,SMAX,VMIN,VMAX: hue in degrees (may wrap, 340,20), saturation
-    /// and value 0..1. Default 340,20,0.6,1.0,0.15,1.0.
+    /// and value 0..1. Default: the colour the registry knows the home's tags to have (learned
+    /// from confirmed reads, else their entries' colours), else 340,20,0.6,1.0,0.15,1.0.
     #[arg(long, value_name = "HMIN,HMAX,SMIN,SMAX,VMIN,VMAX", allow_hyphen_values = true, value_parser = parse_hsv)]
     hsv: Option<HsvThresholds>,
     /// The range sensor's depth noise (σ) at 1 m, metres; it grows with the square of the
@@ -100,6 +101,7 @@ async fn main() -> anyhow::Result<()> {
         rfid_margin_db: TaskConfig::default().rfid_margin_db,
         marker_layout: MarkerLayout::of_distro(&cli.ros_distro),
         picture: !cli.no_picture,
+        colour: if cli.hsv.is_some() { ColourSource::AsGiven } else { ColourSource::KnownTags },
     };
     let dds = DdsSettings {
         domain_id: DdsSettings::domain_from_env().map_err(anyhow::Error::msg)?,

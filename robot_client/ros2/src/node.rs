@@ -7,6 +7,7 @@ use std::sync::{Arc, Mutex};
 use pps_robot::navigation::ApproachParams;
 use pps_robot::perception::DepthNoise;
 use pps_robot::registry::RegistryClient;
+use pps_robot::task::{ColourSource, search_for_known_tags};
 use pps_schema::Epc;
 use ros2_client::{Context, NodeName, NodeOptions, Publisher};
 use time::OffsetDateTime;
@@ -43,6 +44,9 @@ pub struct NodeSettings {
     pub marker_layout: MarkerLayout,
     /// Send each trial with the picture of the click that led to it.
     pub picture: bool,
+    /// Look for the colour the home's tags have (learned or in their entries), or for the one
+    /// given.
+    pub colour: ColourSource,
 }
 
 /// `/pps/markers` in the layout the robot's ROS 2 distribution reads.
@@ -76,6 +80,9 @@ struct Shared {
     outputs: Outputs,
     registry: RegistryClient,
     last_view: LastView,
+    /// What the last click's tag search was told of the home's tags, said again only when it
+    /// changes.
+    known_tags: Mutex<Vec<String>>,
 }
 
 /// Logs a message that could not be published; a full queue or a vanished reader is the
@@ -129,6 +136,7 @@ pub async fn run(
         outputs,
         registry,
         last_view: LastView::default(),
+        known_tags: Mutex::default(),
     });
     tracing::info!(
         base_frame = %shared.settings.base_frame,
@@ -234,17 +242,13 @@ async fn on_tf_static(shared: &Arc<Shared>, message: TfMessage) {
 async fn on_click(shared: &Arc<Shared>, click: PointStamped) {
     const TOPIC: &str = "clicked_point";
     let snapshot = shared.sensors.lock().unwrap_or_else(|e| e.into_inner()).clone();
+    shared.registry.refresh_announced().await;
+    let approach = approach_for_known_tags(shared);
     let work = shared.clone();
     // The chain takes tens of milliseconds of computation: off the tasks that move messages.
     let answered = tokio::task::spawn_blocking(move || {
         let settings = &work.settings;
-        answer_click(
-            &snapshot,
-            &click,
-            &settings.base_frame,
-            &settings.approach,
-            settings.depth_noise,
-        )
+        answer_click(&snapshot, &click, &settings.base_frame, &approach, settings.depth_noise)
     })
     .await;
     let answer = match answered {
@@ -291,6 +295,22 @@ async fn on_click(shared: &Arc<Shared>, click: PointStamped) {
         }
         _ => tracing::info!("no tag near the clicked point"),
     }
+}
+
+/// The approach's settings with the tag search set for the home's tags as the registry's
+/// entries (cached, so also offline) know them now; what changed since the last click is logged.
+fn approach_for_known_tags(shared: &Shared) -> ApproachParams {
+    let settings = &shared.settings;
+    let known = shared.registry.known_entries();
+    let (tag, notes) = search_for_known_tags(&settings.approach.tag, &known, settings.colour);
+    let mut said = shared.known_tags.lock().unwrap_or_else(|e| e.into_inner());
+    if *said != notes {
+        for note in &notes {
+            tracing::info!("tag search: {note}");
+        }
+        *said = notes;
+    }
+    ApproachParams { tag, ..settings.approach.clone() }
 }
 
 async fn on_round(shared: &Arc<Shared>, round: TagReads) {

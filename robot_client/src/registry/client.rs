@@ -230,6 +230,17 @@ impl RegistryClient {
         self.cache.entries().iter().filter_map(|cached| parse_entry(&cached.entry).ok()).collect()
     }
 
+    /// Reads again the entries the change feed announced changed (an edit, a colour learned
+    /// from the latest trials), so that [`Self::known_entries`] holds what the registry knows
+    /// now; an entry that cannot be read now stays as cached, and is tried again next time.
+    pub async fn refresh_announced(&self) {
+        for key in self.cache.announced() {
+            if let Ok(epc) = Epc::parse(&key) {
+                let _ = self.effective_entry(&epc).await;
+            }
+        }
+    }
+
     /// Records a trial: durably into the outbox first, then uploads what is waiting.
     pub async fn record_trial(&self, trial: &Trial) -> Result<FlushReport, RegistryError> {
         self.record_trial_with_picture(trial, None).await

@@ -31,6 +31,9 @@ pub struct CachedEntry {
 struct Slot {
     cached: CachedEntry,
     fresh_until: Option<Instant>,
+    /// The change feed announced a change to it (an edit, a learned value) since it was last
+    /// confirmed.
+    announced: bool,
 }
 
 #[derive(Debug)]
@@ -54,7 +57,7 @@ impl EntryCache {
                 && let Some(cached) =
                     fs::read(&path).ok().and_then(|b| serde_json::from_slice(&b).ok())
             {
-                slots.insert(epc, Slot { cached, fresh_until: None });
+                slots.insert(epc, Slot { cached, fresh_until: None, announced: false });
             }
         }
         Ok(Self { dir, slots: Mutex::new(slots) })
@@ -81,7 +84,7 @@ impl EntryCache {
         self.slots
             .lock()
             .unwrap_or_else(|e| e.into_inner())
-            .insert(epc.to_owned(), Slot { cached, fresh_until });
+            .insert(epc.to_owned(), Slot { cached, fresh_until, announced: false });
         Ok(())
     }
 
@@ -89,6 +92,7 @@ impl EntryCache {
     pub fn confirm(&self, epc: &str, fresh: bool) {
         if let Some(slot) = self.slots.lock().unwrap_or_else(|e| e.into_inner()).get_mut(epc) {
             slot.fresh_until = fresh.then(|| Instant::now() + FRESH_FOR);
+            slot.announced = false;
         }
     }
 
@@ -113,7 +117,14 @@ impl EntryCache {
     pub fn invalidate(&self, epc: &str) {
         if let Some(slot) = self.slots.lock().unwrap_or_else(|e| e.into_inner()).get_mut(epc) {
             slot.fresh_until = None;
+            slot.announced = true;
         }
+    }
+
+    /// The EPCs whose entries the change feed announced changed since they were last confirmed.
+    pub fn announced(&self) -> Vec<String> {
+        let slots = self.slots.lock().unwrap_or_else(|e| e.into_inner());
+        slots.iter().filter(|(_, slot)| slot.announced).map(|(epc, _)| epc.clone()).collect()
     }
 
     /// The change feed dropped: nothing can be trusted without asking.
@@ -144,5 +155,28 @@ mod tests {
         assert_eq!(reopened.get("A"), Some((cached, false)), "kept on disk, revalidated first");
         reopened.remove("A");
         assert!(EntryCache::open(dir.path()).unwrap().get("A").is_none());
+    }
+
+    #[test]
+    fn only_what_the_feed_announced_is_read_again_until_confirmed() {
+        let dir = tempfile::tempdir().unwrap();
+        let cache = EntryCache::open(dir.path()).unwrap();
+        let cached = |epc: &str| CachedEntry {
+            etag: "\"e1\"".into(),
+            entry: serde_json::json!({ "epc": epc }),
+        };
+        for epc in ["A", "B", "C"] {
+            cache.put(epc, cached(epc), true).unwrap();
+        }
+        cache.invalidate_all();
+        assert!(cache.announced().is_empty(), "a dropped feed announces nothing");
+        cache.invalidate("B");
+        cache.invalidate("C");
+        let mut announced = cache.announced();
+        announced.sort();
+        assert_eq!(announced, ["B", "C"]);
+        cache.confirm("B", true);
+        cache.put("C", cached("C"), false).unwrap();
+        assert!(cache.announced().is_empty());
     }
 }

@@ -12,10 +12,12 @@ mod act;
 mod approach;
 mod drive;
 mod identify;
+mod known_tags;
 mod perform;
 mod report;
 mod run;
 
 pub use act::{ActionChoice, choose_action, vertical_choice_for};
+pub use known_tags::{ColourSource, search_for_known_tags};
 pub use report::{PhaseReport, TaskReport};
 pub use run::{TaskConfig, TaskRobot, run_task};

@@ -1,11 +1,12 @@
 //! The four phases in order, ending in a trial recorded through the registry client.
 
-use pps_schema::{Purpose, StartPose, TagSize};
+use pps_schema::{Purpose, StartPose};
 use uuid::Uuid;
 
 use super::approach::{Look, drive_to_waypoint, look_for_tag_and_surface};
 use super::drive::{drive_toward, in_base, in_odom};
 use super::identify::servo_and_read;
+use super::known_tags::{ColourSource, search_for_known_tags};
 use super::perform::{Acting, FoundTag, act, settle_epc};
 use super::report::{PhaseReport, TaskReport};
 use crate::behaviors::{Hand, RobotBody};
@@ -13,7 +14,7 @@ use crate::hal::{
     BrightnessCamera, Clock, ColorCamera, MobileBase, Operator, RfidReader, TiltSweep, TiltingLaser,
 };
 use crate::navigation::ApproachParams;
-use crate::perception::{HsvThresholds, covering_colour, describe_colour, tag_color};
+use crate::perception::tag_color;
 use crate::registry::RegistryClient;
 
 /// Everything the task needs of a robot.
@@ -99,8 +100,18 @@ pub async fn run_task(
 
     // Phase 2: find the tag and the surface behind it; drive to the waypoint.
     let phase = report.phase(2, "approach the tag perpendicular to its surface");
-    let config = &with_known_tag_colours(config, registry, phase);
-    let config = &with_known_tag_sizes(config, registry, phase);
+    registry.refresh_announced().await;
+    let (tag, notes) = search_for_known_tags(
+        &config.approach.tag,
+        &registry.known_entries(),
+        ColourSource::KnownTags,
+    );
+    for note in notes {
+        phase.note(note);
+    }
+    let mut config = config.clone();
+    config.approach.tag = tag;
+    let config = &config;
     let seen =
         look_for_tag_and_surface(robot, operator, &target, &config.sweep, &config.approach, phase)?;
     let Some(mut tag) = drive_to_waypoint(robot, &seen.plan, phase)? else {
@@ -143,85 +154,4 @@ fn picture_of(
             None
         }
     }
-}
-
-/// The task's settings with the tag search looking for the colour this robot's class has learned
-/// its household's tags to have (their confirmed reads' colours, the registry's household model
-/// in any entry, the newest kept also offline), or else for the colours this robot's camera sees
-/// the registry's tags in (their entries' `color_segmentation`, merged for this robot).
-fn with_known_tag_colours(
-    config: &TaskConfig,
-    registry: &RegistryClient,
-    phase: &mut PhaseReport,
-) -> TaskConfig {
-    let known = registry.known_entries();
-    let household = known
-        .iter()
-        .filter_map(|e| e.entry.properties.household_color())
-        .max_by_key(|learned| learned.trials);
-    if let Some(learned) = household
-        && let Ok(thresholds) = HsvThresholds::new(&learned.segmentation)
-    {
-        phase.note(format!(
-            "looking for {} (learned from {} confirmed reads of this household's tags)",
-            describe_colour(&learned.segmentation),
-            learned.trials
-        ));
-        let mut config = config.clone();
-        config.approach.tag.thresholds = thresholds;
-        return config;
-    }
-    let colours = known.iter().filter_map(|e| e.entry.properties.color_segmentation());
-    let colour = covering_colour(colours.clone());
-    let mut config = config.clone();
-    match HsvThresholds::new(&colour) {
-        Ok(thresholds) => {
-            let from = match colours.count() {
-                0 => format!("the paper's red: none of {} known tags gives a colour", known.len()),
-                n => format!("the colours of {n} of {} known tags", known.len()),
-            };
-            phase.note(format!("looking for {} ({from})", describe_colour(&colour)));
-            config.approach.tag.thresholds = thresholds;
-        }
-        Err(error) => phase.note(format!(
-            "the entries' colours cannot be used ({error}); looking for the default red"
-        )),
-    }
-    config
-}
-
-/// The task's settings with the tag search bounded by the largest tag of this household, when
-/// the registry knows every known tag's size; otherwise a tag may be as large as a towel.
-fn with_known_tag_sizes(
-    config: &TaskConfig,
-    registry: &RegistryClient,
-    phase: &mut PhaseReport,
-) -> TaskConfig {
-    let known = registry.known_entries();
-    let sizes: Option<Vec<TagSize>> = known.iter().map(|e| e.entry.properties.tag_size).collect();
-    let mut config = config.clone();
-    match sizes {
-        Some(sizes) if !sizes.is_empty() => {
-            let tag = config.approach.tag.for_home_tags(sizes.iter().map(TagSize::reach));
-            phase.note(format!(
-                "no red region reaching more than {:.0} cm from its middle is taken for a tag \
-                 (the largest of this household's {} tags, by their registered sizes)",
-                tag.max_tag_radius * 100.0,
-                sizes.len()
-            ));
-            config.approach.tag = tag;
-        }
-        _ => {
-            let without_size =
-                known.iter().filter(|e| e.entry.properties.tag_size.is_none()).count();
-            if without_size > 0 {
-                phase.note(format!(
-                    "{without_size} of {} known tags have no registered size, so a tag may be as \
-                     large as a towel",
-                    known.len()
-                ));
-            }
-        }
-    }
-    config
 }

@@ -3,13 +3,14 @@
 //! loopback-only network namespace.
 
 use crate::support::netns::isolated;
-use crate::support::{Peer, RosNode, logged_times, registry, stored_trial};
+use crate::support::{PATIENCE, Peer, RosNode, logged_times, registry, stored_trial};
 use nalgebra::{Point3, UnitQuaternion, Vector3};
 use pps_robot::navigation::{ApproachParams, plan_approach};
 use pps_robot::perception::tag_color;
 use pps_robot::sim::{
     CaptureSettings, DeviceKind, Room, SceneCapture, StartDirection, capture_scene,
 };
+use pps_test_kit::wait::try_wait_until;
 use serde_json::{Value, json};
 
 /// Writes the scene as the peer reads it: raw RGB rows, raw float32 x y z, and the camera.
@@ -372,4 +373,13 @@ async fn trials_after_a_confirmed_read_carry_the_tag_s_colour_and_teach_the_regi
     assert_eq!(learned(&entry)["trials"], 3, "{entry}");
     assert_eq!(entry["provenance"]["/properties/learned_color_segmentation/hue_deg"], "learned");
     assert!(entry["entry"]["properties"]["household_color_segmentation"].is_object(), "{entry}");
+
+    // Once the change feed has brought the learned entry, the node's clicks look for it.
+    let learned_colour = "(learned from 3 confirmed reads of this household's tags)";
+    let looked = try_wait_until(PATIENCE, || {
+        click_to_a_tag(&mut peer, &node, &t);
+        let said = node.log().contains(learned_colour);
+        async move { said.then_some(()) }
+    });
+    looked.await.unwrap_or_else(|| panic!("never looked for the learned colour:\n{}", node.log()));
 }

@@ -30,7 +30,7 @@ fn drain(stderr: impl std::io::Read + Send + 'static) -> Arc<Mutex<Vec<String>>>
 }
 
 /// How long the node may take to do what a test asks: it starts, syncs and retries over DDS.
-const PATIENCE: Duration = Duration::from_secs(30);
+pub const PATIENCE: Duration = Duration::from_secs(30);
 
 /// The real registry with the robot `el-e-1` registered (it cannot pull a lamp's cord), and
 /// that robot's token.

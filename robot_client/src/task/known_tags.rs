@@ -1,0 +1,168 @@
+//! What a robot knows of its home's tags before it reads one (issue 34): the colour to look for
+//! and how large a tag may be, from the registry's entries as its cache holds them (so also
+//! offline). `run`, `work` and `pps-ros2` look for tags with these settings.
+
+use pps_schema::{EffectiveEntry, TagSize};
+
+use crate::perception::{HsvThresholds, TagSearchParams, covering_colour, describe_colour};
+
+/// Whether the colour to look for comes from the home's tags or stays as given (a person's
+/// `--hsv`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ColourSource {
+    KnownTags,
+    AsGiven,
+}
+
+/// `params` for the tags `known`, with what was chosen and why, in words.
+pub fn search_for_known_tags(
+    params: &TagSearchParams,
+    known: &[EffectiveEntry],
+    colour: ColourSource,
+) -> (TagSearchParams, Vec<String>) {
+    let mut notes = Vec::new();
+    let mut params = params.clone();
+    if colour == ColourSource::KnownTags {
+        params.thresholds = known_colour(params.thresholds, known, &mut notes);
+    }
+    (bounded_by_known_sizes(&params, known, &mut notes), notes)
+}
+
+/// The colour this robot's class has learned its household's tags to have (their confirmed
+/// reads' colours, the registry's household model in any entry), or else the colours this
+/// robot's camera sees the registry's tags in (their entries' `color_segmentation`, merged for
+/// this robot), or `fallback` when those cannot be used.
+fn known_colour(
+    fallback: HsvThresholds,
+    known: &[EffectiveEntry],
+    notes: &mut Vec<String>,
+) -> HsvThresholds {
+    let household = known
+        .iter()
+        .filter_map(|e| e.entry.properties.household_color())
+        .max_by_key(|learned| learned.trials);
+    if let Some(learned) = household
+        && let Ok(thresholds) = HsvThresholds::new(&learned.segmentation)
+    {
+        notes.push(format!(
+            "looking for {} (learned from {} confirmed reads of this household's tags)",
+            describe_colour(&learned.segmentation),
+            learned.trials
+        ));
+        return thresholds;
+    }
+    let colours = known.iter().filter_map(|e| e.entry.properties.color_segmentation());
+    let colour = covering_colour(colours.clone());
+    match HsvThresholds::new(&colour) {
+        Ok(thresholds) => {
+            let from = match colours.count() {
+                0 => format!("the paper's red: none of {} known tags gives a colour", known.len()),
+                n => format!("the colours of {n} of {} known tags", known.len()),
+            };
+            notes.push(format!("looking for {} ({from})", describe_colour(&colour)));
+            thresholds
+        }
+        Err(error) => {
+            notes.push(format!(
+                "the entries' colours cannot be used ({error}); looking for the default red"
+            ));
+            fallback
+        }
+    }
+}
+
+/// `params` bounded by the largest tag of this household when every known tag has a registered
+/// size; otherwise a tag may be as large as a towel.
+fn bounded_by_known_sizes(
+    params: &TagSearchParams,
+    known: &[EffectiveEntry],
+    notes: &mut Vec<String>,
+) -> TagSearchParams {
+    let sizes: Option<Vec<TagSize>> = known.iter().map(|e| e.entry.properties.tag_size).collect();
+    match sizes {
+        Some(sizes) if !sizes.is_empty() => {
+            let bounded = params.for_home_tags(sizes.iter().map(TagSize::reach));
+            notes.push(format!(
+                "no red region reaching more than {:.0} cm from its middle is taken for a tag \
+                 (the largest of this household's {} tags, by their registered sizes)",
+                bounded.max_tag_radius * 100.0,
+                sizes.len()
+            ));
+            bounded
+        }
+        _ => {
+            let without_size =
+                known.iter().filter(|e| e.entry.properties.tag_size.is_none()).count();
+            if without_size > 0 {
+                notes.push(format!(
+                    "{without_size} of {} known tags have no registered size, so a tag may be as \
+                     large as a towel",
+                    known.len()
+                ));
+            }
+            params.clone()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::{Value, json};
+
+    fn known(epc: &str, properties: Value) -> EffectiveEntry {
+        serde_json::from_value(json!({
+            "epc": epc,
+            "robot": "el-e-1",
+            "revision": 1,
+            "entry": {"epc": epc, "properties": properties, "actions": {}, "behaviors": {}},
+            "provenance": {},
+        }))
+        .expect("an effective entry")
+    }
+
+    fn patch(epc: &str) -> EffectiveEntry {
+        known(epc, json!({"name": "rocker", "tag_size": {"width": 0.05, "height": 0.08}}))
+    }
+
+    #[test]
+    fn the_largest_registered_tag_bounds_the_search_once_every_tag_has_a_size() {
+        let factory = TagSearchParams::default();
+        let towel =
+            known("E2000002", json!({"name": "drawer", "tag_size": {"width": 0.3, "height": 0.2}}));
+        let (params, notes) =
+            search_for_known_tags(&factory, &[patch("E2000001"), towel], ColourSource::AsGiven);
+        let reach = 0.3f64.hypot(0.2) / 2.0 + factory.fragment_gap;
+        assert!((params.max_tag_radius - reach).abs() < 1e-12, "{}", params.max_tag_radius);
+        assert_eq!(params.thresholds, factory.thresholds, "the colour as given");
+        assert_eq!(notes.len(), 1, "{notes:?}");
+        assert!(notes[0].contains("21 cm") && notes[0].contains("2 tags"), "{}", notes[0]);
+
+        let unsized_lamp = known("E2000003", json!({"name": "lamp"}));
+        let (params, notes) = search_for_known_tags(
+            &factory,
+            &[patch("E2000001"), unsized_lamp],
+            ColourSource::AsGiven,
+        );
+        assert_eq!(params.max_tag_radius, factory.max_tag_radius);
+        assert!(notes[0].starts_with("1 of 2 known tags have no registered size"), "{notes:?}");
+    }
+
+    #[test]
+    fn the_households_learned_colour_is_looked_for_unless_one_is_given() {
+        let factory = TagSearchParams::default();
+        let learned = json!({
+            "name": "rocker",
+            "household_color_segmentation": {
+                "hue_deg": [352.0, 8.0], "saturation": [0.65, 1.0], "value": [0.2, 1.0], "trials": 5
+            }
+        });
+        let entries = [known("E2000001", learned)];
+        let (params, notes) = search_for_known_tags(&factory, &entries, ColourSource::KnownTags);
+        assert_ne!(params.thresholds, factory.thresholds);
+        assert!(notes[0].contains("learned from 5 confirmed reads"), "{notes:?}");
+        let (params, notes) = search_for_known_tags(&factory, &entries, ColourSource::AsGiven);
+        assert_eq!(params.thresholds, factory.thresholds);
+        assert!(notes.iter().all(|n| !n.contains("looking for")), "{notes:?}");
+    }
+}
