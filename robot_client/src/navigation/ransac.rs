@@ -3,13 +3,12 @@
 //! paper, slabs that are not surfaces (see [`super::plane_evidence`]).
 //!
 //! Speed comes from four choices: a depth camera's cloud, tens of points where the laser puts
-//! one, is thinned to about the laser's spacing before the search (see [`thinning_stride`]); the
-//! second and third sample points are drawn from the first
-//! one's 10 cm cell, so a sample lies on one surface far more often than three points drawn from
-//! the whole volume; hypotheses are scored on a fixed random subset; and the iteration count
-//! adapts to the best support found so far (the usual RANSAC stopping rule). The refits that
-//! follow read only the points near the hypothesis while that is provably enough
-//! ([`super::refit`]).
+//! one, is thinned to about the laser's spacing before the search (see [`thinning_stride`]);
+//! the second and third sample points are drawn from the first one's 10 cm cell, so a sample
+//! lies on one surface far more often than three points drawn from the whole volume; hypotheses
+//! are scored on a fixed random subset; and the iteration count adapts to the best support
+//! found so far (the usual RANSAC stopping rule). The refits that follow read only the points
+//! near the hypothesis while that is provably enough ([`super::refit`]).
 //!
 //! The band hypotheses are scored in is fixed; the band a plane is finally judged and kept in is
 //! measured from the plane's own noise (see [`super::plane_evidence`]).
