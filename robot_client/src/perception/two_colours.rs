@@ -27,6 +27,17 @@ pub(super) fn colours_of(
     image: &ColorImage,
     calibration: &CameraCalibration,
 ) -> Vec<Option<[f32; 2]>> {
+    colours_around(points, image, calibration, 0)
+}
+
+/// Where on the chroma disc the pixels around each point's pixel lie on average: the mean over
+/// the square `reach` pixels around it, clipped to the picture; `None` when the point is outside.
+pub(super) fn colours_around(
+    points: &[Point3<f32>],
+    image: &ColorImage,
+    calibration: &CameraCalibration,
+    reach: u32,
+) -> Vec<Option<[f32; 2]>> {
     let camera_from_base = calibration.base_from_camera.inverse();
     let k = &calibration.intrinsics;
     points
@@ -37,9 +48,25 @@ pub(super) fn colours_of(
                 && uv.y >= 0.0
                 && uv.x < f64::from(image.width)
                 && uv.y < f64::from(image.height);
-            inside.then(|| chroma_point(image.pixel(uv.x as u32, uv.y as u32)))
+            inside.then(|| mean_colour_around(image, uv.x as u32, uv.y as u32, reach))
         })
         .collect()
+}
+
+fn mean_colour_around(image: &ColorImage, x: u32, y: u32, reach: u32) -> [f32; 2] {
+    let (xs, ys) = (
+        x.saturating_sub(reach)..=(x + reach).min(image.width - 1),
+        y.saturating_sub(reach)..=(y + reach).min(image.height - 1),
+    );
+    let (mut sum, mut n) = ([0.0f32; 2], 0.0f32);
+    for y in ys {
+        for x in xs.clone() {
+            let c = chroma_point(image.pixel(x, y));
+            sum = [sum[0] + c[0], sum[1] + c[1]];
+            n += 1.0;
+        }
+    }
+    [sum[0] / n, sum[1] / n]
 }
 
 /// The points of one of a region's two colours.
