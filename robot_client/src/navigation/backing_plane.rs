@@ -122,7 +122,7 @@ pub fn choose_backing_plane(
     let verdicts: Vec<Result<f64, PlaneRejection>> = planes
         .iter()
         .map(|p| {
-            let height = judge(p, points, tag, tag_radius, &toward_robot, rule)?;
+            let height = judge(p, points, tag, tag_radius, tag_points, &toward_robot, rule)?;
             Ok(height.max(0.0) + spread_across(tag_points, &p.plane))
         })
         .collect();
@@ -248,12 +248,28 @@ fn spread_across(points: &[Point3<f32>], plane: &Plane) -> f64 {
     d.iter().map(|x| (x - median).abs()).sum::<f64>() / d.len() as f64
 }
 
+/// Whether the tag's points lie along `plane` rather than across it: their spread across it
+/// is within what the depth noise moves a tag's centroid, where a tag standing across a plane
+/// spreads a quarter of its width.
+fn lies_flat_on(tag_points: &[Point3<f32>], plane: &Plane, rule: &BackingPlaneRule) -> bool {
+    !tag_points.is_empty() && spread_across(tag_points, plane) <= rule.tag_behind_tolerance
+}
+
+/// The width through most of the plane's points and the tag's together.
+fn width_with_tag(p: &DetectedPlane, points: &[Point3<f32>], tag_points: &[Point3<f32>]) -> f64 {
+    let together: Vec<Point3<f32>> =
+        p.inliers.iter().map(|&i| points[i as usize]).chain(tag_points.iter().copied()).collect();
+    let all: Vec<u32> = (0..together.len() as u32).collect();
+    width_through_most(&together, &all, &p.plane).unwrap_or(0.0)
+}
+
 /// How far in front of `p` the tag is when `p` could carry it; otherwise the rule it fails.
 fn judge(
     p: &DetectedPlane,
     points: &[Point3<f32>],
     tag: &Point3<f64>,
     tag_radius: f64,
+    tag_points: &[Point3<f32>],
     toward_robot: &Vector3<f64>,
     rule: &BackingPlaneRule,
 ) -> Result<f64, PlaneRejection> {
@@ -263,8 +279,14 @@ fn judge(
         return Err(PlaneRejection::Tilted { tilt, max: rule.max_tilt });
     }
     // Broad through most of its points, not only through a few stray ones far out.
-    let width =
+    let mut width =
         width_through_most(points, &p.inliers, plane).map_or(p.extent[1], |w| w.min(p.extent[1]));
+    // A tag lying flat on a surface hides the part of it that it covers (a towel over most of
+    // a narrow front, a bin hiding the rest): such a surface is as wide as its own points and
+    // the tag's together.
+    if width < rule.min_extent && lies_flat_on(tag_points, plane, rule) {
+        width = width.max(width_with_tag(p, points, tag_points));
+    }
     if width < rule.min_extent {
         return Err(PlaneRejection::Small { width, min: rule.min_extent });
     }

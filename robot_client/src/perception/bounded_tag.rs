@@ -86,7 +86,7 @@ pub(super) fn bound_tags(
         // left of the thing that touched the tag (a strip of the bin's side in the towel's
         // colour) stands across the tag's surface, and would stretch the tag's outline.
         for part in join(components_of(&members, target, params)) {
-            if part.distance_to_target > params.max_distance {
+            if part.distance_to_target > params.max_distance || part.points < params.min_points {
                 divided.push(part);
                 continue;
             }
