@@ -634,4 +634,39 @@ mod tests {
             choice.rejected
         );
     }
+
+    #[test]
+    fn a_towel_flat_on_a_front_it_mostly_hides_widens_the_front() {
+        // Of a front x = 1.71 only a strip 8 cm wide shows beside a towel 14 × 16 cm lying on
+        // it 1 cm proud: the strip alone is narrower than a surface, the two together are not.
+        let robot = Point3::new(0.5, 0.0, 1.0);
+        let mut points = Vec::new();
+        let front = patch(
+            &mut points,
+            Point3::new(1.71, 0.10, 0.8),
+            Vector3::new(0.0, 0.08, 0.0),
+            Vector3::new(0.0, 0.0, 0.4),
+            &robot,
+        );
+        let towel: Vec<Point3<f32>> = (0..35)
+            .flat_map(|i| (0..8).map(move |j| (i, j)))
+            .map(|(i, j)| Point3::new(1.70, -0.04 + 0.004 * i as f32, 0.92 + 0.02 * j as f32))
+            .collect();
+        let tag = Point3::new(1.70, 0.03, 1.0);
+        let rule = BackingPlaneRule::default();
+        let planes = [front];
+        let lying = choose_backing_plane(&planes, &points, &tag, 0.11, &towel, &robot, &rule);
+        assert_eq!(lying.index, Some(0), "{:?}", lying.rejected);
+        // The same towel standing across the front, 12 cm deep toward the robot, is no part of
+        // the front's width.
+        let across: Vec<Point3<f32>> =
+            towel.iter().map(|p| Point3::new(1.70 - 3.0 * (p.y + 0.04), 0.03, p.z)).collect();
+        let tag = Point3::new(1.64, 0.03, 1.0);
+        let standing = choose_backing_plane(&planes, &points, &tag, 0.11, &across, &robot, &rule);
+        assert!(
+            matches!(the_one_rejection(&standing), PlaneRejection::Small { .. }),
+            "{:?}",
+            standing.rejected
+        );
+    }
 }
