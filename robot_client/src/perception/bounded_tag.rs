@@ -82,11 +82,9 @@ pub(super) fn bound_tags(
             )),
         }
         let mut divided = Vec::new();
-        // Every part near the target is cut to its surface, tag-sized or not: what the colour
-        // left of the thing that touched the tag (a strip of the bin's side in the towel's
-        // colour) stands across the tag's surface, and would stretch the tag's outline.
         for part in join(components_of(&members, target, params)) {
-            if part.distance_to_target > params.max_distance || part.points < params.min_points {
+            if part.radius <= params.max_tag_radius || part.distance_to_target > params.max_distance
+            {
                 divided.push(part);
                 continue;
             }
