@@ -122,7 +122,7 @@ pub fn choose_backing_plane(
     let verdicts: Vec<Result<f64, PlaneRejection>> = planes
         .iter()
         .map(|p| {
-            let height = judge(p, points, tag, tag_radius, &toward_robot, rule)?;
+            let height = judge(p, points, tag, tag_radius, tag_points, &toward_robot, rule)?;
             Ok(height.max(0.0) + spread_across(tag_points, &p.plane))
         })
         .collect();
@@ -248,12 +248,28 @@ fn spread_across(points: &[Point3<f32>], plane: &Plane) -> f64 {
     d.iter().map(|x| (x - median).abs()).sum::<f64>() / d.len() as f64
 }
 
+/// Whether the tag's points lie along `plane` rather than across it: their spread across it
+/// is within what the depth noise moves a tag's centroid, where a tag standing across a plane
+/// spreads a quarter of its width.
+fn lies_flat_on(tag_points: &[Point3<f32>], plane: &Plane, rule: &BackingPlaneRule) -> bool {
+    !tag_points.is_empty() && spread_across(tag_points, plane) <= rule.tag_behind_tolerance
+}
+
+/// The width through most of the plane's points and the tag's together.
+fn width_with_tag(p: &DetectedPlane, points: &[Point3<f32>], tag_points: &[Point3<f32>]) -> f64 {
+    let together: Vec<Point3<f32>> =
+        p.inliers.iter().map(|&i| points[i as usize]).chain(tag_points.iter().copied()).collect();
+    let all: Vec<u32> = (0..together.len() as u32).collect();
+    width_through_most(&together, &all, &p.plane).unwrap_or(0.0)
+}
+
 /// How far in front of `p` the tag is when `p` could carry it; otherwise the rule it fails.
 fn judge(
     p: &DetectedPlane,
     points: &[Point3<f32>],
     tag: &Point3<f64>,
     tag_radius: f64,
+    tag_points: &[Point3<f32>],
     toward_robot: &Vector3<f64>,
     rule: &BackingPlaneRule,
 ) -> Result<f64, PlaneRejection> {
@@ -263,8 +279,14 @@ fn judge(
         return Err(PlaneRejection::Tilted { tilt, max: rule.max_tilt });
     }
     // Broad through most of its points, not only through a few stray ones far out.
-    let width =
+    let mut width =
         width_through_most(points, &p.inliers, plane).map_or(p.extent[1], |w| w.min(p.extent[1]));
+    // A tag lying flat on a surface hides the part of it that it covers (a towel over most of
+    // a narrow front, a bin hiding the rest): such a surface is as wide as its own points and
+    // the tag's together.
+    if width < rule.min_extent && lies_flat_on(tag_points, plane, rule) {
+        width = width.max(width_with_tag(p, points, tag_points));
+    }
     if width < rule.min_extent {
         return Err(PlaneRejection::Small { width, min: rule.min_extent });
     }
@@ -610,6 +632,41 @@ mod tests {
             matches!(the_one_rejection(&choice), PlaneRejection::FartherThanChosen { .. }),
             "{:?}",
             choice.rejected
+        );
+    }
+
+    #[test]
+    fn a_towel_flat_on_a_front_it_mostly_hides_widens_the_front() {
+        // Of a front x = 1.71 only a strip 8 cm wide shows beside a towel 14 × 16 cm lying on
+        // it 1 cm proud: the strip alone is narrower than a surface, the two together are not.
+        let robot = Point3::new(0.5, 0.0, 1.0);
+        let mut points = Vec::new();
+        let front = patch(
+            &mut points,
+            Point3::new(1.71, 0.10, 0.8),
+            Vector3::new(0.0, 0.08, 0.0),
+            Vector3::new(0.0, 0.0, 0.4),
+            &robot,
+        );
+        let towel: Vec<Point3<f32>> = (0..35)
+            .flat_map(|i| (0..8).map(move |j| (i, j)))
+            .map(|(i, j)| Point3::new(1.70, -0.04 + 0.004 * i as f32, 0.92 + 0.02 * j as f32))
+            .collect();
+        let tag = Point3::new(1.70, 0.03, 1.0);
+        let rule = BackingPlaneRule::default();
+        let planes = [front];
+        let lying = choose_backing_plane(&planes, &points, &tag, 0.11, &towel, &robot, &rule);
+        assert_eq!(lying.index, Some(0), "{:?}", lying.rejected);
+        // The same towel standing across the front, 12 cm deep toward the robot, is no part of
+        // the front's width.
+        let across: Vec<Point3<f32>> =
+            towel.iter().map(|p| Point3::new(1.70 - 3.0 * (p.y + 0.04), 0.03, p.z)).collect();
+        let tag = Point3::new(1.64, 0.03, 1.0);
+        let standing = choose_backing_plane(&planes, &points, &tag, 0.11, &across, &robot, &rule);
+        assert!(
+            matches!(the_one_rejection(&standing), PlaneRejection::Small { .. }),
+            "{:?}",
+            standing.rejected
         );
     }
 }

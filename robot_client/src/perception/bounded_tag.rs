@@ -15,7 +15,7 @@ use nalgebra::{Matrix3, Point3, Vector3};
 use super::mask::Mask;
 use super::occupancy::{Component, OccupancyGrid};
 use super::tag::TagSearchParams;
-use super::two_colours::{colours_of, of_the_core_colour};
+use super::two_colours::{colours_around, colours_of, of_the_core_colour};
 use crate::hal::{CameraCalibration, ColorImage};
 
 /// How far a point's colour may lie from the tag's, in standard deviations of the tag's own
@@ -26,19 +26,28 @@ const COLOUR_SPREAD_SIGMAS: f32 = 3.0;
 /// it: three hold all but 0.3 % of a surface's noise.
 const SURFACE_BAND_SIGMAS: f64 = 3.0;
 
+/// How many pixels around a point's own the colour split averages over. A towel's pixels
+/// scatter 0.05–0.10 on the chroma disc in the camera's noise (hue ±10°, saturation ±0.1),
+/// as far as a third of the way to an orange-brown wood's; the mean of the nine pixels one
+/// around scatters a third as far, and mixes only the ring of pixels at an edge.
+const PIXEL_NOISE_REACH: u32 = 1;
+
 /// The median distance of two-dimensional normal noise from its middle, over its standard
 /// deviation along each axis (the Rayleigh distribution's median, √(2 ln 2)): a spread that the
 /// few odd points a core may hold do not inflate.
 const MEDIAN_DISTANCE_PER_SIGMA: f32 = 1.1774;
 
 /// The components with each one near the target that is larger than any tag divided into the
-/// parts a tag could be; `notes` says what was divided and why.
+/// parts a tag could be; `notes` says what was divided and why. `join` joins the fragments of
+/// one tag that its voxels alone leave apart (a towel at a steep angle, sampled sparsely), as
+/// the search joined them before the division: a division must not break the tag it frees.
 pub(super) fn bound_tags(
     components: Vec<Component>,
     image: &ColorImage,
     calibration: &CameraCalibration,
     target: &Point3<f64>,
     params: &TagSearchParams,
+    join: &dyn Fn(Vec<Component>) -> Vec<Component>,
     notes: &mut Vec<String>,
 ) -> Vec<Component> {
     let largest = params.max_tag_radius * 200.0;
@@ -52,7 +61,8 @@ pub(super) fn bound_tags(
         }
         let across = component.radius * 200.0;
         let mut members = component.members;
-        match tag_coloured(&members, image, calibration, &core_of(&members, target, params)) {
+        let colours = colours_around(&members, image, calibration, PIXEL_NOISE_REACH);
+        match tag_coloured(&members, &colours, &core_of(&members, target, params)) {
             Some(split) => {
                 notes.push(format!(
                     "the red region near the target is {across:.0} cm across, larger than any \
@@ -72,7 +82,7 @@ pub(super) fn bound_tags(
             )),
         }
         let mut divided = Vec::new();
-        for part in components_of(&members, target, params) {
+        for part in join(components_of(&members, target, params)) {
             if part.radius <= params.max_tag_radius || part.distance_to_target > params.max_distance
             {
                 divided.push(part);
@@ -89,7 +99,7 @@ pub(super) fn bound_tags(
                         surface.kept.len(),
                         part.points,
                     ));
-                    divided.extend(components_of(&surface.kept, target, params));
+                    divided.extend(join(components_of(&surface.kept, target, params)));
                 }
                 None => divided.push(part),
             }
@@ -101,7 +111,7 @@ pub(super) fn bound_tags(
             && part.radius > params.max_tag_radius
             && let Some(parts) = of_two_colours(part, image, calibration, target, params, notes)
         {
-            divided = parts;
+            divided = join(parts);
         }
         match nearest_part(&divided, params) {
             // Kept whole, so that nothing farther from the target is taken in its stead, and
@@ -157,7 +167,8 @@ pub(crate) fn of_the_colour_at(
     anchor: &Point3<f64>,
     params: &TagSearchParams,
 ) -> Vec<Point3<f32>> {
-    match tag_coloured(points, image, calibration, &core_of(points, anchor, params)) {
+    let colours = colours_of(points, image, calibration);
+    match tag_coloured(points, &colours, &core_of(points, anchor, params)) {
         Some(split) => split.kept,
         None => points.to_vec(),
     }
@@ -216,11 +227,9 @@ struct ColourSplit {
 /// `None` when that keeps them all, or too few of the core are in the picture.
 fn tag_coloured(
     points: &[Point3<f32>],
-    image: &ColorImage,
-    calibration: &CameraCalibration,
+    colours: &[Option<[f32; 2]>],
     core: &[usize],
 ) -> Option<ColourSplit> {
-    let colours = colours_of(points, image, calibration);
     let core_size = core.len();
     let core: Vec<[f32; 2]> = core.iter().filter_map(|&i| colours[i]).collect();
     if core.len() < core_size / 2 || core.is_empty() {
@@ -231,7 +240,7 @@ fn tag_coloured(
     let spread = median(core.iter().map(distance)) / MEDIAN_DISTANCE_PER_SIGMA;
     let kept: Vec<Point3<f32>> = points
         .iter()
-        .zip(&colours)
+        .zip(colours)
         .filter(|(_, c)| c.is_some_and(|c| distance(&c) <= COLOUR_SPREAD_SIGMAS * spread))
         .map(|(p, _)| *p)
         .collect();
@@ -433,8 +442,15 @@ mod tests {
             base_from_camera: nalgebra::Isometry3::identity(),
         };
         let mut notes = Vec::new();
-        let bounded =
-            bound_tags(components.clone(), &image, &calibration, &target, &params, &mut notes);
+        let bounded = bound_tags(
+            components.clone(),
+            &image,
+            &calibration,
+            &target,
+            &params,
+            &|parts| parts,
+            &mut notes,
+        );
         assert_eq!(bounded, components);
         assert!(notes.is_empty());
     }

@@ -221,7 +221,8 @@ pub fn search_tag(
         let blobs = Blobs::of(&red);
         let joined = join_fragments(components, &blobs, calibration, params);
         let mut notes = Vec::new();
-        let bounded = bound_tags(joined, image, calibration, target, params, &mut notes);
+        let join = |parts| join_fragments(parts, &blobs, calibration, params);
+        let bounded = bound_tags(joined, image, calibration, target, params, &join, &mut notes);
         let sighting = choose_tag(bounded.clone(), params);
         if sighting.is_none() {
             notes.extend(refusal(&bounded, params));

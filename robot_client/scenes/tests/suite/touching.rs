@@ -9,7 +9,10 @@ use pps_robot::navigation::{ApproachParams, plan_approach};
 use pps_scenes::judge;
 use pps_scenes::touching::{Touching, touching_scene};
 
-const REQUIRED_RATE: f64 = 0.85;
+/// The share of scenes that must be right, per kind, as reached: every plywood scene, and 21
+/// of 24 of the bin's (FINDINGS.md has the three it misses and why).
+const REQUIRED_PLYWOOD: f64 = 1.0;
+const REQUIRED_BIN: f64 = 0.875;
 
 fn right_of(touching: Touching) -> (usize, usize) {
     let scenes: u64 =
@@ -67,21 +70,21 @@ fn right_of(touching: Touching) -> (usize, usize) {
     (outcomes.iter().filter(|(right, _)| *right).count(), outcomes.len())
 }
 
-fn assert_rate(touching: Touching) {
+fn assert_rate(touching: Touching, required: f64) {
     let (right, total) = right_of(touching);
     println!("{touching:?}: {right}/{total} right");
     assert!(
-        right as f64 >= REQUIRED_RATE * total as f64,
+        right as f64 >= required * total as f64,
         "{touching:?}: only {right} of {total} scenes right"
     );
 }
 
 #[test]
 fn a_tag_on_a_plywood_cabinet_is_found_apart_from_the_wood() {
-    assert_rate(Touching::PlywoodCabinet);
+    assert_rate(Touching::PlywoodCabinet, REQUIRED_PLYWOOD);
 }
 
 #[test]
 fn a_tag_touched_by_a_red_bin_is_found_apart_from_the_bin() {
-    assert_rate(Touching::RedBin);
+    assert_rate(Touching::RedBin, REQUIRED_BIN);
 }
