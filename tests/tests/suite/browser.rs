@@ -120,6 +120,7 @@ async fn registering_a_tag_from_a_template_and_fixing_the_field_the_registry_fla
     page.fill(width, "0.05").await;
     page.fill(height, "0.08").await;
     page.wait_for_text(".save-bar .status", "No problems found").await;
+    page.screenshot_full_page("register-advanced-desktop").await;
     page.click_text("button", "Register tag").await;
     page.wait_for_text("h1.tag-title", "Hall switch").await;
 
