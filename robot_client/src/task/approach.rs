@@ -99,7 +99,12 @@ pub(crate) fn drive_to_waypoint(
     report: &mut PhaseReport,
 ) -> Result<Option<Point3<f64>>, HalError> {
     let Some(sighting) = &plan.tag else {
-        report.fail("no red tag near the pointed location");
+        // The search's last word says why red it saw was not taken (a region larger than any
+        // tag); without one, there was no red at all.
+        match plan.tag_notes.last() {
+            Some(why) => report.fail(format!("no tag taken near the pointed location: {why}")),
+            None => report.fail("no red tag near the pointed location"),
+        }
         return Ok(None);
     };
     let tag = sighting.nearest();

@@ -17,5 +17,6 @@ mod rfid_cli;
 mod robot_classes;
 mod sim_mechanics;
 mod table_one;
+mod tag_sizes;
 mod task;
 mod work_cli;
