@@ -9,7 +9,7 @@ import { advancedSection } from './advanced.js';
 import { field, h, replace, uid } from './dom.js';
 import { fieldPath } from './format.js';
 import { getAt, join, parent, setAt, split } from './pointer.js';
-import { appliesTo, choicesOf, deref, kindOf, labelOf, propertiesOf, requiredOf } from './schema.js';
+import { appliesTo, choicesOf, deref, kindOf, labelOf, orderedKeys, propertiesOf, requiredOf } from './schema.js';
 import { schemaField } from './schema-field.js';
 
 /** A key not yet in `object`: "name", "name_2", … */
@@ -219,7 +219,7 @@ export class EntryForm {
     if (prop.type === 'object' && prop.properties) {
       const inner = propertiesOf(doc, prop);
       return this.section(pointer, labelOf(key, prop), prop.description,
-        h('div', { class: 'grid' }, Object.entries(inner).map(([k, p]) => this.propertyField(doc, `${pointer}${join(k)}`, k, p, (prop.required ?? []).includes(k)))));
+        h('div', { class: 'grid' }, orderedKeys(prop, Object.keys(inner)).map((k) => this.propertyField(doc, `${pointer}${join(k)}`, k, inner[k], (prop.required ?? []).includes(k)))));
     }
     const handle = schemaField({
       key, prop, required, focusKey: pointer, value: getAt(this.entry, pointer),

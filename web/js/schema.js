@@ -131,3 +131,13 @@ export function labelOf(key, prop = {}) {
 export function appliesTo(prop, type) {
   return !Array.isArray(prop['x-kinds']) || prop['x-kinds'].includes(type);
 }
+
+/**
+ * The keys of an object property in the order people read them (`x-order`: width before
+ * height), the rest after; the registry serves a schema's keys alphabetically.
+ */
+export function orderedKeys(prop, keys) {
+  const order = Array.isArray(prop['x-order']) ? prop['x-order'] : [];
+  const rank = (key) => (order.includes(key) ? order.indexOf(key) : order.length);
+  return [...keys].sort((a, b) => rank(a) - rank(b));
+}
