@@ -20,16 +20,13 @@ use pps_ros2::click::{RangeInput, SensorState, answer_click};
 use pps_ros2::cloud::{cloud_message, point_cloud};
 use pps_ros2::dds::DdsSettings;
 use pps_ros2::image::image_message;
-use pps_ros2::msg::RosMessage;
 use pps_ros2::msg::builtin::{Header, Time};
 use pps_ros2::msg::geometry::{Point, PointStamped, PoseStamped, Transform, TransformStamped};
 use pps_ros2::msg::sensor::{CameraInfo, Image, PointCloud2};
 use pps_ros2::msg::tf::TfMessage;
 use pps_ros2::qos;
-use pps_ros2::topics::ros_name;
-use ros2_client::{
-    MessageTypeName, Node, NodeName, NodeOptions, Publisher, QosProfile, Subscription,
-};
+use pps_ros2::topics::{advertise, subscribe};
+use ros2_client::{NodeName, NodeOptions, Publisher, Subscription};
 
 const CLICKS: usize = 20;
 
@@ -118,20 +115,6 @@ fn in_process(scene: &SceneCapture) -> f64 {
     sorted[sorted.len() / 2]
 }
 
-fn advertise<M: RosMessage>(node: &mut Node, topic: &str, qos: QosProfile) -> Publisher<M> {
-    let t = node
-        .create_topic(&ros_name(topic).unwrap(), MessageTypeName::new(M::PACKAGE, M::NAME), &qos)
-        .unwrap();
-    node.create_publisher(&t, Some(qos)).unwrap()
-}
-
-fn subscribe<M: RosMessage>(node: &mut Node, topic: &str, qos: QosProfile) -> Subscription<M> {
-    let t = node
-        .create_topic(&ros_name(topic).unwrap(), MessageTypeName::new(M::PACKAGE, M::NAME), &qos)
-        .unwrap();
-    node.create_subscription(&t, Some(qos)).unwrap()
-}
-
 /// A click to `/goal_pose` through DDS and the `pps-ros2` process, on loopback.
 async fn over_dds(scene: &SceneCapture, chain_ms: f64) {
     let state = tempfile::tempdir().unwrap();
@@ -149,12 +132,17 @@ async fn over_dds(scene: &SceneCapture, chain_ms: f64) {
     let mut node = context
         .new_node(NodeName::new("/", "pps_bench").unwrap(), NodeOptions::new().enable_rosout(false))
         .unwrap();
-    let image: Publisher<Image> = advertise(&mut node, "/camera/image_raw", qos::command());
-    let info: Publisher<CameraInfo> = advertise(&mut node, "/camera/camera_info", qos::command());
-    let points: Publisher<PointCloud2> = advertise(&mut node, "/points", qos::command());
-    let tf_static: Publisher<TfMessage> = advertise(&mut node, "/tf_static", qos::latched());
-    let click: Publisher<PointStamped> = advertise(&mut node, "/clicked_point", qos::command());
-    let goal: Subscription<PoseStamped> = subscribe(&mut node, "/goal_pose", qos::command());
+    let image: Publisher<Image> =
+        advertise(&mut node, "/camera/image_raw", qos::command()).unwrap();
+    let info: Publisher<CameraInfo> =
+        advertise(&mut node, "/camera/camera_info", qos::command()).unwrap();
+    let points: Publisher<PointCloud2> = advertise(&mut node, "/points", qos::command()).unwrap();
+    let tf_static: Publisher<TfMessage> =
+        advertise(&mut node, "/tf_static", qos::latched()).unwrap();
+    let click: Publisher<PointStamped> =
+        advertise(&mut node, "/clicked_point", qos::command()).unwrap();
+    let goal: Subscription<PoseStamped> =
+        subscribe(&mut node, "/goal_pose", qos::command()).unwrap();
     let spinner = node.spinner().unwrap();
     tokio::spawn(spinner.spin());
     tf_static.publish(camera_transform(scene)).unwrap();

@@ -18,34 +18,17 @@ use pps_ros2::camera::camera_info;
 use pps_ros2::dds::DdsSettings;
 use pps_ros2::depth::{DepthFrame, depth_frame, depth_message};
 use pps_ros2::image::image_message;
-use pps_ros2::msg::RosMessage;
 use pps_ros2::msg::builtin::{Header, Time};
 use pps_ros2::msg::geometry::{Point, PointStamped, PoseStamped, Transform, TransformStamped};
 use pps_ros2::msg::sensor::{CameraInfo, Image};
 use pps_ros2::msg::tf::TfMessage;
 use pps_ros2::qos;
-use pps_ros2::topics::ros_name;
+use pps_ros2::topics::{advertise, subscribe};
 use rand::{Rng, SeedableRng};
-use ros2_client::{
-    MessageTypeName, Node, NodeName, NodeOptions, Publisher, QosProfile, Subscription,
-};
+use ros2_client::{NodeName, NodeOptions, Publisher, Subscription};
 
 fn header(frame: &str) -> Header {
     Header { stamp: Time::now(), frame_id: frame.into() }
-}
-
-fn advertise<M: RosMessage>(node: &mut Node, topic: &str, qos: QosProfile) -> Publisher<M> {
-    let t = node
-        .create_topic(&ros_name(topic).unwrap(), MessageTypeName::new(M::PACKAGE, M::NAME), &qos)
-        .unwrap();
-    node.create_publisher(&t, Some(qos)).unwrap()
-}
-
-fn subscribe<M: RosMessage>(node: &mut Node, topic: &str, qos: QosProfile) -> Subscription<M> {
-    let t = node
-        .create_topic(&ros_name(topic).unwrap(), MessageTypeName::new(M::PACKAGE, M::NAME), &qos)
-        .unwrap();
-    node.create_subscription(&t, Some(qos)).unwrap()
 }
 
 /// The drawer seen from 3.5 m by a 640×480 camera whose depth scatters as a D435's does
@@ -132,16 +115,22 @@ async fn aligned_depth_over_dds_gives_perceive_s_answer_with_the_camera_s_noise(
     let mut node = context
         .new_node(NodeName::new("/", "realsense").unwrap(), NodeOptions::new().enable_rosout(false))
         .unwrap();
-    let image: Publisher<Image> = advertise(&mut node, "/camera/image_raw", qos::command());
-    let info: Publisher<CameraInfo> = advertise(&mut node, "/camera/camera_info", qos::command());
+    let image: Publisher<Image> =
+        advertise(&mut node, "/camera/image_raw", qos::command()).unwrap();
+    let info: Publisher<CameraInfo> =
+        advertise(&mut node, "/camera/camera_info", qos::command()).unwrap();
     let depth_image: Publisher<Image> =
-        advertise(&mut node, "/camera/aligned_depth_to_color/image_raw", qos::command());
+        advertise(&mut node, "/camera/aligned_depth_to_color/image_raw", qos::command()).unwrap();
     let depth_info: Publisher<CameraInfo> =
-        advertise(&mut node, "/camera/aligned_depth_to_color/camera_info", qos::command());
-    let tf_static: Publisher<TfMessage> = advertise(&mut node, "/tf_static", qos::latched());
-    let click: Publisher<PointStamped> = advertise(&mut node, "/clicked_point", qos::command());
-    let tag_pose: Subscription<PoseStamped> = subscribe(&mut node, "/pps/tag_pose", qos::command());
-    let goal: Subscription<PoseStamped> = subscribe(&mut node, "/goal_pose", qos::command());
+        advertise(&mut node, "/camera/aligned_depth_to_color/camera_info", qos::command()).unwrap();
+    let tf_static: Publisher<TfMessage> =
+        advertise(&mut node, "/tf_static", qos::latched()).unwrap();
+    let click: Publisher<PointStamped> =
+        advertise(&mut node, "/clicked_point", qos::command()).unwrap();
+    let tag_pose: Subscription<PoseStamped> =
+        subscribe(&mut node, "/pps/tag_pose", qos::command()).unwrap();
+    let goal: Subscription<PoseStamped> =
+        subscribe(&mut node, "/goal_pose", qos::command()).unwrap();
     let spinner = node.spinner().unwrap();
     tokio::spawn(spinner.spin());
     tf_static
