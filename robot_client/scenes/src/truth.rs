@@ -4,6 +4,7 @@
 
 use nalgebra::{Point3, Vector3};
 use pps_robot::navigation::ApproachPlan;
+use pps_schema::TagSize;
 use serde::{Deserialize, Serialize};
 
 use crate::devices::{DeviceKind, Extent};
@@ -61,9 +62,9 @@ impl Truth {
         Self { tag_size_m: [sides[0], sides[1]], ..self }
     }
 
-    /// How far the tag reaches from its middle as registered (half its diagonal), metres.
-    pub fn registered_reach(&self) -> f64 {
-        self.tag_size_m[0].hypot(self.tag_size_m[1]) / 2.0
+    /// The tag's size as a caretaker registers it.
+    pub fn registered_size(&self) -> TagSize {
+        TagSize { width: self.tag_size_m[0], height: self.tag_size_m[1] }
     }
 }
 

@@ -51,7 +51,7 @@ fn run(
     let mut params =
         ApproachParams { depth_noise: scene.depth_noise(), ..ApproachParams::default() };
     if let TagSizes::Registered = sizes {
-        params.tag = params.tag.for_home_tags([scene.truth().registered_reach()]);
+        params.tag = params.tag.for_home_tags([scene.truth().registered_size().reach()]);
     }
     let verdict =
         plan_approach(&scene.image, &scene.cloud, &scene.calibration, &scene.target, &params)
