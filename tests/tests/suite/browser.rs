@@ -121,6 +121,10 @@ async fn registering_a_tag_from_a_template_and_fixing_the_field_the_registry_fla
     page.fill(height, "0.08").await;
     page.wait_for_text(".save-bar .status", "No problems found").await;
     page.screenshot_full_page("register-advanced-desktop").await;
+    page.set_viewport(PHONE).await;
+    page.screenshot_full_page("register-advanced-phone").await;
+    assert!(page.fits_width().await, "the advanced form scrolls sideways on a phone");
+    page.set_viewport(DESKTOP).await;
     page.click_text("button", "Register tag").await;
     page.wait_for_text("h1.tag-title", "Hall switch").await;
 
