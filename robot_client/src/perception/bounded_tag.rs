@@ -5,10 +5,14 @@
 //! target stays larger than a tag, neither it nor anything farther is taken for one. Every
 //! division and every refusal is said in words.
 //!
-//! Both divisions take their limits from the data: the tag's colour is the colour of the part
-//! nearest the pointed location, within that part's own spread, and the tag's surface is the
-//! one that part lies on, within the noise measured on it. Nothing here runs on a region the
-//! size of a tag, so tags found as they were before stay as they were.
+//! A region no larger than a tag is divided by the last alone: two colours whose voxels lie
+//! clearly apart are two things whatever their size (a small patch and the red plastic against
+//! it make a region no larger than a towel), and a tag of one colour is left as it was.
+//!
+//! Every division takes its limits from the data: the tag's colour is the colour of the part
+//! nearest the pointed location, within that part's own spread, the tag's surface is the one
+//! that part lies on, within the noise measured on it, and two colours are two when their
+//! voxels' clusters lie four of their own spreads apart.
 
 use nalgebra::{Matrix3, Point3, Vector3};
 
@@ -37,8 +41,8 @@ const PIXEL_NOISE_REACH: u32 = 1;
 /// few odd points a core may hold do not inflate.
 const MEDIAN_DISTANCE_PER_SIGMA: f32 = 1.1774;
 
-/// The components with each one near the target that is larger than any tag divided into the
-/// parts a tag could be; `notes` says what was divided and why. `join` joins the fragments of
+/// The components with each one near the target that is larger than any tag, or of two
+/// colours, divided into the parts a tag could be; `notes` says what was divided and why. `join` joins the fragments of
 /// one tag that its voxels alone leave apart (a towel at a steep angle, sampled sparsely), as
 /// the search joined them before the division: a division must not break the tag it frees.
 pub(super) fn bound_tags(
@@ -53,10 +57,18 @@ pub(super) fn bound_tags(
     let largest = params.max_tag_radius * 200.0;
     let mut bounded = Vec::with_capacity(components.len());
     for component in components {
-        if component.radius <= params.max_tag_radius
-            || component.distance_to_target > params.max_distance
-        {
+        if component.distance_to_target > params.max_distance {
             bounded.push(component);
+            continue;
+        }
+        if component.radius <= params.max_tag_radius {
+            // No larger than a tag, and still possibly two things: a rocker's small patch and
+            // the red plastic against it make a region no larger than a towel.
+            let red = OtherColour::Red;
+            match of_two_colours(&component, image, calibration, target, params, red, notes) {
+                Some(parts) => bounded.extend(join(parts)),
+                None => bounded.push(component),
+            }
             continue;
         }
         let across = component.radius * 200.0;
@@ -109,7 +121,8 @@ pub(super) fn bound_tags(
         // or of what touches it, and taking one of them would put the tag where it is not.
         if let Some(part) = nearest_part(&divided, params)
             && part.radius > params.max_tag_radius
-            && let Some(parts) = of_two_colours(part, image, calibration, target, params, notes)
+            && let Some(parts) =
+                of_two_colours(part, image, calibration, target, params, OtherColour::Any, notes)
         {
             divided = join(parts);
         }
@@ -131,20 +144,39 @@ fn nearest_part<'a>(parts: &'a [Component], params: &TagSearchParams) -> Option<
         .min_by(|a, b| a.distance_to_target.total_cmp(&b.distance_to_target))
 }
 
+/// Which second colours divide a part.
+#[derive(Clone, Copy)]
+enum OtherColour {
+    /// Any: the part is larger than any tag, so it holds something else.
+    Any,
+    /// Only a colour the search takes for a tag's. A region no larger than a tag holds a second
+    /// thing only when that is red too: its points of another colour are where the mask's
+    /// closing filled the tag's outline, or where the laser's returns on the tag's edge fall on
+    /// the wall's pixels, and they belong to the tag.
+    Red,
+}
+
 /// `part` divided by its voxels' colours when they fall into two (a red plastic of nearly the
 /// tag's colour against it), into the parts of its part nearest the target's colour.
+#[allow(clippy::too_many_arguments)]
 fn of_two_colours(
     part: &Component,
     image: &ColorImage,
     calibration: &CameraCalibration,
     target: &Point3<f64>,
     params: &TagSearchParams,
+    other: OtherColour,
     notes: &mut Vec<String>,
 ) -> Option<Vec<Component>> {
     let colours = colours_of(&part.members, image, calibration);
     let core = core_of(&part.members, target, params);
     let half =
         of_the_core_colour(&part.members, &colours, &core, params.voxel_size, params.min_points)?;
+    if let OtherColour::Red = other
+        && !params.thresholds.admits_chroma(half.other)
+    {
+        return None;
+    }
     notes.push(format!(
         "a part {:.0} cm across is of two colours voxel by voxel ({:.3} apart on the chroma \
          disc, {:.0} times their spread): {} of its {} points have the colour of its part \
@@ -422,36 +454,93 @@ mod tests {
         }
     }
 
-    #[test]
-    fn a_region_the_size_of_a_tag_is_left_alone() {
+    /// A camera at the origin looking along the base's x axis, one pixel a millimetre at 1 m,
+    /// seeing 40 × 40 cm there.
+    fn looking_along_x() -> CameraCalibration {
+        let camera_axes = Matrix3::new(0.0, 0.0, 1.0, -1.0, 0.0, 0.0, 0.0, -1.0, 0.0);
+        let rotation = nalgebra::Rotation3::from_matrix_unchecked(camera_axes);
+        CameraCalibration {
+            intrinsics: crate::hal::CameraIntrinsics {
+                width: 400,
+                height: 400,
+                fx: 1000.0,
+                fy: 1000.0,
+                cx: 200.0,
+                cy: 200.0,
+            },
+            base_from_camera: nalgebra::Isometry3::from_parts(
+                nalgebra::Translation3::identity(),
+                rotation.into(),
+            ),
+        }
+    }
+
+    /// What the camera sees: to the right of the middle column (base y < 0) the tag's red, to
+    /// its left `left`; each pixel's blue scattered as a camera's noise scatters it.
+    fn picture(left: [u8; 3]) -> ColorImage {
+        let mut image = ColorImage::new(400, 400);
+        for y in 0..400u32 {
+            for x in 0..400u32 {
+                let [r, g, b] = if x > 200 { [200, 30, 20] } else { left };
+                let blue = if (x + y) % 2 == 0 { b } else { b + 20 };
+                let i = (y as usize * 400 + x as usize) * 3;
+                image.rgb[i..i + 3].copy_from_slice(&[r, g, blue]);
+            }
+        }
+        image
+    }
+
+    fn bounded_with(image: &ColorImage, target: &Point3<f64>) -> (Vec<Component>, Vec<String>) {
         let params = TagSearchParams::default();
         let mut rng = ChaCha8Rng::seed_from_u64(7);
         let (towel, _) = towel_and_bin_side(&mut rng);
-        let target = Point3::new(1.0, 0.0, 0.0);
-        let components = components_of(&towel, &target, &params);
-        let image = ColorImage::new(4, 4);
-        let calibration = CameraCalibration {
-            intrinsics: crate::hal::CameraIntrinsics {
-                width: 4,
-                height: 4,
-                fx: 4.0,
-                fy: 4.0,
-                cx: 2.0,
-                cy: 2.0,
-            },
-            base_from_camera: nalgebra::Isometry3::identity(),
-        };
+        let components = components_of(&towel, target, &params);
+        assert!(components.iter().all(|c| c.radius <= params.max_tag_radius));
         let mut notes = Vec::new();
+        let calibration = looking_along_x();
         let bounded = bound_tags(
-            components.clone(),
-            &image,
+            components,
+            image,
             &calibration,
-            &target,
+            target,
             &params,
             &|parts| parts,
             &mut notes,
         );
-        assert_eq!(bounded, components);
-        assert!(notes.is_empty());
+        (bounded, notes)
+    }
+
+    #[test]
+    fn a_region_the_size_of_a_tag_and_of_one_colour_is_left_alone() {
+        let target = Point3::new(1.0, -0.05, 0.0);
+        let (bounded, notes) = bounded_with(&picture([200, 30, 20]), &target);
+        assert_eq!(bounded.len(), 1);
+        assert_eq!(bounded[0].points, 40 * 30);
+        assert!(notes.is_empty(), "{notes:?}");
+    }
+
+    #[test]
+    fn a_region_the_size_of_a_tag_whose_second_colour_is_not_red_is_left_alone() {
+        // Where the laser's returns on a tag's edge meet the wall's pixels.
+        let target = Point3::new(1.0, -0.05, 0.0);
+        let (bounded, notes) = bounded_with(&picture([120, 100, 90]), &target);
+        assert_eq!(bounded.len(), 1);
+        assert_eq!(bounded[0].points, 40 * 30);
+        assert!(notes.is_empty(), "{notes:?}");
+    }
+
+    #[test]
+    fn a_region_the_size_of_a_tag_and_of_two_colours_is_divided() {
+        // The towel's right half is the tag; its left half a paler red plastic against it.
+        let target = Point3::new(1.0, -0.05, 0.0);
+        let (bounded, notes) = bounded_with(&picture([185, 50, 45]), &target);
+        let nearest = bounded
+            .iter()
+            .min_by(|a, b| a.distance_to_target.total_cmp(&b.distance_to_target))
+            .unwrap();
+        let plastic = nearest.members.iter().filter(|p| p.y > 0.01).count();
+        assert_eq!(plastic, 0, "{notes:?}");
+        assert!(nearest.points >= 20 * 30 * 9 / 10, "{} points", nearest.points);
+        assert!(notes.iter().any(|n| n.contains("two colours")), "{notes:?}");
     }
 }

@@ -102,6 +102,14 @@ impl HsvThresholds {
         }
     }
 
+    /// Whether a point of the chroma disc ([`chroma_point`]) has a hue and saturation inside
+    /// the ranges, whatever its value.
+    pub fn admits_chroma(&self, [x, y]: [f32; 2]) -> bool {
+        let saturation = x.hypot(y);
+        let hue = y.atan2(x).to_degrees().rem_euclid(360.0);
+        (self.saturation[0]..=self.saturation[1]).contains(&saturation) && self.contains_hue(hue)
+    }
+
     /// Whether an 8-bit sRGB colour passes all three thresholds.
     #[inline]
     pub fn contains(&self, [r, g, b]: [u8; 3]) -> bool {
@@ -245,6 +253,18 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn a_point_of_the_chroma_disc_is_admitted_by_hue_and_saturation() {
+        let t = HsvThresholds::default();
+        assert!(t.admits_chroma(chroma_point([200, 30, 20])));
+        // The same red, paler: saturation 0.5, under the default 0.6.
+        assert!(!t.admits_chroma(chroma_point([200, 110, 100])));
+        // Orange-brown wood: hue 25°.
+        assert!(!t.admits_chroma(chroma_point([180, 110, 40])));
+        // Just past 0° on the magenta side, wrapping through it.
+        assert!(t.admits_chroma(chroma_point([200, 20, 40])));
     }
 
     #[test]

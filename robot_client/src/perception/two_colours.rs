@@ -74,6 +74,8 @@ fn mean_colour_around(image: &ColorImage, x: u32, y: u32, reach: u32) -> [f32; 2
 /// The points of one of a region's two colours.
 pub(super) struct ColourHalf {
     pub kept: Vec<Point3<f32>>,
+    /// The other colour's middle on the chroma disc.
+    pub other: [f32; 2],
     /// The two colours' distance on the chroma disc, and the pooled spread of the voxels about
     /// them.
     pub distance: f32,
@@ -136,7 +138,8 @@ pub(super) fn of_the_core_colour(
         .collect();
     let other = voxels.iter().zip(&side).filter(|(_, s)| **s != core_side);
     let others: usize = other.map(|(v, _)| v.members.len()).sum();
-    (others >= least && !kept.is_empty()).then_some(ColourHalf { kept, distance: apart, spread })
+    let half = ColourHalf { kept, other: middles[1 - core_side], distance: apart, spread };
+    (others >= least && !half.kept.is_empty()).then_some(half)
 }
 
 /// One voxel's pixels: their mean colour and which points they are.
