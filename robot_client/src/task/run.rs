@@ -1,5 +1,6 @@
 //! The four phases in order, ending in a trial recorded through the registry client.
 
+use nalgebra::Point3;
 use pps_schema::{Purpose, StartPose};
 use uuid::Uuid;
 
@@ -121,6 +122,8 @@ pub async fn run_task(
     let tag_color = seen.plan.tag.as_ref().and_then(|t| {
         tag_color(&seen.image, &robot.calibration(), t.nearest(), &config.approach.tag)
     });
+    let camera = Point3::from(robot.calibration().base_from_camera.translation.vector);
+    let seen_from = seen.plan.tag.as_ref().map_or(0.0, |t| (t.nearest().centroid - camera).norm());
 
     // Phase 3: fingers to 10 cm, read the RFID.
     let phase = report.phase(3, "servo to the tag and read its RFID");
@@ -135,7 +138,7 @@ pub async fn run_task(
     report.epc = Some(epc.clone());
     let acting =
         Acting { robot, operator, registry, clock, config, picture: picture.as_deref(), tag_color };
-    act(&acting, &FoundTag { epc, at }, &mut report).await?;
+    act(&acting, FoundTag { epc, at, seen_from }, &mut report).await?;
     Ok(report)
 }
 
