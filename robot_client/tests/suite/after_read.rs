@@ -1,0 +1,105 @@
+//! After the read the robot acts on what it knows of that tag (issue 34). The household's tags
+//! are not all one red: the drawer's towel is orange-red, so the colour learned from all of
+//! them (hue 343..27° after three reads of each) reaches from the rocker's red into orange, and
+//! with it into plywood. The rocker switch sits in the upper gang of a plywood double plate
+//! (7 × 23.5 cm, within the size of a tag when none is registered): looking for the household's
+//! colour, the robot takes patch and plate for one tag whose middle lies 5–6 cm below the
+//! patch's (the hand at 1.17 m, the patch at 1.22 m), and its press meant for the paddle's
+//! upper half lands on the lower half: the light stays off. Once the EPC is read, the rocker's
+//! own colour, learned from its own three reads (hue 353..357°), leaves the wood out: the look
+//! again finds the patch 5.9 cm from where the tag was first seen, the hand is brought to
+//! within 1 cm of the patch's middle, and the light comes on.
+
+use pps_robot::experiment::{SimulatedTrial, flush_until_stored, run_simulated, start_up};
+use pps_robot::registry::RegistryClient;
+use pps_robot::sim::{DeviceKind, Room, RoomOptions, SimBody};
+use pps_robot::task::{TaskConfig, TaskReport};
+use pps_schema::Outcome;
+
+/// Confirmed reads of each tag the learning takes: the registry's fewest looks for a model.
+const READS_EACH: u64 = 3;
+
+/// The paper's room with its drawer towel orange-red.
+fn orange_towel_room() -> RoomOptions {
+    RoomOptions { orange_towel: true, ..RoomOptions::default() }
+}
+
+/// Where the robot stands when the person points, metres from the tag: a home's robot starts
+/// wherever it last was, and sees the tag from nearer or farther.
+const START_DISTANCES: [f64; READS_EACH as usize] = [1.5, 0.9, 1.2];
+
+/// Confirmed reads of the rocker and the drawer in turn, in real use, until each has taught
+/// the registry its own colour; the household's reaches over both.
+async fn learn_the_households_colours(client: &RegistryClient, body: SimBody) {
+    for (n, start_distance) in (1..).zip(START_DISTANCES) {
+        for (device, action) in [(DeviceKind::AdaLightSwitch, "on"), (DeviceKind::Drawer, "open")] {
+            let trial = SimulatedTrial {
+                body,
+                seed: n,
+                start_distance,
+                room: orange_towel_room(),
+                ..SimulatedTrial::new(device, action, None)
+            };
+            let result = run_simulated(&trial, client, &TaskConfig::default()).await.unwrap();
+            assert_eq!(result.report.epc, Some(device.epc()), "{}", result.report);
+            flush_until_stored(client).await.unwrap();
+        }
+    }
+}
+
+/// The height a phase (1 to 4) last brought the hand to, from its note "faced the tag, hand at
+/// … m".
+fn hand_height(report: &TaskReport, phase: usize) -> f64 {
+    let note = report.phases[phase - 1]
+        .lines
+        .iter()
+        .rev()
+        .find_map(|n| n.strip_prefix("faced the tag, hand at "))
+        .unwrap_or_else(|| panic!("phase {phase} brought the hand to the tag: {report}"));
+    note.split(" m").next().unwrap().parse().unwrap()
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn the_rockers_own_colour_after_its_read_leaves_the_wooden_plate_out() {
+    let dir = tempfile::tempdir().unwrap();
+    let registry = pps_test_kit::RobotRegistry::start().await;
+    let client = registry.client(dir.path());
+    let body = start_up(&client).await.unwrap();
+    learn_the_households_colours(&client, body).await;
+    let rocker = client.effective_entry(&DeviceKind::AdaLightSwitch.epc()).await.unwrap().entry;
+    let properties = &rocker.entry.properties;
+    let own = properties.learned_color().expect("the rocker's own colour learned").segmentation;
+    let household = properties.household_color().expect("the household's learned").segmentation;
+    let arc = |[from, to]: [f64; 2]| (to - from).rem_euclid(360.0);
+    assert!(arc(household.hue_deg) > arc(own.hue_deg) + 10.0, "{household:?} vs {own:?}");
+
+    let room = RoomOptions { wooden_rocker_plate: true, ..orange_towel_room() };
+    let truth = Room::new(room).device(DeviceKind::AdaLightSwitch).tag_center;
+    let trial = SimulatedTrial {
+        body,
+        room,
+        ..SimulatedTrial::new(DeviceKind::AdaLightSwitch, "on", None)
+    };
+    let result = run_simulated(&trial, &client, &TaskConfig::default()).await.unwrap();
+    let report = &result.report;
+    let said = report.to_string();
+    assert!(said.contains("learned from 6 confirmed reads of this household's tags"), "{said}");
+    // Before the read the hand is brought below the paddle's pivot, where pressing its upper
+    // half lands on the lower one.
+    let before = hand_height(report, 3);
+    assert!(
+        truth.z - before > 0.03,
+        "phase 3's hand at {before:.3} m, the patch at {:.3} m",
+        truth.z
+    );
+    assert!(said.contains("looked again with this tag's own colour"), "{said}");
+    assert!(said.contains("acting there"), "{said}");
+    let after = hand_height(report, 4);
+    assert!(
+        (after - truth.z).abs() < 0.01,
+        "the hand at {after:.3} m, the patch at {:.3} m",
+        truth.z
+    );
+    assert_eq!(report.outcome, Some(Outcome::Success), "{said}");
+    assert!(result.achieved, "the light came on: {said}");
+}
