@@ -24,19 +24,14 @@ fn orange_towel_room() -> RoomOptions {
     RoomOptions { orange_towel: true, ..RoomOptions::default() }
 }
 
-/// Where the robot stands when the person points, metres from the tag: a home's robot starts
-/// wherever it last was, and sees the tag from nearer or farther.
-const START_DISTANCES: [f64; READS_EACH as usize] = [1.5, 0.9, 1.2];
-
 /// Confirmed reads of the rocker and the drawer in turn, in real use, until each has taught
 /// the registry its own colour; the household's reaches over both.
 async fn learn_the_households_colours(client: &RegistryClient, body: SimBody) {
-    for (n, start_distance) in (1..).zip(START_DISTANCES) {
+    for n in 1..=READS_EACH {
         for (device, action) in [(DeviceKind::AdaLightSwitch, "on"), (DeviceKind::Drawer, "open")] {
             let trial = SimulatedTrial {
                 body,
                 seed: n,
-                start_distance,
                 room: orange_towel_room(),
                 ..SimulatedTrial::new(device, action, None)
             };
