@@ -15,6 +15,8 @@ use crate::navigation::{ApproachParams, ApproachPlan, Clearance, RejectedPlane, 
 pub(crate) struct Look {
     pub image: ColorImage,
     pub plan: ApproachPlan,
+    /// The point looked around (odometry frame): where the person pointed.
+    pub target: Point3<f64>,
 }
 
 /// Perceives around `target` (odometry frame) from where the robot stands.
@@ -34,12 +36,12 @@ fn look(
     sweep: &TiltSweep,
     params: &ApproachParams,
 ) -> Result<Look, HalError> {
-    let target = in_base(robot, target)?;
+    let here = in_base(robot, target)?;
     let image = robot.capture(true)?;
     let cloud = robot.scan(sweep)?;
-    let plan = plan_approach(&image, &cloud, &robot.calibration(), &target, params)
+    let plan = plan_approach(&image, &cloud, &robot.calibration(), &here, params)
         .map_err(|e| HalError::Failed { device: "camera", reason: e.to_string() })?;
-    Ok(Look { image, plan })
+    Ok(Look { image, plan, target: *target })
 }
 
 /// Perceives around `target` until a look finds the tag and the surface behind it; returns the

@@ -45,8 +45,8 @@ fn look_again(
     config: &TaskConfig,
     report: &mut PhaseReport,
 ) -> Result<(), HalError> {
-    match look_from_here(robot, tag, config, &config.approach)? {
-        SecondLook::Seen(seen) => {
+    match look_from_here(robot, tag, tag, config, &config.approach)? {
+        SecondLook::Seen { at: seen, .. } => {
             report.note(format!(
                 "saw the tag again, {:.3} m from where odometry put it",
                 (seen - *tag).norm()
@@ -63,8 +63,8 @@ fn look_again(
 
 /// What a look from where the robot stands made of the tag expected at a point.
 pub(super) enum SecondLook {
-    /// The tag's centre, odometry frame.
-    Seen(Point3<f64>),
+    /// The tag's centre, odometry frame, and what the search said of the red it divided.
+    Seen { at: Point3<f64>, notes: Vec<String> },
     /// The camera sees the point, but the search took no tag there; why, when it said.
     NotFound(Option<String>),
     /// The point lies outside the camera's view from here.
@@ -72,10 +72,12 @@ pub(super) enum SecondLook {
 }
 
 /// Looks for the tag expected at `tag` (odometry frame) from where the robot stands, searching
-/// with `params`: the laser swept across it alone, where the camera can see it.
+/// with `params` for the tag nearest `around`: the laser swept across `tag` alone, where the
+/// camera can see it.
 pub(super) fn look_from_here(
     robot: &(impl MobileBase + ColorCamera + TiltingLaser),
     tag: &Point3<f64>,
+    around: &Point3<f64>,
     config: &TaskConfig,
     params: &ApproachParams,
 ) -> Result<SecondLook, HalError> {
@@ -84,9 +86,9 @@ pub(super) fn look_from_here(
         return Ok(SecondLook::OutOfView);
     }
     let sweep = sweep_toward(&config.body.laser, &expected, &config.sweep);
-    let plan = perceive(robot, tag, &sweep, params)?;
+    let plan = perceive(robot, around, &sweep, params)?;
     match plan.tag.as_ref().map(|s| s.nearest().centroid) {
-        Some(seen) => Ok(SecondLook::Seen(in_odom(robot, &seen)?)),
+        Some(seen) => Ok(SecondLook::Seen { at: in_odom(robot, &seen)?, notes: plan.tag_notes }),
         None => Ok(SecondLook::NotFound(plan.tag_notes.last().cloned())),
     }
 }

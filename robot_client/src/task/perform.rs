@@ -40,6 +40,9 @@ pub(super) struct FoundTag {
     /// How far from the camera it was when first found, metres: the range its colour, sent
     /// with the trial and learned from, was seen at.
     pub seen_from: f64,
+    /// Where the person pointed, odometry frame: a red region larger than the tag is divided
+    /// around it, as it was when the tag was first found.
+    pub pointed: Point3<f64>,
 }
 
 /// How far the tag, seen again after its read, may lie from where the hand was brought for the
@@ -186,10 +189,13 @@ fn look_knowing_the_tag(
     let backed = back_to_the_first_range(robot, &first, tag.seen_from, phase)?;
     let params =
         crate::navigation::ApproachParams { tag: search.params, ..config.approach.clone() };
-    let look = look_from_here(robot, &first, config, &params)?;
+    let look = look_from_here(robot, &first, &tag.pointed, config, &params)?;
     let moved = backed > 0.0;
     let act_at = match look {
-        SecondLook::Seen(seen) => {
+        SecondLook::Seen { at: seen, notes } => {
+            for note in notes {
+                phase.note(note);
+            }
             let off = (seen - first).norm();
             let stays = !moved && off <= HAND_STAYS_WITHIN;
             phase.note(format!(

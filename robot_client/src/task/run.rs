@@ -138,7 +138,8 @@ pub async fn run_task(
     report.epc = Some(epc.clone());
     let acting =
         Acting { robot, operator, registry, clock, config, picture: picture.as_deref(), tag_color };
-    act(&acting, FoundTag { epc, at, seen_from }, &mut report).await?;
+    let found = FoundTag { epc, at, seen_from, pointed: seen.target };
+    act(&acting, found, &mut report).await?;
     Ok(report)
 }
 
