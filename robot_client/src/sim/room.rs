@@ -94,6 +94,9 @@ pub struct RoomOptions {
     /// The rocker switch sits in the upper gang of a plywood double plate, the lower gang blank:
     /// wood touches the rocker's patch and stretches 15 cm below it.
     pub wooden_rocker_plate: bool,
+    /// A red plastic key box on the wall right of the rocker switch, touching its plate: as red
+    /// as the tag, 8 × 10 cm and standing 4 cm out from the wall.
+    pub red_box_by_rocker: bool,
 }
 
 impl RoomOptions {
@@ -134,6 +137,7 @@ impl Default for RoomOptions {
             plywood_cabinet: false,
             orange_towel: false,
             wooden_rocker_plate: false,
+            red_box_by_rocker: false,
         }
     }
 }
@@ -268,6 +272,14 @@ impl Room {
         }
         parts.push(north.cuboid("rocker paddle", [a, 0.009, h], [0.018, 0.003, 0.033], PLASTIC));
         parts.push(north.cuboid("rocker dycem", [a, 0.0135, h], [0.03, 0.0015, 0.03], red(DYCEM)));
+        if options.red_box_by_rocker {
+            parts.push(north.cuboid(
+                "red key box",
+                [a + 0.075, 0.02, h],
+                [0.04, 0.02, 0.05],
+                RED_BOOK,
+            ));
+        }
         tag(DeviceKind::AdaLightSwitch, &north, [a, 0.0135, h]);
 
         // Floor lamp by the south wall, its pull chain toward the room, red foam on the chain.
