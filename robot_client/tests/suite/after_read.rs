@@ -15,6 +15,7 @@ use pps_robot::registry::RegistryClient;
 use pps_robot::sim::{DeviceKind, Room, RoomOptions, SimBody};
 use pps_robot::task::{TaskConfig, TaskReport};
 use pps_schema::Outcome;
+use serde_json::json;
 
 /// Confirmed reads of each tag the learning takes: the registry's fewest looks for a model.
 const READS_EACH: u64 = 3;
@@ -88,13 +89,70 @@ async fn the_rockers_own_colour_after_its_read_leaves_the_wooden_plate_out() {
         truth.z
     );
     assert!(said.contains("looked again with this tag's own colour"), "{said}");
-    assert!(said.contains("acting there"), "{said}");
+    let moved = moved_after_the_read(report);
+    assert!(moved > 0.04, "the tag {:.1} cm from where it was first seen: {said}", moved * 100.0);
     let after = hand_height(report, 4);
     assert!(
         (after - truth.z).abs() < 0.01,
         "the hand at {after:.3} m, the patch at {:.3} m",
         truth.z
     );
+    assert_eq!(report.outcome, Some(Outcome::Success), "{said}");
+    assert!(result.achieved, "the light came on: {said}");
+}
+
+/// The home's tags with their registered sizes: a flip switch's foam, the rocker's 6 × 6 cm
+/// patch, the lamp chain's foam, the drawer's towel (the largest) and the trash can's patch.
+const SIZES: [(DeviceKind, f64, f64); 5] = [
+    (DeviceKind::LightSwitch, 0.03, 0.04),
+    (DeviceKind::AdaLightSwitch, 0.06, 0.06),
+    (DeviceKind::Lamp, 0.024, 0.06),
+    (DeviceKind::Drawer, 0.16, 0.24),
+    (DeviceKind::TrashCan, 0.1, 0.08),
+];
+
+/// How far phase 4's look after the read put the tag from where it was first seen, metres.
+fn moved_after_the_read(report: &TaskReport) -> f64 {
+    let note = report.phases[3]
+        .lines
+        .iter()
+        .find_map(|n| Some(n.split_once(": the tag is ")?.1))
+        .unwrap_or_else(|| panic!("phase 4 looked again: {report}"));
+    note.split(" cm").next().unwrap().parse::<f64>().unwrap() / 100.0
+}
+
+/// A red key box as red as the tag hangs on the wall right of the rocker, touching its plate
+/// and standing 4 cm out. Bounded by the household's largest tag (the drawer's towel, 17 cm
+/// from its middle), the search takes patch and box for one tag 4.4 cm right of the patch's
+/// middle, and the fingers press the box: the light stays off. Once the EPC is read, the
+/// rocker's own 6 × 6 cm bounds the search at 7 cm: the region, 19 cm across, is divided by
+/// colour and cut to the surface the patch lies on, the hand is brought to the patch, and the
+/// light comes on.
+#[tokio::test(flavor = "multi_thread")]
+async fn the_rockers_own_size_after_its_read_parts_it_from_a_red_box_beside_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let registry = pps_test_kit::RobotRegistry::start().await;
+    let client = registry.client(dir.path());
+    for (device, width, height) in SIZES {
+        registry
+            .edit_tag(device.epc().as_hex(), |entry| {
+                entry["properties"]["tag_size"] = json!({"width": width, "height": height});
+            })
+            .await;
+    }
+    client.sync_entries().await.unwrap();
+    let room = RoomOptions { red_box_by_rocker: true, ..RoomOptions::default() };
+    let trial =
+        SimulatedTrial { room, ..SimulatedTrial::new(DeviceKind::AdaLightSwitch, "on", None) };
+    let result = run_simulated(&trial, &client, &TaskConfig::default()).await.unwrap();
+    let report = &result.report;
+    let said = report.to_string();
+    assert!(said.contains("reaching more than 17 cm from its middle is taken for a tag"), "{said}");
+    assert!(said.contains("reaching more than 7 cm from its middle is taken for it"), "{said}");
+    assert!(said.contains("was cut to the surface its part nearest the target lies on"), "{said}");
+    assert!(said.contains("looked again with the registered colour and its own size (6 × 6 cm)"));
+    let moved = moved_after_the_read(report);
+    assert!(moved > 0.03, "the tag {:.1} cm from where it was first seen: {said}", moved * 100.0);
     assert_eq!(report.outcome, Some(Outcome::Success), "{said}");
     assert!(result.achieved, "the light came on: {said}");
 }
