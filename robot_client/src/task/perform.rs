@@ -9,7 +9,7 @@ use time::OffsetDateTime;
 use uuid::Uuid;
 
 use super::act::{ActionChoice, choose_action, run_behavior};
-use super::drive::{in_base, in_odom};
+use super::drive::{camera_origin, in_base, in_odom};
 use super::identify::{SecondLook, look_from_here, reach_toward};
 use super::known_tags::{ColourSource, search_for_this_tag};
 use super::report::{PhaseReport, TaskReport};
@@ -46,8 +46,9 @@ pub(super) struct FoundTag {
 }
 
 /// How far the tag, seen again after its read, may lie from where the hand was brought for the
-/// hand to stay there, metres: the behaviours' own alignment against the tag takes up less than
-/// this, and a rocker's press 2 cm off its middle still lands on the half meant.
+/// hand to stay there, metres: a rocker's press meant 2 cm above its middle then still lands a
+/// centimetre above, clear of its 6 mm dead band, and the other behaviours align against the tag
+/// themselves.
 const HAND_STAYS_WITHIN: f64 = 0.01;
 
 /// A range this near the one the tag was first seen from is the same, metres: the flash's light
@@ -240,8 +241,7 @@ fn back_to_the_first_range(
     seen_from: f64,
     phase: &mut PhaseReport,
 ) -> Result<f64, HalError> {
-    let camera = Point3::from(robot.calibration().base_from_camera.translation.vector);
-    let here = in_base(robot, tag)? - camera;
+    let here = in_base(robot, tag)? - camera_origin(&robot.calibration());
     // The base moves the camera along the floor only: the height between them stays.
     let along = here.x.hypot(here.y);
     let back = (seen_from.powi(2) - here.z.powi(2)).max(0.0).sqrt() - along;

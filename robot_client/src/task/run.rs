@@ -1,11 +1,10 @@
 //! The four phases in order, ending in a trial recorded through the registry client.
 
-use nalgebra::Point3;
 use pps_schema::{Purpose, StartPose};
 use uuid::Uuid;
 
 use super::approach::{Look, drive_to_waypoint, look_for_tag_and_surface};
-use super::drive::{drive_toward, in_base, in_odom};
+use super::drive::{camera_origin, drive_toward, in_base, in_odom};
 use super::identify::servo_and_read;
 use super::known_tags::{ColourSource, search_for_known_tags};
 use super::perform::{Acting, FoundTag, act, settle_epc};
@@ -122,7 +121,7 @@ pub async fn run_task(
     let tag_color = seen.plan.tag.as_ref().and_then(|t| {
         tag_color(&seen.image, &robot.calibration(), t.nearest(), &config.approach.tag)
     });
-    let camera = Point3::from(robot.calibration().base_from_camera.translation.vector);
+    let camera = camera_origin(&robot.calibration());
     let seen_from = seen.plan.tag.as_ref().map_or(0.0, |t| (t.nearest().centroid - camera).norm());
 
     // Phase 3: fingers to 10 cm, read the RFID.
