@@ -19,18 +19,9 @@ pub(crate) struct Look {
     pub target: Point3<f64>,
 }
 
-/// Perceives around `target` (odometry frame) from where the robot stands.
-pub(crate) fn perceive(
-    robot: &(impl ColorCamera + TiltingLaser + MobileBase),
-    target: &Point3<f64>,
-    sweep: &TiltSweep,
-    params: &ApproachParams,
-) -> Result<ApproachPlan, HalError> {
-    look(robot, target, sweep, params).map(|look| look.plan)
-}
-
-/// [`perceive`], keeping the image looked at.
-fn look(
+/// Perceives around `target` (odometry frame) from where the robot stands, keeping the image
+/// looked at.
+pub(crate) fn look(
     robot: &(impl ColorCamera + TiltingLaser + MobileBase),
     target: &Point3<f64>,
     sweep: &TiltSweep,

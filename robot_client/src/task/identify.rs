@@ -5,13 +5,15 @@
 
 use nalgebra::Point3;
 
-use super::approach::perceive;
+use super::approach::{Look, look};
 use super::drive::{in_base, in_odom, in_view};
 use super::report::PhaseReport;
 use super::run::TaskConfig;
 use crate::behaviors::Hand;
 use crate::hal::{ColorCamera, Finger, HalError, MobileBase, RfidReader, TiltSweep, TiltingLaser};
 use crate::navigation::{ApproachParams, RfidIdentity, identify_tag};
+use crate::perception::tag_color;
+use pps_schema::TagColor;
 
 /// Force that means the fingers bumped into something on the way, newtons.
 const BUMP_FORCE: f64 = 2.0;
@@ -63,8 +65,9 @@ fn look_again(
 
 /// What a look from where the robot stands made of the tag expected at a point.
 pub(super) enum SecondLook {
-    /// The tag's centre, odometry frame, and what the search said of the red it divided.
-    Seen { at: Point3<f64>, notes: Vec<String> },
+    /// The tag's centre, odometry frame, what the search said of the red it divided, and the
+    /// tag's colour in the picture.
+    Seen { at: Point3<f64>, notes: Vec<String>, color: Option<TagColor> },
     /// The camera sees the point, but the search took no tag there; why, when it said.
     NotFound(Option<String>),
     /// The point lies outside the camera's view from here.
@@ -86,9 +89,13 @@ pub(super) fn look_from_here(
         return Ok(SecondLook::OutOfView);
     }
     let sweep = sweep_toward(&config.body.laser, &expected, &config.sweep);
-    let plan = perceive(robot, around, &sweep, params)?;
-    match plan.tag.as_ref().map(|s| s.nearest().centroid) {
-        Some(seen) => Ok(SecondLook::Seen { at: in_odom(robot, &seen)?, notes: plan.tag_notes }),
+    let Look { image, plan, .. } = look(robot, around, &sweep, params)?;
+    match plan.tag.as_ref().map(|s| s.nearest()) {
+        Some(seen) => Ok(SecondLook::Seen {
+            at: in_odom(robot, &seen.centroid)?,
+            color: tag_color(&image, &robot.calibration(), seen, &params.tag),
+            notes: plan.tag_notes,
+        }),
         None => Ok(SecondLook::NotFound(plan.tag_notes.last().cloned())),
     }
 }

@@ -3,7 +3,7 @@
 //! recorded through the outbox.
 
 use nalgebra::Point3;
-use pps_schema::{BehaviorSpec, EffectiveEntry, Epc, Outcome, Properties, Trial};
+use pps_schema::{BehaviorSpec, EffectiveEntry, Epc, Outcome, Properties, TagColor, Trial};
 use serde_json::{Map, Value};
 use time::OffsetDateTime;
 use uuid::Uuid;
@@ -28,9 +28,6 @@ pub(super) struct Acting<'a, R> {
     pub config: &'a TaskConfig,
     /// What the camera saw around the tag (PNG), sent with the trial.
     pub picture: Option<&'a [u8]>,
-    /// The tag's colour in that picture, sent with the trial: the EPC read since says the
-    /// pixels were this tag's.
-    pub tag_color: Option<pps_schema::TagColor>,
 }
 
 /// The tag phase 4 acts on: its EPC, and where it was seen (base frame, metres).
@@ -43,6 +40,9 @@ pub(super) struct FoundTag {
     /// Where the person pointed, odometry frame: a red region larger than the tag is divided
     /// around it, as it was when the tag was first found.
     pub pointed: Point3<f64>,
+    /// The tag's colour where it was first found, sent with the trial: the EPC read since says
+    /// the pixels were this tag's, unless the look after the read finds it elsewhere.
+    pub color: Option<TagColor>,
 }
 
 /// How far the tag, seen again after its read, may lie from where the hand was brought for the
@@ -193,7 +193,7 @@ fn look_knowing_the_tag(
     let look = look_from_here(robot, &first, &tag.pointed, config, &params)?;
     let moved = backed > 0.0;
     let act_at = match look {
-        SecondLook::Seen { at: seen, notes } => {
+        SecondLook::Seen { at: seen, notes, color } => {
             for note in notes {
                 phase.note(note);
             }
@@ -205,6 +205,13 @@ fn look_knowing_the_tag(
                 off * 100.0,
                 if stays { "the hand stays" } else { "acting there" }
             ));
+            // Found elsewhere, what was first taken for the tag was not only the tag: its
+            // colour would teach the registry the wood or the box beside it. This look was
+            // taken from the same range, so its colour is as comparable.
+            if off > HAND_STAYS_WITHIN && color.is_some() {
+                phase.note("the trial carries the tag's colour as this look saw it");
+                tag.color = color;
+            }
             (!stays).then_some(seen)
         }
         SecondLook::NotFound(why) => {
@@ -373,7 +380,7 @@ fn trial_record(
         measurements,
         start_pose: acting.config.start_pose,
         purpose: acting.config.purpose,
-        tag_color: acting.tag_color,
+        tag_color: tag.color,
         received_at: None,
         seq: None,
     }

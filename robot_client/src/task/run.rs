@@ -135,9 +135,8 @@ pub async fn run_task(
     let at = in_base(robot, &tag)?;
     let epc = settle_epc(identity, &at, registry, phase).await;
     report.epc = Some(epc.clone());
-    let acting =
-        Acting { robot, operator, registry, clock, config, picture: picture.as_deref(), tag_color };
-    let found = FoundTag { epc, at, seen_from, pointed: seen.target };
+    let acting = Acting { robot, operator, registry, clock, config, picture: picture.as_deref() };
+    let found = FoundTag { epc, at, seen_from, pointed: seen.target, color: tag_color };
     act(&acting, found, &mut report).await?;
     Ok(report)
 }

@@ -8,7 +8,9 @@
 //! upper half lands on the lower half: the light stays off. Once the EPC is read, the rocker's
 //! own colour, learned from its own three reads (hue 353..357°), leaves the wood out: the look
 //! again finds the patch 5.9 cm from where the tag was first seen, the hand is brought to
-//! within 1 cm of the patch's middle, and the light comes on.
+//! within 1 cm of the patch's middle, and the light comes on. The trial then carries the
+//! patch's colour as that look saw it (median hue 355°), not the colour of the middle of what
+//! was first taken for the tag (the plate's wood, median hue 24°).
 
 use pps_robot::experiment::{SimulatedTrial, flush_until_stored, run_simulated, start_up};
 use pps_robot::registry::RegistryClient;
@@ -99,6 +101,14 @@ async fn the_rockers_own_colour_after_its_read_leaves_the_wooden_plate_out() {
     );
     assert_eq!(report.outcome, Some(Outcome::Success), "{said}");
     assert!(result.achieved, "the light came on: {said}");
+
+    // The trial teaches the patch's red, not the plate's wood that phase 2 took for its middle.
+    flush_until_stored(&client).await.unwrap();
+    let trials = registry.trials().await;
+    let taught = &trials.last().unwrap()["tag_color"]["hue_deg"][1];
+    let hue = taught.as_f64().unwrap();
+    let [from, to] = own.hue_deg;
+    assert!((from..=to).contains(&hue), "the trial's median hue {hue:.1}° against {own:?}");
 }
 
 /// The home's tags with their registered sizes: a flip switch's foam, the rocker's 6 × 6 cm
