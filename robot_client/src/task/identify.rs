@@ -4,6 +4,7 @@
 //! about as strong, move closer and read again.
 
 use nalgebra::Point3;
+use pps_schema::TagColor;
 
 use super::approach::{Look, look};
 use super::drive::{in_base, in_odom, in_view};
@@ -13,7 +14,6 @@ use crate::behaviors::Hand;
 use crate::hal::{ColorCamera, Finger, HalError, MobileBase, RfidReader, TiltSweep, TiltingLaser};
 use crate::navigation::{ApproachParams, RfidIdentity, identify_tag};
 use crate::perception::tag_color;
-use pps_schema::TagColor;
 
 /// Force that means the fingers bumped into something on the way, newtons.
 const BUMP_FORCE: f64 = 2.0;

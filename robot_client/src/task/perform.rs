@@ -16,7 +16,7 @@ use super::report::{PhaseReport, TaskReport};
 use super::run::{TaskConfig, TaskRobot};
 use crate::behaviors::{DropGeometry, ForceRecorder};
 use crate::hal::{Clock, HalError, Operator};
-use crate::navigation::RfidIdentity;
+use crate::navigation::{ApproachParams, RfidIdentity};
 use crate::registry::{Fetched, RegistryClient, Source};
 
 /// Who takes part in phase 4, and the settings it runs by.
@@ -188,8 +188,7 @@ fn look_knowing_the_tag(
     }
     let first = in_odom(robot, &tag.at)?;
     let backed = back_to_the_first_range(robot, &first, tag.seen_from, phase)?;
-    let params =
-        crate::navigation::ApproachParams { tag: search.params, ..config.approach.clone() };
+    let params = ApproachParams { tag: search.params, ..config.approach.clone() };
     let look = look_from_here(robot, &first, &tag.pointed, config, &params)?;
     let moved = backed > 0.0;
     let act_at = match look {
@@ -228,8 +227,10 @@ fn look_knowing_the_tag(
         }
     };
     if let Some(at) = act_at {
-        // Back where the hand was brought before, so the behaviour has the arm's travel it had.
-        robot.drive(backed)?;
+        if moved {
+            // Back where the hand was brought before, so the behaviour has the arm's travel.
+            robot.drive(backed)?;
+        }
         reach_toward(robot, &at, config, phase)?;
         tag.at = in_base(robot, &at)?;
     }
