@@ -241,7 +241,7 @@ fn look_knowing_the_tag(
 /// the camera is as far from it as when it was first found, `seen_from` metres: the colour
 /// learned from its reads was seen from there, and the camera's flash at arm's length makes a
 /// red tag paler and pinker than any look it was learned from (in the simulator, a Dycem patch
-/// 45 cm away shows saturation 0.56 and hue 347°, at 1.2 m 0.8 and 355°). Returns how far it
+/// 45 cm away shows saturation 0.56 and hue 347°, at 1.2 m 0.77 and 355°). Returns how far it
 /// backed, metres.
 fn back_to_the_first_range(
     robot: &impl TaskRobot,
