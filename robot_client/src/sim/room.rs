@@ -88,6 +88,15 @@ pub struct RoomOptions {
     /// The drawer cabinet is orange-brown plywood whose grain the factory's red thresholds take
     /// for red (issue 34), its fronts too unless they are lacquered.
     pub plywood_cabinet: bool,
+    /// The drawer's towel is orange-red rather than the paper's red: a household's tags need not
+    /// all be one red, and the colour learned from all of them then reaches into orange.
+    pub orange_towel: bool,
+    /// The rocker switch sits in the upper gang of a plywood double plate, the lower gang blank:
+    /// wood touches the rocker's patch and stretches 15 cm below it.
+    pub wooden_rocker_plate: bool,
+    /// A red plastic key box on the wall right of the rocker switch, touching its plate: as red
+    /// as the tag, 8 × 10 cm and standing 4 cm out from the wall.
+    pub red_box_by_rocker: bool,
 }
 
 impl RoomOptions {
@@ -126,6 +135,9 @@ impl Default for RoomOptions {
             clutter: false,
             evening: false,
             plywood_cabinet: false,
+            orange_towel: false,
+            wooden_rocker_plate: false,
+            red_box_by_rocker: false,
         }
     }
 }
@@ -156,6 +168,8 @@ const BLUE: Surface = Surface::Matte([0.05, 0.09, 0.35]);
 const FOAM: Surface = Surface::Matte([0.55, 0.030, 0.035]);
 const DYCEM: Surface = Surface::Matte([0.50, 0.025, 0.040]);
 const TOWEL: Surface = Surface::Matte([0.45, 0.020, 0.030]);
+/// An orange-red towel: hue 15°, saturation 0.9, value 0.7 in sRGB.
+const ORANGE_TOWEL: Surface = Surface::Matte([0.448, 0.042, 0.006]);
 /// Red things that are not tags: as red as the tags, so colour alone cannot tell them apart.
 const RED_BOOK: Surface = Surface::Matte([0.48, 0.022, 0.030]);
 const RED_CLOTH: Surface = Surface::Matte([0.52, 0.028, 0.034]);
@@ -239,9 +253,33 @@ impl Room {
 
         // ADA rocker switch, its paddle under a red Dycem patch.
         let (a, h) = (2.0 + options.switch_spacing, 1.22 + options.switch_raise);
-        parts.push(north.cuboid("rocker plate", [a, 0.003, h], [0.035, 0.003, 0.0575], PLASTIC));
+        if options.wooden_rocker_plate {
+            // A double plate 7 × 23.5 cm, its top where the single plate's is.
+            let (half, plate) = (0.1175, PLYWOOD);
+            parts.push(north.cuboid(
+                "rocker plate",
+                [a, 0.003, h + 0.0575 - half],
+                [0.035, 0.003, half],
+                plate,
+            ));
+        } else {
+            parts.push(north.cuboid(
+                "rocker plate",
+                [a, 0.003, h],
+                [0.035, 0.003, 0.0575],
+                PLASTIC,
+            ));
+        }
         parts.push(north.cuboid("rocker paddle", [a, 0.009, h], [0.018, 0.003, 0.033], PLASTIC));
         parts.push(north.cuboid("rocker dycem", [a, 0.0135, h], [0.03, 0.0015, 0.03], red(DYCEM)));
+        if options.red_box_by_rocker {
+            parts.push(north.cuboid(
+                "red key box",
+                [a + 0.075, 0.02, h],
+                [0.04, 0.02, 0.05],
+                RED_BOOK,
+            ));
+        }
         tag(DeviceKind::AdaLightSwitch, &north, [a, 0.0135, h]);
 
         // Floor lamp by the south wall, its pull chain toward the room, red foam on the chain.
@@ -308,7 +346,8 @@ impl Room {
         parts.push(east.cuboid("top drawer", [a, 0.4575, 0.56], [0.205, 0.0075, 0.16], front));
         parts.push(east.cuboid("bottom drawer", [a, 0.4575, 0.20], [0.205, 0.0075, 0.17], front));
         parts.push(east.cuboid("drawer handle", [a, 0.477, 0.64], [0.06, 0.012, 0.01], METAL));
-        parts.push(east.cuboid("drawer towel", [a, 0.495, 0.52], [0.08, 0.004, 0.12], red(TOWEL)));
+        let towel = if options.orange_towel { ORANGE_TOWEL } else { TOWEL };
+        parts.push(east.cuboid("drawer towel", [a, 0.495, 0.52], [0.08, 0.004, 0.12], red(towel)));
         tag(DeviceKind::Drawer, &east, [a, 0.495, 0.52]);
 
         // Trash can against the west wall, a red Dycem patch near the top of its front.

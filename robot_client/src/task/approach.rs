@@ -15,31 +15,24 @@ use crate::navigation::{ApproachParams, ApproachPlan, Clearance, RejectedPlane, 
 pub(crate) struct Look {
     pub image: ColorImage,
     pub plan: ApproachPlan,
+    /// The point looked around (odometry frame): where the person pointed.
+    pub target: Point3<f64>,
 }
 
-/// Perceives around `target` (odometry frame) from where the robot stands.
-pub(crate) fn perceive(
-    robot: &(impl ColorCamera + TiltingLaser + MobileBase),
-    target: &Point3<f64>,
-    sweep: &TiltSweep,
-    params: &ApproachParams,
-) -> Result<ApproachPlan, HalError> {
-    look(robot, target, sweep, params).map(|look| look.plan)
-}
-
-/// [`perceive`], keeping the image looked at.
-fn look(
+/// Perceives around `target` (odometry frame) from where the robot stands, keeping the image
+/// looked at.
+pub(crate) fn look(
     robot: &(impl ColorCamera + TiltingLaser + MobileBase),
     target: &Point3<f64>,
     sweep: &TiltSweep,
     params: &ApproachParams,
 ) -> Result<Look, HalError> {
-    let target = in_base(robot, target)?;
+    let here = in_base(robot, target)?;
     let image = robot.capture(true)?;
     let cloud = robot.scan(sweep)?;
-    let plan = plan_approach(&image, &cloud, &robot.calibration(), &target, params)
+    let plan = plan_approach(&image, &cloud, &robot.calibration(), &here, params)
         .map_err(|e| HalError::Failed { device: "camera", reason: e.to_string() })?;
-    Ok(Look { image, plan })
+    Ok(Look { image, plan, target: *target })
 }
 
 /// Perceives around `target` until a look finds the tag and the surface behind it; returns the

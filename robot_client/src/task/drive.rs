@@ -30,6 +30,11 @@ pub(crate) fn in_odom(base: &impl MobileBase, p: &Point3<f64>) -> Result<Point3<
     Ok(odom_from_base(&base.pose_estimate()?) * p)
 }
 
+/// Where the camera's lens is, base frame.
+pub(crate) fn camera_origin(calibration: &CameraCalibration) -> Point3<f64> {
+    Point3::from(calibration.base_from_camera.translation.vector)
+}
+
 /// Whether `p` (base frame) falls inside the camera's image with a margin (fraction of its size).
 pub(crate) fn in_view(calibration: &CameraCalibration, p: &Point3<f64>, margin: f64) -> bool {
     let k = &calibration.intrinsics;

@@ -4,14 +4,16 @@
 //! about as strong, move closer and read again.
 
 use nalgebra::Point3;
+use pps_schema::TagColor;
 
-use super::approach::perceive;
+use super::approach::{Look, look};
 use super::drive::{in_base, in_odom, in_view};
 use super::report::PhaseReport;
 use super::run::TaskConfig;
 use crate::behaviors::Hand;
 use crate::hal::{ColorCamera, Finger, HalError, MobileBase, RfidReader, TiltSweep, TiltingLaser};
-use crate::navigation::{RfidIdentity, identify_tag};
+use crate::navigation::{ApproachParams, RfidIdentity, identify_tag};
+use crate::perception::tag_color;
 
 /// Force that means the fingers bumped into something on the way, newtons.
 const BUMP_FORCE: f64 = 2.0;
@@ -45,30 +47,62 @@ fn look_again(
     config: &TaskConfig,
     report: &mut PhaseReport,
 ) -> Result<(), HalError> {
-    let expected = in_base(robot, tag)?;
-    if in_view(&robot.calibration(), &expected, 0.05) {
-        let sweep = sweep_toward(&config.body.laser, &expected, &config.sweep);
-        let plan = perceive(robot, tag, &sweep, &config.approach)?;
-        match plan.tag.as_ref().map(|s| s.nearest().centroid) {
-            Some(seen) => {
-                let seen = in_odom(robot, &seen)?;
-                report.note(format!(
-                    "saw the tag again, {:.3} m from where odometry put it",
-                    (seen - *tag).norm()
-                ));
-                *tag = seen;
-            }
-            None => report.note("the tag is not in view here; going by odometry"),
+    match look_from_here(robot, tag, tag, config, &config.approach)? {
+        SecondLook::Seen { at: seen, .. } => {
+            report.note(format!(
+                "saw the tag again, {:.3} m from where odometry put it",
+                (seen - *tag).norm()
+            ));
+            *tag = seen;
         }
-    } else {
-        report.note("the tag is below the camera's view here; going by odometry");
+        SecondLook::NotFound(_) => report.note("the tag is not in view here; going by odometry"),
+        SecondLook::OutOfView => {
+            report.note("the tag is below the camera's view here; going by odometry")
+        }
     }
     Ok(())
 }
 
+/// What a look from where the robot stands made of the tag expected at a point.
+pub(super) enum SecondLook {
+    /// The tag's centre, odometry frame, what the search said of the red it divided, and the
+    /// tag's colour in the picture.
+    Seen { at: Point3<f64>, notes: Vec<String>, color: Option<TagColor> },
+    /// The camera sees the point, but the search took no tag there; why, when it said.
+    NotFound(Option<String>),
+    /// The point lies outside the camera's view from here.
+    OutOfView,
+}
+
+/// Looks for the tag expected at `tag` (odometry frame) from where the robot stands, searching
+/// with `params` for the tag nearest `around`: the laser swept across `tag` alone, where the
+/// camera can see it.
+pub(super) fn look_from_here(
+    robot: &(impl MobileBase + ColorCamera + TiltingLaser),
+    tag: &Point3<f64>,
+    around: &Point3<f64>,
+    config: &TaskConfig,
+    params: &ApproachParams,
+) -> Result<SecondLook, HalError> {
+    let expected = in_base(robot, tag)?;
+    if !in_view(&robot.calibration(), &expected, 0.05) {
+        return Ok(SecondLook::OutOfView);
+    }
+    let sweep = sweep_toward(&config.body.laser, &expected, &config.sweep);
+    let Look { image, plan, .. } = look(robot, around, &sweep, params)?;
+    match plan.tag.as_ref().map(|s| s.nearest()) {
+        Some(seen) => Ok(SecondLook::Seen {
+            at: in_odom(robot, &seen.centroid)?,
+            color: tag_color(&image, &robot.calibration(), seen, &params.tag),
+            notes: plan.tag_notes,
+        }),
+        None => Ok(SecondLook::NotFound(plan.tag_notes.last().cloned())),
+    }
+}
+
 /// Faces the tag, hand at its height, fingers closed and pointed at it, and brings them to
 /// `config.servo_distance` from it, stopping on contact; returns the force that means a bump.
-fn reach_toward(
+pub(super) fn reach_toward(
     robot: &(impl Hand + MobileBase),
     tag: &Point3<f64>,
     config: &TaskConfig,

@@ -1,6 +1,7 @@
 //! What a robot knows of its home's tags before it reads one (issue 34): the colour to look for
 //! and how large a tag may be, from the registry's entries as its cache holds them (so also
-//! offline). `run`, `work` and `pps-ros2` look for tags with these settings.
+//! offline). `run`, `work` and `pps-ros2` look for tags with these settings. Once a tag's EPC is
+//! read, its own entry narrows them: its own learned colour and its own registered size.
 
 use pps_schema::{EffectiveEntry, TagSize};
 
@@ -23,20 +24,90 @@ pub fn search_for_known_tags(
     let mut notes = Vec::new();
     let mut params = params.clone();
     if colour == ColourSource::KnownTags {
-        params.thresholds = known_colour(params.thresholds, known, &mut notes);
+        params.thresholds = known_colour(params.thresholds, known, &mut notes).0;
     }
     (bounded_by_known_sizes(&params, known, &mut notes), notes)
+}
+
+/// The search for one tag whose EPC has been read: `used` (the search that found it before the
+/// read) with the tag's own learned colour, else what `search_for_known_tags` takes from its
+/// entry (the household's), and the tag's own registered size, else the bound `used` had.
+pub fn search_for_this_tag(
+    used: &TagSearchParams,
+    entry: &EffectiveEntry,
+    colour: ColourSource,
+) -> ThisTagSearch {
+    let mut notes = Vec::new();
+    let mut params = used.clone();
+    let properties = &entry.entry.properties;
+    let own = properties.learned_color().and_then(|learned| {
+        HsvThresholds::new(&learned.segmentation).ok().map(|thresholds| (learned, thresholds))
+    });
+    let colour_from = match (colour, own) {
+        (ColourSource::AsGiven, _) => "the colour given",
+        (ColourSource::KnownTags, Some((learned, thresholds))) => {
+            notes.push(format!(
+                "looking for {} (this tag's own, learned from {} confirmed reads of it)",
+                describe_colour(&learned.segmentation),
+                learned.trials
+            ));
+            params.thresholds = thresholds;
+            "this tag's own colour"
+        }
+        (ColourSource::KnownTags, None) => {
+            let (thresholds, from) =
+                known_colour(used.thresholds, std::slice::from_ref(entry), &mut notes);
+            params.thresholds = thresholds;
+            from
+        }
+    };
+    let size_from = match properties.tag_size {
+        Some(size) => {
+            params = params.for_home_tags([size.reach()]);
+            notes.push(format!(
+                "no red region reaching more than {:.0} cm from its middle is taken for it (its \
+                 registered size, {})",
+                params.max_tag_radius * 100.0,
+                describe_size(&size)
+            ));
+            format!("its own size ({})", describe_size(&size))
+        }
+        None => format!(
+            "the size bound used before ({:.0} cm from its middle; it has no registered size)",
+            params.max_tag_radius * 100.0
+        ),
+    };
+    let with = format!("{colour_from} and {size_from}");
+    ThisTagSearch { differs: params != *used, params, with, notes }
+}
+
+/// The search [`search_for_this_tag`] chose, and what it rests on in words.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ThisTagSearch {
+    pub params: TagSearchParams,
+    /// Whether it differs from the search before the read: otherwise a second look with it
+    /// finds what the first found.
+    pub differs: bool,
+    /// What the colour and the size bound come from, e.g. "this tag's own colour and its own
+    /// size (5 × 8 cm)".
+    pub with: String,
+    pub notes: Vec<String>,
+}
+
+/// A tag's size as a person reads it: "5 × 8 cm".
+fn describe_size(size: &TagSize) -> String {
+    format!("{:.0} × {:.0} cm", size.width * 100.0, size.height * 100.0)
 }
 
 /// The colour this robot's class has learned its household's tags to have (their confirmed
 /// reads' colours, the registry's household model in any entry), or else the colours this
 /// robot's camera sees the registry's tags in (their entries' `color_segmentation`, merged for
-/// this robot), or `fallback` when those cannot be used.
+/// this robot), or `fallback` when those cannot be used; with where it came from, in words.
 fn known_colour(
     fallback: HsvThresholds,
     known: &[EffectiveEntry],
     notes: &mut Vec<String>,
-) -> HsvThresholds {
+) -> (HsvThresholds, &'static str) {
     let household = known
         .iter()
         .filter_map(|e| e.entry.properties.household_color())
@@ -49,7 +120,7 @@ fn known_colour(
             describe_colour(&learned.segmentation),
             learned.trials
         ));
-        return thresholds;
+        return (thresholds, "the household's learned colour");
     }
     let colours = known.iter().filter_map(|e| e.entry.properties.color_segmentation());
     let colour = covering_colour(colours.clone());
@@ -60,13 +131,13 @@ fn known_colour(
                 n => format!("the colours of {n} of {} known tags", known.len()),
             };
             notes.push(format!("looking for {} ({from})", describe_colour(&colour)));
-            thresholds
+            (thresholds, "the registered colour")
         }
         Err(error) => {
             notes.push(format!(
                 "the entries' colours cannot be used ({error}); looking for the default red"
             ));
-            fallback
+            (fallback, "the default red")
         }
     }
 }
@@ -164,5 +235,51 @@ mod tests {
         let (params, notes) = search_for_known_tags(&factory, &entries, ColourSource::AsGiven);
         assert_eq!(params.thresholds, factory.thresholds);
         assert!(notes.iter().all(|n| !n.contains("looking for")), "{notes:?}");
+    }
+
+    #[test]
+    fn after_the_read_the_tag_is_looked_for_in_its_own_colour_and_at_its_own_size() {
+        let household = json!({
+            "hue_deg": [345.0, 28.0], "saturation": [0.5, 1.0], "value": [0.15, 1.0], "trials": 6
+        });
+        let own = json!({
+            "hue_deg": [352.0, 8.0], "saturation": [0.6, 1.0], "value": [0.15, 1.0], "trials": 3
+        });
+        let rocker = known(
+            "E2000001",
+            json!({
+                "name": "rocker",
+                "tag_size": {"width": 0.05, "height": 0.08},
+                "household_color_segmentation": household,
+                "learned_color_segmentation": own,
+            }),
+        );
+        let towel =
+            known("E2000002", json!({"name": "drawer", "tag_size": {"width": 0.3, "height": 0.2}}));
+        let known_tags = [rocker.clone(), towel];
+        let factory = TagSearchParams::default();
+        let (before, _) = search_for_known_tags(&factory, &known_tags, ColourSource::KnownTags);
+
+        let after = search_for_this_tag(&before, &rocker, ColourSource::KnownTags);
+        assert!(after.differs);
+        let own =
+            HsvThresholds::new(&rocker.entry.properties.learned_color().unwrap().segmentation);
+        assert_eq!(after.params.thresholds, own.unwrap());
+        let reach = 0.05f64.hypot(0.08) / 2.0 + factory.fragment_gap;
+        assert!((after.params.max_tag_radius - reach).abs() < 1e-12);
+        assert_eq!(after.with, "this tag's own colour and its own size (5 × 8 cm)");
+        assert!(after.notes[0].contains("learned from 3 confirmed reads of it"), "{after:?}");
+
+        // A tag the registry knows no more of than of the household's: the search as before.
+        let plain =
+            known("E2000003", json!({"name": "lamp", "household_color_segmentation": household}));
+        let (before, _) =
+            search_for_known_tags(&factory, std::slice::from_ref(&plain), ColourSource::KnownTags);
+        let after = search_for_this_tag(&before, &plain, ColourSource::KnownTags);
+        assert!(!after.differs, "{after:?}");
+        assert!(after.with.starts_with("the household's learned colour and the size bound used"));
+        let given = search_for_this_tag(&before, &rocker, ColourSource::AsGiven);
+        assert_eq!(given.params.thresholds, before.thresholds);
+        assert!(given.with.starts_with("the colour given and its own size"), "{given:?}");
     }
 }

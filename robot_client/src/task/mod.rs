@@ -18,6 +18,6 @@ mod report;
 mod run;
 
 pub use act::{ActionChoice, choose_action, vertical_choice_for};
-pub use known_tags::{ColourSource, search_for_known_tags};
+pub use known_tags::{ColourSource, ThisTagSearch, search_for_known_tags, search_for_this_tag};
 pub use report::{PhaseReport, TaskReport};
 pub use run::{TaskConfig, TaskRobot, run_task};

@@ -4,7 +4,7 @@ use pps_schema::{Purpose, StartPose};
 use uuid::Uuid;
 
 use super::approach::{Look, drive_to_waypoint, look_for_tag_and_surface};
-use super::drive::{drive_toward, in_base, in_odom};
+use super::drive::{camera_origin, drive_toward, in_base, in_odom};
 use super::identify::servo_and_read;
 use super::known_tags::{ColourSource, search_for_known_tags};
 use super::perform::{Acting, FoundTag, act, settle_epc};
@@ -121,6 +121,8 @@ pub async fn run_task(
     let tag_color = seen.plan.tag.as_ref().and_then(|t| {
         tag_color(&seen.image, &robot.calibration(), t.nearest(), &config.approach.tag)
     });
+    let camera = camera_origin(&robot.calibration());
+    let seen_from = seen.plan.tag.as_ref().map_or(0.0, |t| (t.nearest().centroid - camera).norm());
 
     // Phase 3: fingers to 10 cm, read the RFID.
     let phase = report.phase(3, "servo to the tag and read its RFID");
@@ -133,9 +135,9 @@ pub async fn run_task(
     let at = in_base(robot, &tag)?;
     let epc = settle_epc(identity, &at, registry, phase).await;
     report.epc = Some(epc.clone());
-    let acting =
-        Acting { robot, operator, registry, clock, config, picture: picture.as_deref(), tag_color };
-    act(&acting, &FoundTag { epc, at }, &mut report).await?;
+    let acting = Acting { robot, operator, registry, clock, config, picture: picture.as_deref() };
+    let found = FoundTag { epc, at, seen_from, pointed: seen.target, color: tag_color };
+    act(&acting, found, &mut report).await?;
     Ok(report)
 }
 

@@ -1,6 +1,7 @@
 //! The robot's tests, one binary: each module was a test file of its own (linking one binary
 //! for each cost more than running them). nextest still runs each test in a process of its own.
 
+mod after_read;
 mod behaviors;
 mod learned_colour;
 mod llrp_decoder;
