@@ -14,9 +14,8 @@
 //! must not be pulled onto it. A laser's noise needs no such help: the window is one pixel and
 //! nothing moves.
 
-use std::collections::HashMap;
-
 use nalgebra::{Matrix3, Point3, Vector3};
+use rustc_hash::FxHashMap;
 
 use super::depth_noise::DepthNoise;
 use super::hsv::HsvThresholds;
@@ -59,7 +58,9 @@ pub fn smooth_along_rays(
     // points, so most points are in the block of the point before them and need no lookup.
     let mut rays: Vec<RayPoint> = Vec::new();
     let mut block_of: Vec<u32> = Vec::new();
-    let mut numbers: HashMap<(i64, i64, bool), u32> = HashMap::new();
+    // The keys are one frame's pixel blocks, chosen by nobody: SipHash's defence against chosen
+    // keys buys nothing here and cost the step about 8 % of its time.
+    let mut numbers: FxHashMap<(i64, i64, bool), u32> = FxHashMap::default();
     let mut last: Option<((i64, i64, bool), u32)> = None;
     for (i, p) in points.iter().enumerate() {
         let p = p.cast::<f64>();
@@ -85,7 +86,8 @@ pub fn smooth_along_rays(
                 number
             }
         };
-        rays.push(RayPoint { index: i, q, u, v });
+        let band = SURFACE_SIGMAS * noise.sigma_at(q.z);
+        rays.push(RayPoint { index: i, q, u, v, band });
         block_of.push(number);
     }
     // The blocks' points side by side, each block's in the cloud's order (a counting sort).
@@ -108,13 +110,13 @@ pub fn smooth_along_rays(
             continue;
         }
         let Some(fit) = surface_of(members, noise, &mut scratch) else { continue };
-        for &RayPoint { index: i, q, u, v } in members {
-            let inverse = fit.inverse_depth(u, v);
-            if inverse <= 0.0 || !fit.holds(q.z, u, v, noise) {
+        for m in members {
+            let inverse = fit.inverse_depth(m.u, m.v);
+            if inverse <= 0.0 || !fit.holds(m) {
                 continue;
             }
-            let moved = q * (1.0 / inverse / q.z);
-            out[i] = (calibration.base_from_camera * moved).cast();
+            let moved = m.q * (1.0 / inverse / m.q.z);
+            out[m.index] = (calibration.base_from_camera * moved).cast();
         }
     }
     out
@@ -125,15 +127,26 @@ pub fn smooth_along_rays(
 struct Scratch {
     depths: Vec<f64>,
     on: Vec<(f64, f64, f64)>,
+    /// Whether each of the block's points is among those the fit is made to.
+    kept: Vec<bool>,
 }
 
-/// A point of the cloud in camera coordinates (`q`) and its pixel.
+/// A point of the cloud in camera coordinates (`q`), its pixel, and how far from a fit along
+/// its ray it may lie and still be on the fit's surface (`band`, metres).
 #[derive(Debug, Clone, Copy)]
 struct RayPoint {
     index: usize,
     q: Point3<f64>,
     u: f64,
     v: f64,
+    band: f64,
+}
+
+impl RayPoint {
+    /// The pixel and depth a fit is made to.
+    fn sample(&self) -> (f64, f64, f64) {
+        (self.u, self.v, self.q.z)
+    }
 }
 
 /// Inverse depth as an affine function of the pixel about the block's middle.
@@ -149,9 +162,9 @@ impl InverseDepthPlane {
         c.x + c.y * (u - self.middle.0) + c.z * (v - self.middle.1)
     }
 
-    fn holds(&self, z: f64, u: f64, v: f64, noise: &DepthNoise) -> bool {
-        let inverse = self.inverse_depth(u, v);
-        inverse > 0.0 && (z - 1.0 / inverse).abs() <= SURFACE_SIGMAS * noise.sigma_at(z)
+    fn holds(&self, point: &RayPoint) -> bool {
+        let inverse = self.inverse_depth(point.u, point.v);
+        inverse > 0.0 && (point.q.z - 1.0 / inverse).abs() <= point.band
     }
 
     /// The least-squares fit to `points` (pixel and depth); `None` when they do not fix one.
@@ -174,35 +187,47 @@ impl InverseDepthPlane {
 
 /// The surface most of a block's points lie on: first those within the noise of the block's
 /// median depth, then, twice, those within the noise of the fit to the last ones.
+///
+/// A fit to the very points the last one was made to is that same fit, so once a round keeps
+/// the points it was given (on a clean surface, the first), the rounds left would only repeat
+/// it; and the points the last round keeps are never read.
 fn surface_of(
     members: &[RayPoint],
     noise: &DepthNoise,
     scratch: &mut Scratch,
 ) -> Option<InverseDepthPlane> {
-    let Scratch { depths, on } = scratch;
+    let Scratch { depths, on, kept } = scratch;
     depths.clear();
     depths.extend(members.iter().map(|m| m.q.z));
     let half = depths.len() / 2;
     let median = *depths.select_nth_unstable_by(half, f64::total_cmp).1;
     let band = SURFACE_SIGMAS * noise.sigma_at(median);
+    kept.clear();
+    kept.extend(members.iter().map(|m| (m.q.z - median).abs() <= band));
     on.clear();
-    on.extend(members.iter().filter(|m| (m.q.z - median).abs() <= band).map(|m| (m.u, m.v, m.q.z)));
-    let mut fit = None;
-    for _ in 0..3 {
+    on.extend(members.iter().zip(kept.iter()).filter(|(_, k)| **k).map(|(m, _)| m.sample()));
+    let mut rounds = 0;
+    loop {
         if on.len() < MIN_BLOCK_POINTS {
             return None;
         }
         let plane = InverseDepthPlane::fit(on)?;
+        rounds += 1;
+        if rounds == 3 {
+            return Some(plane);
+        }
+        let mut changed = false;
+        for (m, k) in members.iter().zip(kept.iter_mut()) {
+            let holds = plane.holds(m);
+            changed |= holds != *k;
+            *k = holds;
+        }
+        if !changed {
+            return Some(plane);
+        }
         on.clear();
-        on.extend(
-            members
-                .iter()
-                .filter(|m| plane.holds(m.q.z, m.u, m.v, noise))
-                .map(|m| (m.u, m.v, m.q.z)),
-        );
-        fit = Some(plane);
+        on.extend(members.iter().zip(kept.iter()).filter(|(_, k)| **k).map(|(m, _)| m.sample()));
     }
-    fit
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 use clap::{Parser, Subcommand};
-use pps_robot::navigation::{ApproachParams, plan_approach, plan_approach_on_depth};
+use pps_robot::navigation::{ApproachParams, ApproachPlan, plan_approach, plan_approach_on_depth};
 use pps_robot::perception::{DepthRange, cloud_from_depth};
 use pps_robot::sensor_files::{
     PlyFormat, write_camera_file, write_depth_png, write_ply, write_png,
@@ -66,6 +66,10 @@ enum Command {
         /// chain_ms), for comparing scene by scene with a peer.
         #[arg(long)]
         per_scene: Option<PathBuf>,
+        /// Also write each scene's answers to this file, a line a scene, every number to the
+        /// last bit: two builds that answer alike write the same file.
+        #[arg(long)]
+        answers: Option<PathBuf>,
         /// On the RGB-D scenes (dense depth frames at 0.5–5 m), through the organised path, each
         /// with its sensor's noise model as the corpus test gives it.
         #[arg(long)]
@@ -118,8 +122,9 @@ fn main() -> anyhow::Result<()> {
             let variants = rgbd.then(|| rgbd_variants(homes));
             write(seed, Some(kind), variants, &out.join(format!("{i:03}")))
         }),
-        Command::Bench { scenes, per_scene, rgbd, homes, whole_frame } => {
-            bench(scenes, per_scene.as_deref(), rgbd.then(|| rgbd_variants(homes)), whole_frame)
+        Command::Bench { scenes, per_scene, answers, rgbd, homes, whole_frame } => {
+            let files = BenchFiles { per_scene: per_scene.as_deref(), answers: answers.as_deref() };
+            bench(scenes, files, rgbd.then(|| rgbd_variants(homes)), whole_frame)
         }
         Command::Sensitivity { per_kind, scales, homes } => {
             sensitivity(per_kind, &scales, rgbd_variants(homes));
@@ -201,9 +206,41 @@ fn quantile(sorted: &[f64], q: f64) -> f64 {
     sorted[((sorted.len() - 1) as f64 * q).round() as usize]
 }
 
+/// What the benchmark writes beside its table: each scene's time, each scene's answers.
+#[derive(Debug, Clone, Copy)]
+struct BenchFiles<'a> {
+    per_scene: Option<&'a Path>,
+    answers: Option<&'a Path>,
+}
+
+/// `path` created for writing, or `None` when no path was given.
+fn created(path: Option<&Path>) -> anyhow::Result<Option<BufWriter<File>>> {
+    let Some(path) = path else { return Ok(None) };
+    let file = File::create(path).with_context(|| format!("creating {}", path.display()))?;
+    Ok(Some(BufWriter::new(file)))
+}
+
+/// One scene's answers on a line, every number in Rust's shortest form that reads back to the
+/// same bits: the tag, the planes, the backing plane, the waypoint and its clearance.
+fn answers_line(i: u64, plan: &ApproachPlan) -> String {
+    let tag = plan.tag.as_ref().map(|t| {
+        let t = t.nearest();
+        (t.centroid, t.points, t.voxels)
+    });
+    let planes: Vec<_> =
+        plan.planes.iter().map(|p| (p.plane.normal, p.plane.offset, p.inliers.len())).collect();
+    format!(
+        "{i:03} tag {tag:?} surface {} planes {planes:?} backing {:?} waypoint {:?} clearance {:?}",
+        plan.surface_points.len(),
+        plan.backing_plane,
+        plan.waypoint,
+        plan.clearance
+    )
+}
+
 fn bench(
     scenes: u64,
-    per_scene: Option<&Path>,
+    files: BenchFiles,
     rgbd: Option<RgbdVariants>,
     whole_frame: bool,
 ) -> anyhow::Result<()> {
@@ -211,12 +248,8 @@ fn bench(
     let (mut totals, mut renders) = (Vec::new(), Vec::new());
     let mut right = 0;
     // Opened first, so that a path that cannot be written fails before the run, not after it.
-    let mut table = match per_scene {
-        Some(path) => Some(BufWriter::new(
-            File::create(path).with_context(|| format!("creating {}", path.display()))?,
-        )),
-        None => None,
-    };
+    let mut table = created(files.per_scene)?;
+    let mut answers = created(files.answers)?;
     if let Some(table) = &mut table {
         writeln!(table, "scene,cloud_points,voi_points,chain_ms")?;
     }
@@ -262,7 +295,15 @@ fn bench(
             )
             .ok(),
         };
-        let Some(plan) = plan else { continue };
+        let Some(plan) = plan else {
+            if let Some(answers) = &mut answers {
+                writeln!(answers, "{i:03} no plan")?;
+            }
+            continue;
+        };
+        if let Some(answers) = &mut answers {
+            writeln!(answers, "{}", answers_line(i, &plan))?;
+        }
         right += usize::from(judge(scene.truth(), &plan).is_right());
         let total = plan.timings.total_ms();
         totals.push(total);
@@ -287,8 +328,8 @@ fn bench(
         quantile(&renders, 0.5),
         quantile(&renders, 0.95)
     );
-    if let Some(mut table) = table {
-        table.flush()?;
+    for file in [table, answers].into_iter().flatten() {
+        file.into_inner().map_err(|e| e.into_error())?;
     }
     Ok(())
 }
