@@ -28,6 +28,8 @@ pub(super) struct Acting<'a, R> {
     /// The tag's colour in that picture, sent with the trial: the EPC read since says the
     /// pixels were this tag's.
     pub tag_color: Option<pps_schema::TagColor>,
+    /// The tag's size on its surface in that look, sent with the trial on the same condition.
+    pub tag_size: Option<pps_schema::TagSize>,
 }
 
 /// The tag phase 4 acts on: its EPC, and where it was seen (base frame, metres).
@@ -259,6 +261,7 @@ fn trial_record(
         start_pose: acting.config.start_pose,
         purpose: acting.config.purpose,
         tag_color: acting.tag_color,
+        tag_size: acting.tag_size,
         received_at: None,
         seq: None,
     }

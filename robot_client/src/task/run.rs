@@ -13,8 +13,8 @@ use crate::behaviors::{Hand, RobotBody};
 use crate::hal::{
     BrightnessCamera, Clock, ColorCamera, MobileBase, Operator, RfidReader, TiltSweep, TiltingLaser,
 };
-use crate::navigation::ApproachParams;
-use crate::perception::tag_color;
+use crate::navigation::{ApproachParams, RfidIdentity};
+use crate::perception::{tag_color, tag_size};
 use crate::registry::RegistryClient;
 
 /// Everything the task needs of a robot.
@@ -121,6 +121,8 @@ pub async fn run_task(
     let tag_color = seen.plan.tag.as_ref().and_then(|t| {
         tag_color(&seen.image, &robot.calibration(), t.nearest(), &config.approach.tag)
     });
+    let tag_size = (seen.plan.tag.as_ref().zip(seen.plan.backing_plane.as_ref()))
+        .and_then(|(t, plane)| tag_size(&t.nearest().members, &plane.normal));
 
     // Phase 3: fingers to 10 cm, read the RFID.
     let phase = report.phase(3, "servo to the tag and read its RFID");
@@ -131,10 +133,13 @@ pub async fn run_task(
     // Phase 4: the registry's entry, the action, the behaviour, the person, the trial.
     let phase = report.phase(4, "read the entry, act, ask, record");
     let at = in_base(robot, &tag)?;
+    // Only a read that names one tag says the look's pixels and points were that tag.
+    let one_tag = matches!(identity, RfidIdentity::Identified(_));
     let epc = settle_epc(identity, &at, registry, phase).await;
     report.epc = Some(epc.clone());
-    let acting =
-        Acting { robot, operator, registry, clock, config, picture: picture.as_deref(), tag_color };
+    let (tag_color, tag_size) = (tag_color.filter(|_| one_tag), tag_size.filter(|_| one_tag));
+    let picture = picture.as_deref();
+    let acting = Acting { robot, operator, registry, clock, config, picture, tag_color, tag_size };
     act(&acting, &FoundTag { epc, at }, &mut report).await?;
     Ok(report)
 }

@@ -3,6 +3,7 @@
 
 mod behaviors;
 mod learned_colour;
+mod learned_sizes;
 mod llrp_decoder;
 mod llrp_flood;
 mod llrp_reader;
