@@ -75,7 +75,6 @@ async fn a_household_nobody_measured_learns_its_tags_sizes_and_bounds_the_search
 
     // The drawer's towel, the largest tag, reaches 14.4 cm from its middle; the bound is that
     // and the 3 cm a tag's fragments may lie apart.
-    client.sync_entries().await.unwrap();
     let said = visit(&client, body, DeviceKind::Drawer, 5).await;
     assert!(
         said.contains(
