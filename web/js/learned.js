@@ -29,9 +29,11 @@ export function learnedInWords(pointer, learned) {
   return `${name.replaceAll('_', ' ')} ${number(value)}${unitOf(name)}${from}`;
 }
 
-/** Metres as a person says a tag's side: centimetres to the half, e.g. 0.163 → "16.5". */
+/** Metres as a person says a tag's side: whole centimetres, to the half below 10 cm, e.g.
+ * 0.163 → "16", 0.056 → "5.5". */
 function centimetres(metres) {
-  return String(Math.round(metres * 200) / 2);
+  const cm = metres * 100;
+  return String(cm < 10 ? Math.round(cm * 2) / 2 : Math.round(cm));
 }
 
 /** A tag's size in centimetres, e.g. "16 × 24 cm". */

@@ -179,9 +179,12 @@ export async function render(main, [epc]) {
     replace(head, header(tag, { onArchive: archive, onRestore: restore, robots, stops, words }));
     replace(engineeringBox, engineeringView(tag, schemas));
   };
+  // The latest stats, so that a size registered since says again which size robots use.
+  let shownStats = null;
   const refreshTag = async () => {
     tag = await get(`/api/v1/tags/${seg(tag.epc)}`);
     showHead();
+    if (shownStats) replace(statsBox, statsView(shownStats, tag));
     section(historyBox, () => renderHistory(historyBox, tag.epc));
   };
   const refreshTrials = () => {
@@ -195,6 +198,7 @@ export async function render(main, [epc]) {
       const groups = stats.groups ?? [];
       replace(ratesBox, h('p', { class: 'counted' }, countedInWords(stats)),
         groups.length > 0 ? successRates(groups, words.action) : h('p', { class: 'muted' }, noCountedTrials(stats)));
+      shownStats = stats;
       replace(statsBox, statsView(stats, tag));
     });
   };
