@@ -352,7 +352,7 @@ async fn on_trial(shared: &Arc<Shared>, message: Trial) {
             // that move messages.
             let made = tokio::task::spawn_blocking(move || {
                 let picture = if draw { view.picture(&footprint) } else { None };
-                (picture, (view.tag_color(&for_trial, &search), view.tag_size(&for_trial)))
+                (picture, (view.tag_color(&for_trial, &search), view.tag_size(&for_trial, &search)))
             });
             made.await.unwrap_or_default()
         }

@@ -55,12 +55,13 @@ impl PerceivedView {
 
     /// The size of what this view took for the tag on the surface behind it, for `trial`, on
     /// the same condition as [`Self::tag_color`]; `None` too when no surface was found.
-    pub fn tag_size(&self, trial: &Trial) -> Option<TagSize> {
+    pub fn tag_size(&self, trial: &Trial, params: &TagSearchParams) -> Option<TagSize> {
         if self.read.as_ref() != Some(&trial.epc) {
             return None;
         }
         let tag = self.plan.tag.as_ref()?.nearest();
-        tag_size(&tag.members, &self.plan.backing_plane.as_ref()?.normal)
+        let surface = self.plan.backing_plane.as_ref()?;
+        tag_size(&self.image, &self.calibration, tag, params, &surface.normal)
     }
 
     /// The Fig. 5 picture of this view, PNG bytes; `None` (and a warning) when it cannot be

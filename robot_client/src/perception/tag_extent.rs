@@ -3,17 +3,24 @@
 //! the size of a tag nobody measured from them, so that the search is bounded by the home's
 //! largest tag without a caretaker's tape measure.
 //!
-//! The size is the tag's extent on its backing surface: its points projected onto the surface's
-//! level axis (the width) and the axis along the surface at right angles to it (the height,
-//! up and down on a wall). Stray points at the edges (a mixed return, a speck of red beside the
-//! tag) are trimmed off by taking the 2nd to 98th percentile, which is then scaled back to the
-//! whole: of points spread evenly over the tag, those percentiles span 96 % of it.
+//! The size is the tag's extent on its backing surface: its points that have the colour of its
+//! middle (those `tag_color` takes) projected onto the surface's level axis (the width) and the
+//! axis along the surface at right angles to it (the height, up and down on a wall). Stray
+//! points at the edges (a mixed return, a speck of red beside the tag) are trimmed off by taking
+//! the 2nd to 98th percentile, which is then scaled back to the whole: of points spread evenly
+//! over the tag, those percentiles span 96 % of it.
 //!
-//! Never called on a look whose EPC was not read: a red neighbour joined to the tag would teach
-//! the registry a size the tag does not have.
+//! Only for a look whose tag the fingers then read alone: a look at two tags, or at a red thing
+//! that is no tag, would teach the registry a size no tag has. A red thing of the tag's own
+//! colour touching it is still measured with it; the registry's median over visits is what
+//! keeps one such look from counting.
 
 use nalgebra::{Point3, Vector3};
 use pps_schema::TagSize;
+
+use super::bounded_tag::of_the_colour_at;
+use super::tag::{TagDetection, TagSearchParams};
+use crate::hal::{CameraCalibration, ColorImage};
 
 /// Share of points trimmed off each end of the tag's extent, for stray points.
 const TRIM: f64 = 0.02;
@@ -25,10 +32,24 @@ const MIN_POINTS: usize = 20;
 /// The smallest and largest width or height a trial may carry, metres (the schema's bounds).
 const BOUNDS: std::ops::RangeInclusive<f64> = 0.01..=1.0;
 
+/// The size of `tag` on the surface whose unit normal is `surface_normal` (base frame, z up),
+/// from its points that have the colour of its middle, as `tag_color` takes them: wood or a
+/// red neighbour the search joined to the tag (a region the size of a tag is not divided) is
+/// left out. `None` for too few points or a size no tag has.
+pub fn tag_size(
+    image: &ColorImage,
+    calibration: &CameraCalibration,
+    tag: &TagDetection,
+    params: &TagSearchParams,
+    surface_normal: &Vector3<f64>,
+) -> Option<TagSize> {
+    let members = of_the_colour_at(&tag.members, image, calibration, &tag.centroid, params);
+    extent_on(&members, surface_normal)
+}
+
 /// The extent of `members` (a tag's points, base frame, metres) on the surface whose unit normal
-/// is `surface_normal` (base frame, z up), millimetre-rounded; `None` for too few points or a
-/// size no tag has.
-pub fn tag_size(members: &[Point3<f32>], surface_normal: &Vector3<f64>) -> Option<TagSize> {
+/// is `surface_normal`, millimetre-rounded; `None` for too few points or a size no tag has.
+fn extent_on(members: &[Point3<f32>], surface_normal: &Vector3<f64>) -> Option<TagSize> {
     if members.len() < MIN_POINTS {
         return None;
     }
@@ -96,21 +117,21 @@ mod tests {
         assert!(normal.z.abs() > 0.3, "the surface leans: {normal}");
         for seed in 0..100 {
             let (members, normal) = patch_on_a_tilted_surface(seed, 8);
-            let size = tag_size(&members, &normal).unwrap();
+            let size = extent_on(&members, &normal).unwrap();
             assert!((size.width - 0.05).abs() <= 0.002, "seed {seed}: {size:?}");
             assert!((size.height - 0.08).abs() <= 0.002, "seed {seed}: {size:?}");
         }
         // The normal's sign does not matter: the width is the level side either way.
-        let size = tag_size(&members, &-normal).unwrap();
+        let size = extent_on(&members, &-normal).unwrap();
         assert!((size.width - 0.05).abs() <= 0.002 && (size.height - 0.08).abs() <= 0.002);
     }
 
     #[test]
     fn too_few_points_or_no_tag_s_size_measure_nothing() {
         let (members, normal) = patch_on_a_tilted_surface(3, 0);
-        assert_eq!(tag_size(&members[..MIN_POINTS - 1], &normal), None);
+        assert_eq!(extent_on(&members[..MIN_POINTS - 1], &normal), None);
         let line: Vec<Point3<f32>> =
             (0..200).map(|i| Point3::new(1.0, 0.0, i as f32 * 1e-5)).collect();
-        assert_eq!(tag_size(&line, &-Vector3::x()), None, "2 mm tall is no tag");
+        assert_eq!(extent_on(&line, &-Vector3::x()), None, "2 mm tall is no tag");
     }
 }

@@ -121,8 +121,11 @@ pub async fn run_task(
     let tag_color = seen.plan.tag.as_ref().and_then(|t| {
         tag_color(&seen.image, &robot.calibration(), t.nearest(), &config.approach.tag)
     });
-    let tag_size = (seen.plan.tag.as_ref().zip(seen.plan.backing_plane.as_ref()))
-        .and_then(|(t, plane)| tag_size(&t.nearest().members, &plane.normal));
+    let tag_size =
+        (seen.plan.tag.as_ref().zip(seen.plan.backing_plane.as_ref())).and_then(|(t, plane)| {
+            let (calibration, search) = (robot.calibration(), &config.approach.tag);
+            tag_size(&seen.image, &calibration, t.nearest(), search, &plane.normal)
+        });
 
     // Phase 3: fingers to 10 cm, read the RFID.
     let phase = report.phase(3, "servo to the tag and read its RFID");

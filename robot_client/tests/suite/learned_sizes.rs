@@ -6,7 +6,7 @@
 //! run's search is bounded by the largest of them, the drawer's towel.
 //!
 //! Learned against true (width × height, cm): flip switch's foam tube 2.0 × 2.8 (a 3 cm tube
-//! pointing out and up: its grazing sides return no points), ADA rocker's Dycem 5.6 × 5.9
+//! pointing out and up: its grazing sides return no points), ADA rocker's Dycem 5.6 × 5.7
 //! (6 × 6), lamp's foam 2.0 × 6.0 (a 2.4 cm tube, 6 long), drawer's towel 16.0 × 23.9
 //! (16 × 24), trash can's Dycem 9.5 × 7.9 (10 × 8).
 

@@ -331,7 +331,8 @@ async fn trials_after_a_confirmed_read_carry_the_tag_s_colour_and_teach_the_regi
     let expected = tag_color(&scene.image, &scene.calibration, tag, &params.tag).unwrap();
     let expected = serde_json::to_value(expected).unwrap();
     let wall = plan.backing_plane.as_ref().expect("the library finds the switch's wall");
-    let size = tag_size(&tag.members, &wall.normal).expect("the switch's foam is measured");
+    let size = tag_size(&scene.image, &scene.calibration, tag, &params.tag, &wall.normal)
+        .expect("the switch's foam is measured");
     let size = serde_json::to_value(size).unwrap();
 
     let (server, token) = registry().await;
