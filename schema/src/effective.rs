@@ -28,7 +28,7 @@ pub struct EffectiveEntry {
 pub enum Provenance {
     /// The entry as stored.
     Base,
-    /// Learned from this robot class's trials.
+    /// Learned from trials: this robot class's, or every robot's for a tag's size.
     Learned,
     /// The override for the robot's class.
     Class(RobotId),

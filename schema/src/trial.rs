@@ -5,7 +5,7 @@ use serde_json::{Map, Value};
 use time::OffsetDateTime;
 use uuid::Uuid;
 
-use crate::{Epc, RobotId};
+use crate::{Epc, RobotId, TagSize};
 
 /// The most force-torque samples one trial may carry (the schema's `maxItems`): 5 000 is
 /// 50 s of both fingers at 50 Hz, longer than any behaviour runs, and fits the API's 1 MiB
@@ -48,6 +48,10 @@ pub struct Trial {
     /// The detected tag's colour, sent once its EPC was read (so the pixels are that tag).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tag_color: Option<TagColor>,
+    /// The detected tag's size on the surface behind it, sent on the same condition as
+    /// `tag_color`: the registry learns the size of a tag whose entry has none from it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tag_size: Option<TagSize>,
     /// Read-only: when the registry received the trial.
     #[serde(
         default,

@@ -28,3 +28,25 @@ export function learnedInWords(pointer, learned) {
   const from = typeof trials === 'number' ? `, learned from ${trials} trial${trials === 1 ? '' : 's'}` : '';
   return `${name.replaceAll('_', ' ')} ${number(value)}${unitOf(name)}${from}`;
 }
+
+/** Metres as a person says a tag's side: whole centimetres, to the half below 10 cm, e.g.
+ * 0.163 → "16", 0.056 → "5.5". */
+function centimetres(metres) {
+  const cm = metres * 100;
+  return String(cm < 10 ? Math.round(cm * 2) / 2 : Math.round(cm));
+}
+
+/** A tag's size in centimetres, e.g. "16 × 24 cm". */
+export function sizeInCentimetres(size) {
+  return `${centimetres(size.width)} × ${centimetres(size.height)} cm`;
+}
+
+/**
+ * The size the robots learned a tag to have (the stats' `learned_size`), in words: "Seen by the
+ * robots: about 16 × 24 cm, from 4 confirmed visits"; null when none was learned.
+ */
+export function learnedSizeInWords(learned) {
+  if (!learned || typeof learned.width !== 'number' || typeof learned.height !== 'number') return null;
+  const visits = `${learned.trials} confirmed visit${learned.trials === 1 ? '' : 's'}`;
+  return `Seen by the robots: about ${sizeInCentimetres(learned)}, from ${visits}`;
+}

@@ -342,7 +342,7 @@ async fn on_trial(shared: &Arc<Shared>, message: Trial) {
             return;
         }
     };
-    let (picture, tag_color) = match shared.last_view.take_for(&trial) {
+    let (picture, (tag_color, tag_size)) = match shared.last_view.take_for(&trial) {
         Some(view) => {
             let settings = &shared.settings;
             let (footprint, search, draw) =
@@ -352,23 +352,29 @@ async fn on_trial(shared: &Arc<Shared>, message: Trial) {
             // that move messages.
             let made = tokio::task::spawn_blocking(move || {
                 let picture = if draw { view.picture(&footprint) } else { None };
-                (picture, view.tag_color(&for_trial, &search))
+                (picture, (view.tag_color(&for_trial, &search), view.tag_size(&for_trial, &search)))
             });
             made.await.unwrap_or_default()
         }
-        None => (None, None),
+        None => (None, (None, None)),
     };
-    // A colour the trial's sender measured itself is its own to give.
+    // A colour or size the trial's sender measured itself is its own to give.
     let coloured = trial.tag_color.is_none() && tag_color.is_some();
     if coloured {
         trial.tag_color = tag_color;
     }
-    let with = match (picture.is_some(), coloured) {
-        (true, true) => " with its picture and its tag's colour",
-        (true, false) => " with its picture",
-        (false, true) => " with its tag's colour",
-        (false, false) => "",
-    };
+    let sized = trial.tag_size.is_none() && tag_size.is_some();
+    if sized {
+        trial.tag_size = tag_size;
+    }
+    let sent = [
+        (picture.is_some(), "its picture"),
+        (coloured, "its tag's colour"),
+        (sized, "its tag's size"),
+    ];
+    let named: Vec<&str> = sent.iter().filter(|(sent, _)| *sent).map(|(_, what)| *what).collect();
+    let with =
+        if named.is_empty() { String::new() } else { format!(" with {}", named.join(" and ")) };
     match record_trial(&shared.registry, &trial, picture.as_deref()).await {
         Ok((id, report)) if report.remaining > 0 => tracing::info!(
             "trial {id} kept in the outbox; {} waiting for the registry",

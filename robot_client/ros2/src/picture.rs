@@ -2,12 +2,13 @@
 //! click — the camera image, its calibration and what perception made of it — goes with the
 //! next trial recorded after it, drawn as the paper's Fig. 5 by the code `pps-robot run` uses;
 //! and once the fingers have read the tag's EPC, the colour of the pixels the click took for
-//! the tag, by the function `pps-robot run` uses, so that the registry learns the tag's colour.
+//! the tag and its size on the surface behind it, by the functions `pps-robot run` uses, so
+//! that the registry learns the tag's colour and size.
 //!
 //! The rule, since a trial on `/pps/trial` does not say which click led to it: a view goes with
 //! a trial that finished after the click and started at most [`VIEW_FRESH_FOR`] after it, and
 //! with one trial only. A trial with no such view is recorded without a picture. The tag's
-//! colour goes only when the fingers' latest inventory round since the click in which tags
+//! colour and size go only when the fingers' latest inventory round since the click in which tags
 //! answered chose the trial's EPC unambiguously: only then are the pixels known to be that tag.
 
 use std::sync::Mutex;
@@ -15,9 +16,9 @@ use std::time::Duration;
 
 use pps_robot::hal::{CameraCalibration, ColorImage};
 use pps_robot::navigation::{ApproachPlan, RobotFootprint};
-use pps_robot::perception::{TagSearchParams, tag_color};
+use pps_robot::perception::{TagSearchParams, tag_color, tag_size};
 use pps_robot::picture::trial_picture;
-use pps_schema::{Epc, TagColor, Trial};
+use pps_schema::{Epc, TagColor, TagSize, Trial};
 use time::OffsetDateTime;
 
 /// How long after a click the robot may start acting on what it showed.
@@ -50,6 +51,17 @@ impl PerceivedView {
         }
         let tag = self.plan.tag.as_ref()?.nearest();
         tag_color(&self.image, &self.calibration, tag, params)
+    }
+
+    /// The size of what this view took for the tag on the surface behind it, for `trial`, on
+    /// the same condition as [`Self::tag_color`]; `None` too when no surface was found.
+    pub fn tag_size(&self, trial: &Trial, params: &TagSearchParams) -> Option<TagSize> {
+        if self.read.as_ref() != Some(&trial.epc) {
+            return None;
+        }
+        let tag = self.plan.tag.as_ref()?.nearest();
+        let surface = self.plan.backing_plane.as_ref()?;
+        tag_size(&self.image, &self.calibration, tag, params, &surface.normal)
     }
 
     /// The Fig. 5 picture of this view, PNG bytes; `None` (and a warning) when it cannot be

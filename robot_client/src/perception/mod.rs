@@ -28,6 +28,7 @@ mod seeded_segmentation;
 mod tag;
 mod tag_colour_stats;
 mod tag_colours;
+mod tag_extent;
 mod two_colours;
 pub(crate) mod voxel_coords;
 
@@ -50,3 +51,4 @@ pub use tag::{
 };
 pub use tag_colour_stats::tag_color;
 pub use tag_colours::{covering_colour, describe_colour};
+pub use tag_extent::tag_size;

@@ -4,7 +4,7 @@
 //! about as strong, move closer and read again.
 
 use nalgebra::Point3;
-use pps_schema::TagColor;
+use pps_schema::{TagColor, TagSize};
 
 use super::approach::{Look, look};
 use super::drive::{in_base, in_odom, in_view};
@@ -13,7 +13,7 @@ use super::run::TaskConfig;
 use crate::behaviors::Hand;
 use crate::hal::{ColorCamera, Finger, HalError, MobileBase, RfidReader, TiltSweep, TiltingLaser};
 use crate::navigation::{ApproachParams, RfidIdentity, identify_tag};
-use crate::perception::tag_color;
+use crate::perception::{tag_color, tag_size};
 
 /// Force that means the fingers bumped into something on the way, newtons.
 const BUMP_FORCE: f64 = 2.0;
@@ -67,7 +67,7 @@ fn look_again(
 pub(super) enum SecondLook {
     /// The tag's centre, odometry frame, what the search said of the red it divided, and the
     /// tag's colour in the picture.
-    Seen { at: Point3<f64>, notes: Vec<String>, color: Option<TagColor> },
+    Seen { at: Point3<f64>, notes: Vec<String>, color: Option<TagColor>, size: Option<TagSize> },
     /// The camera sees the point, but the search took no tag there; why, when it said.
     NotFound(Option<String>),
     /// The point lies outside the camera's view from here.
@@ -94,6 +94,9 @@ pub(super) fn look_from_here(
         Some(seen) => Ok(SecondLook::Seen {
             at: in_odom(robot, &seen.centroid)?,
             color: tag_color(&image, &robot.calibration(), seen, &params.tag),
+            size: plan.backing_plane.as_ref().and_then(|plane| {
+                tag_size(&image, &robot.calibration(), seen, &params.tag, &plane.normal)
+            }),
             notes: plan.tag_notes,
         }),
         None => Ok(SecondLook::NotFound(plan.tag_notes.last().cloned())),

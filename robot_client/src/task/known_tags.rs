@@ -155,7 +155,7 @@ fn bounded_by_known_sizes(
             let bounded = params.for_home_tags(sizes.iter().map(TagSize::reach));
             notes.push(format!(
                 "no red region reaching more than {:.0} cm from its middle is taken for a tag \
-                 (the largest of this household's {} tags, by their registered sizes)",
+                 (the largest of this household's {} tags, by their registered or learned sizes)",
                 bounded.max_tag_radius * 100.0,
                 sizes.len()
             ));

@@ -3,7 +3,9 @@
 //! recorded through the outbox.
 
 use nalgebra::Point3;
-use pps_schema::{BehaviorSpec, EffectiveEntry, Epc, Outcome, Properties, TagColor, Trial};
+use pps_schema::{
+    BehaviorSpec, EffectiveEntry, Epc, Outcome, Properties, TagColor, TagSize, Trial,
+};
 use serde_json::{Map, Value};
 use time::OffsetDateTime;
 use uuid::Uuid;
@@ -43,6 +45,8 @@ pub(super) struct FoundTag {
     /// The tag's colour where it was first found, sent with the trial: the EPC read since says
     /// the pixels were this tag's, unless the look after the read finds it elsewhere.
     pub color: Option<TagColor>,
+    /// The tag's size on its surface in that look, sent with the trial on the same condition.
+    pub size: Option<TagSize>,
 }
 
 /// How far the tag, seen again after its read, may lie from where the hand was brought for the
@@ -192,7 +196,7 @@ fn look_knowing_the_tag(
     let look = look_from_here(robot, &first, &tag.pointed, config, &params)?;
     let moved = backed > 0.0;
     let act_at = match look {
-        SecondLook::Seen { at: seen, notes, color } => {
+        SecondLook::Seen { at: seen, notes, color, size } => {
             for note in notes {
                 phase.note(note);
             }
@@ -207,9 +211,11 @@ fn look_knowing_the_tag(
             // Found elsewhere, what was first taken for the tag was not only the tag: its
             // colour would teach the registry the wood or the box beside it. This look was
             // taken from the same range, so its colour is as comparable.
-            if off > HAND_STAYS_WITHIN && color.is_some() {
-                phase.note("the trial carries the tag's colour as this look saw it");
+            // A read that did not name one tag sends neither, whatever this look saw.
+            if off > HAND_STAYS_WITHIN && tag.color.is_some() && color.is_some() {
+                phase.note("the trial carries the tag's colour and size as this look saw them");
                 tag.color = color;
+                tag.size = size;
             }
             (!stays).then_some(seen)
         }
@@ -382,6 +388,7 @@ fn trial_record(
         start_pose: acting.config.start_pose,
         purpose: acting.config.purpose,
         tag_color: tag.color,
+        tag_size: tag.size,
         received_at: None,
         seq: None,
     }

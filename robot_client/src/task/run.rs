@@ -13,8 +13,8 @@ use crate::behaviors::{Hand, RobotBody};
 use crate::hal::{
     BrightnessCamera, Clock, ColorCamera, MobileBase, Operator, RfidReader, TiltSweep, TiltingLaser,
 };
-use crate::navigation::ApproachParams;
-use crate::perception::tag_color;
+use crate::navigation::{ApproachParams, RfidIdentity};
+use crate::perception::{tag_color, tag_size};
 use crate::registry::RegistryClient;
 
 /// Everything the task needs of a robot.
@@ -123,6 +123,11 @@ pub async fn run_task(
     });
     let camera = camera_origin(&robot.calibration());
     let seen_from = seen.plan.tag.as_ref().map_or(0.0, |t| (t.nearest().centroid - camera).norm());
+    let tag_size =
+        (seen.plan.tag.as_ref().zip(seen.plan.backing_plane.as_ref())).and_then(|(t, plane)| {
+            let (calibration, search) = (robot.calibration(), &config.approach.tag);
+            tag_size(&seen.image, &calibration, t.nearest(), search, &plane.normal)
+        });
 
     // Phase 3: fingers to 10 cm, read the RFID.
     let phase = report.phase(3, "servo to the tag and read its RFID");
@@ -133,10 +138,13 @@ pub async fn run_task(
     // Phase 4: the registry's entry, the action, the behaviour, the person, the trial.
     let phase = report.phase(4, "read the entry, act, ask, record");
     let at = in_base(robot, &tag)?;
+    // Only a read that names one tag says the look's pixels and points were that tag.
+    let one_tag = matches!(identity, RfidIdentity::Identified(_));
     let epc = settle_epc(identity, &at, registry, phase).await;
     report.epc = Some(epc.clone());
     let acting = Acting { robot, operator, registry, clock, config, picture: picture.as_deref() };
-    let found = FoundTag { epc, at, seen_from, pointed: seen.target, color: tag_color };
+    let (color, size) = (tag_color.filter(|_| one_tag), tag_size.filter(|_| one_tag));
+    let found = FoundTag { epc, at, seen_from, pointed: seen.target, color, size };
     act(&acting, found, &mut report).await?;
     Ok(report)
 }

@@ -4,6 +4,7 @@
 mod after_read;
 mod behaviors;
 mod learned_colour;
+mod learned_sizes;
 mod llrp_decoder;
 mod llrp_flood;
 mod llrp_reader;

@@ -21,6 +21,24 @@ pub struct TagStats {
     #[schemars(extend("additionalProperties" = { "type": "integer", "minimum": 1 }))]
     pub not_counted: BTreeMap<String, i64>,
     pub groups: Vec<ActionStats>,
+    /// The tag's size learned from every robot's confirmed reads; `null` before three. Robots
+    /// get it only while the entry has no `tag_size` of its own.
+    pub learned_size: Option<LearnedSizeAnswer>,
+}
+
+/// A tag's size learned from the robots' measurements of it.
+#[derive(Debug, Serialize, JsonSchema)]
+#[schemars(rename = "learned_size")]
+pub struct LearnedSizeAnswer {
+    /// Metres, across.
+    #[schemars(range(min = 0.01, max = 1))]
+    pub width: f64,
+    /// Metres, at right angles to the width along the surface.
+    #[schemars(range(min = 0.01, max = 1))]
+    pub height: f64,
+    /// The confirmed trials it was learned from.
+    #[schemars(range(min = 3))]
+    pub trials: i64,
 }
 
 /// One action as done by one robot class.

@@ -19,9 +19,8 @@ use crate::http::ids::InPath;
 use crate::http::openapi::{Doc, Header, Param, Reply};
 use crate::http::precondition;
 use crate::state::AppState;
-use crate::store::learned_colours;
-use crate::store::{learning, retired, robots, tags};
-use crate::tags::effective::{LearnedColours, merge};
+use crate::store::{learned_colours, learned_sizes, learning, retired, robots, tags};
+use crate::tags::effective::{LearnedLooks, merge};
 use crate::tags::effective_cache::CachedEffective;
 
 pub const GET: Doc = Doc::new("getEffectiveEntry", "The entry as this robot should use it")
@@ -89,7 +88,8 @@ async fn compute(
     let class = stored_robot.as_ref().and_then(|r| r.class.as_deref());
     let learned = learning::learned_for(pool, parsed, class).await?;
     let (tag_colour, household) = learned_colours::learned(pool, parsed, class).await?;
-    let colours = LearnedColours { tag: tag_colour, household };
+    let size = learned_sizes::learned(pool, parsed).await?.map(|learned| learned.size);
+    let looks = LearnedLooks { tag: tag_colour, household, size };
     let merged = merge(
         epc,
         tag.revision,
@@ -97,7 +97,7 @@ async fn compute(
         robot.as_str(),
         stored_robot.as_ref(),
         &learned,
-        &colours,
+        &looks,
     );
     let body = serde_json::to_vec(&merged).map_err(anyhow::Error::from)?;
     // The ETag is the content's hash, so it is stable across restarts and changes with it.

@@ -10,7 +10,7 @@ use pps_schema::pointer::escape;
 use pps_schema::{Epc, Purpose};
 
 use crate::answers::stamp;
-use crate::answers::stats::{ActionStats, LearnedValue, TagStats};
+use crate::answers::stats::{ActionStats, LearnedSizeAnswer, LearnedValue, TagStats};
 use crate::error::ApiError;
 use crate::http::extract::ApiQuery;
 use crate::http::ids::InPath;
@@ -18,13 +18,13 @@ use crate::http::openapi::{Doc, Param, ParamType, Reply};
 use crate::learning::{RELIABILITY_WINDOW, is_reliable};
 use crate::state::AppState;
 use crate::store::trial_counts::{self, GroupKey};
-use crate::store::{learning, tags};
+use crate::store::{learned_sizes, learning, tags};
 use crate::trials::counted_purposes::CountedPurposes;
 
 pub const GET: Doc = Doc::new("getTagStats", "How a tag's actions have gone, per robot class")
     .describe(
         "Attempts, detected and confirmed successes, agreement between the robots' detectors \
-         and the people's verdicts, the reliable flag and the learned values. Only trials of \
+         and the people's verdicts, the reliable flag and the learned values (the tag's learned size beside the groups). Only trials of \
          real use count unless `include` names other purposes; `counted` says which did, and \
          `not_counted` how many trials of each other purpose were left out. Learned values are \
          always those robots get, learned from real use.",
@@ -111,11 +111,17 @@ pub async fn get(
         .into_iter()
         .filter(|(purpose, _)| Purpose::parse(purpose).is_some_and(|p| !counted.counts(p)))
         .collect();
+    let learned_size = learned_sizes::learned(pool, &epc).await?.map(|learned| LearnedSizeAnswer {
+        width: learned.size.width,
+        height: learned.size.height,
+        trials: learned.trials as i64,
+    });
     Ok(Json(TagStats {
         epc: epc.as_hex().to_owned(),
         counted: counted.purposes().iter().map(|p| p.as_str()).collect(),
         not_counted,
         groups,
+        learned_size,
     }))
 }
 

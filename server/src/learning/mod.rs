@@ -5,6 +5,7 @@
 //! with the evidence it rests on.
 
 pub mod colour;
+pub mod size;
 
 use std::collections::BTreeSet;
 
@@ -34,8 +35,8 @@ const RULES: [LearningRule; 1] = [LearningRule {
     parameter: "pull_distance",
 }];
 
-/// Successful trials a learned value is computed from (the most recent ones).
-const LEARNING_WINDOW: i64 = 100;
+/// Trials a learned value is computed from (the most recent ones).
+pub(crate) const LEARNING_WINDOW: i64 = 100;
 
 /// The lab's rule: reliable after at least 20 attempts with at least 90 % success, judged over
 /// the most recent attempts of real use so that a tag wearing out stops being reliable and an
@@ -105,6 +106,15 @@ pub async fn update(
         if change.tag || change.household {
             // A household's model is in every entry of the class: the caches forget them all.
             let data = json!({ "epc": epc.as_hex(), "robot_class": class_in_feed(robot_class), "household": change.household });
+            events::append(conn, EventKind::LearnedChanged, data).await?;
+            changed.insert(epc.clone());
+        }
+    }
+    // Size is learned per tag, whoever measured it: a tag is as large for every camera.
+    let size_groups: BTreeSet<&Epc> = groups.iter().filter(|g| g.relearn).map(|g| &g.epc).collect();
+    for epc in size_groups {
+        if size::update(conn, epc).await? {
+            let data = json!({ "epc": epc.as_hex(), "tag_size": true });
             events::append(conn, EventKind::LearnedChanged, data).await?;
             changed.insert(epc.clone());
         }

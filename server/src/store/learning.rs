@@ -169,6 +169,7 @@ pub async fn move_to(conn: &mut AnyConnection, from: &Epc, to: &Epc) -> sqlx::Re
         "update learned_values set epc = $1 where epc = $2",
         "update reliability set epc = $1 where epc = $2",
         "update learned_colours set epc = $1 where epc = $2",
+        "update learned_sizes set epc = $1 where epc = $2",
     ] {
         sqlx::query(statement).bind(to.as_hex()).bind(from.as_hex()).execute(&mut *conn).await?;
     }

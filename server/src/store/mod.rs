@@ -8,6 +8,7 @@ pub mod events;
 pub mod home_assistant;
 pub mod inbox;
 pub mod learned_colours;
+pub mod learned_sizes;
 pub mod learning;
 pub mod pictures;
 pub mod placeholders;

@@ -9,7 +9,9 @@
 use std::collections::BTreeMap;
 
 use pps_schema::pointer::{escape, unescape};
-use pps_schema::{BehaviorKind, BehaviorSpec, HOUSEHOLD_COLOR, LEARNED_COLOR, LearnedColor};
+use pps_schema::{
+    BehaviorKind, BehaviorSpec, HOUSEHOLD_COLOR, LEARNED_COLOR, LearnedColor, TagSize,
+};
 use serde_json::{Map, Value, json};
 
 use crate::answers::effective::{EffectiveEntry, UnavailableAction};
@@ -22,12 +24,13 @@ pub struct Learned {
     pub value: f64,
 }
 
-/// Colour models learned from the robot class's confirmed reads: the tag's own and its
-/// household's.
+/// What the confirmed reads taught of the tag itself: the colour models learned from the robot
+/// class's (the tag's own and its household's) and the size learned from every robot's.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct LearnedColours {
+pub struct LearnedLooks {
     pub tag: Option<LearnedColor>,
     pub household: Option<LearnedColor>,
+    pub size: Option<TagSize>,
 }
 
 /// Merges `entry` for `robot` (which may be unregistered) and checks what it can run.
@@ -38,7 +41,7 @@ pub fn merge(
     robot_id: &str,
     robot: Option<&StoredRobot>,
     learned: &[Learned],
-    colours: &LearnedColours,
+    looks: &LearnedLooks,
 ) -> EffectiveEntry {
     let class = robot.and_then(|r| r.class.as_deref());
     let mut provenance = BTreeMap::new();
@@ -56,6 +59,14 @@ pub fn merge(
     if let Some(properties) = merged.get_mut("properties").and_then(Value::as_object_mut) {
         let overrides = properties.remove("robots");
         record_leaves("/properties", &Value::Object(properties.clone()), "base", &mut provenance);
+        // Only where the entry has none: a size a caretaker measured stands.
+        if let Some(size) = looks.size
+            && !properties.contains_key("tag_size")
+        {
+            let value = json!(size);
+            record_leaves("/properties/tag_size", &value, "learned", &mut provenance);
+            properties.insert("tag_size".to_owned(), value);
+        }
         for (source, key) in &layers {
             if let Some(layer) = key.and_then(|k| overrides.as_ref()?.get(k)) {
                 apply(properties, layer, "/properties", source, &mut provenance);
@@ -64,7 +75,7 @@ pub fn merge(
     }
     if let Some(properties) = merged.get_mut("properties").and_then(Value::as_object_mut) {
         // Beside the entry's own `color_segmentation`, never over it: the robot chooses.
-        for (key, model) in [(LEARNED_COLOR, colours.tag), (HOUSEHOLD_COLOR, colours.household)] {
+        for (key, model) in [(LEARNED_COLOR, looks.tag), (HOUSEHOLD_COLOR, looks.household)] {
             if let Some(model) = model {
                 let value = json!(model);
                 record_leaves(&format!("/properties/{key}"), &value, "learned", &mut provenance);
@@ -246,15 +257,8 @@ mod tests {
         let learned =
             [Learned { pointer: "/behaviors/pull_open/pull_distance".into(), value: 0.31 }];
         let robot = robot(Some("el-e"), &["pull_back", "push"], 15.0);
-        let out = json(merge(
-            "E",
-            3,
-            &entry,
-            "el-e-1",
-            Some(&robot),
-            &learned,
-            &LearnedColours::default(),
-        ));
+        let out =
+            json(merge("E", 3, &entry, "el-e-1", Some(&robot), &learned, &LearnedLooks::default()));
         let pull = &out["entry"]["behaviors"]["pull_open"];
         assert_eq!(pull["pull_distance"], 0.31);
         assert_eq!(pull["grasp_force"], 3.0);
@@ -284,7 +288,7 @@ mod tests {
             "el-e-1",
             Some(&robot(Some("el-e"), &["pull_back"], 15.0)),
             &learned,
-            &LearnedColours::default(),
+            &LearnedLooks::default(),
         ));
         assert_eq!(out["entry"]["behaviors"]["pull_open"]["pull_distance"], 0.2);
         assert_eq!(out["provenance"]["/behaviors/pull_open/pull_distance"], "class:el-e");
@@ -300,8 +304,11 @@ mod tests {
             },
             trials,
         };
-        let colours =
-            LearnedColours { tag: Some(model(352.0, 4)), household: Some(model(350.0, 9)) };
+        let colours = LearnedLooks {
+            tag: Some(model(352.0, 4)),
+            household: Some(model(350.0, 9)),
+            size: None,
+        };
         let robot = robot(Some("el-e"), &["pull_back", "push"], 15.0);
         let out = json(merge("E", 1, &entry(), "el-e-1", Some(&robot), &[], &colours));
         let properties = &out["entry"]["properties"];
@@ -318,10 +325,40 @@ mod tests {
     }
 
     #[test]
+    fn a_learned_size_fills_in_only_where_the_entry_has_none() {
+        let looks = LearnedLooks {
+            size: Some(TagSize { width: 0.162, height: 0.238 }),
+            ..LearnedLooks::default()
+        };
+        let robot = robot(Some("el-e"), &["pull_back", "push"], 15.0);
+        let out = json(merge("E", 1, &entry(), "el-e-1", Some(&robot), &[], &looks));
+        assert_eq!(
+            out["entry"]["properties"]["tag_size"],
+            json!({"width": 0.162, "height": 0.238})
+        );
+        assert_eq!(out["provenance"]["/properties/tag_size/width"], "learned");
+        assert_eq!(out["provenance"]["/properties/tag_size/height"], "learned");
+
+        let mut measured = entry();
+        measured["properties"]["tag_size"] = json!({"width": 0.16, "height": 0.24});
+        let out = json(merge("E", 1, &measured, "el-e-1", Some(&robot), &[], &looks));
+        assert_eq!(out["entry"]["properties"]["tag_size"], json!({"width": 0.16, "height": 0.24}));
+        assert_eq!(out["provenance"]["/properties/tag_size/width"], "base");
+
+        // A class's own size beats the learned one, as every override beats what was learned.
+        let mut class_size = entry();
+        class_size["properties"]["robots"]["el-e"]["tag_size"] =
+            json!({"width": 0.1, "height": 0.2});
+        let out = json(merge("E", 1, &class_size, "el-e-1", Some(&robot), &[], &looks));
+        assert_eq!(out["entry"]["properties"]["tag_size"], json!({"width": 0.1, "height": 0.2}));
+        assert_eq!(out["provenance"]["/properties/tag_size/height"], "class:el-e");
+    }
+
+    #[test]
     fn missing_capabilities_limits_and_registration_make_actions_unavailable() {
         let weak = robot(Some("tiny"), &["push"], 5.0);
         let out =
-            json(merge("E", 1, &entry(), "el-e-1", Some(&weak), &[], &LearnedColours::default()));
+            json(merge("E", 1, &entry(), "el-e-1", Some(&weak), &[], &LearnedLooks::default()));
         let reasons: Vec<(String, String)> = out["unavailable_actions"]
             .as_array()
             .unwrap()
@@ -334,8 +371,7 @@ mod tests {
         assert_eq!(reasons[1].0, "open");
         assert!(reasons[1].1.contains("pull_back"), "{reasons:?}");
 
-        let unknown =
-            json(merge("E", 1, &entry(), "el-e-9", None, &[], &LearnedColours::default()));
+        let unknown = json(merge("E", 1, &entry(), "el-e-9", None, &[], &LearnedLooks::default()));
         assert_eq!(unknown["unavailable_actions"].as_array().unwrap().len(), 2);
         assert!(
             unknown["unavailable_actions"][0]["reason"]

@@ -17,8 +17,8 @@ use uuid::Uuid;
 
 use crate::clock::Clock;
 use crate::feed::ChangeFeed;
-use crate::learning::colour;
 use crate::learning::{self, TrialGroup};
+use crate::learning::{colour, size};
 use crate::store::db::{Db, Unwritable};
 use crate::store::events::{self, EventKind};
 use crate::store::trials::{self, NewTrial, TrialRow};
@@ -250,7 +250,9 @@ async fn sort_out<'a>(
             action: trial.action.clone(),
             behavior: trial.behavior.clone(),
             robot_class: robot_class.clone(),
-            relearn: learning::teaches(submitted.get("measurements")) || colour::teaches(submitted),
+            relearn: learning::teaches(submitted.get("measurements"))
+                || colour::teaches(submitted)
+                || size::teaches(submitted),
         });
         sorted.results.push(Ok(Recorded::New(TrialRow {
             seq,

@@ -10,6 +10,7 @@ mod effective_entries;
 mod feed_and_metrics;
 mod http_errors;
 mod learned_colour;
+mod learned_size;
 mod learning;
 mod limits;
 mod openapi;

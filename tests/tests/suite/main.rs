@@ -4,6 +4,7 @@
 
 mod accessibility;
 mod browser;
+mod browser_learned_size;
 mod browser_purpose;
 mod browser_tasks;
 mod caretaker_first_hour;

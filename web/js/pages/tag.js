@@ -13,7 +13,7 @@ import { debounce, h, replace, uid } from '../dom.js';
 import { mountEditor } from '../editor.js';
 import { subscribe } from '../events.js';
 import { when } from '../format.js';
-import { learnedInWords } from '../learned.js';
+import { learnedInWords, learnedSizeInWords, sizeInCentimetres } from '../learned.js';
 import { countedControl, countedInWords, noCountedTrials } from '../purpose.js';
 import { noticeLine } from '../notice.js';
 import { loadSchemas, titleOf, titlesFrom } from '../schema.js';
@@ -65,20 +65,33 @@ function header(tag, { onArchive, onRestore, robots, stops, words }) {
       tag.archived ? null : askControl(tag, action, robots, stops)))));
 }
 
+/** The tag's size as the robots measured it; a size a caretaker registered is what they use. */
+function learnedSizeView(stats, tag) {
+  const seen = learnedSizeInWords(stats.learned_size);
+  if (!seen) return null;
+  const registered = tag.properties?.tag_size;
+  const use = registered
+    ? ` (robots use the size registered for it, ${sizeInCentimetres(registered)}).`
+    : '. Robots use it until a size is registered for the tag.';
+  return h('p', { class: 'learned-size' }, seen, use);
+}
+
 /** Success per action and kind of robot, and what was learned: for engineers. */
-function statsView(stats) {
+function statsView(stats, tag) {
   const groups = stats.groups ?? [];
   const counted = h('p', { class: 'counted' }, countedInWords(stats));
   if (groups.length === 0) return h('div', {}, counted, h('p', { class: 'muted' }, noCountedTrials(stats)));
   // The registry lists under each action only what that action's behaviour uses.
   const learned = groups.filter((g) => Object.keys(g.learned ?? {}).length > 0);
+  const size = learnedSizeView(stats, tag);
   return h('div', {},
     counted,
     successChart(groups),
     h('p', { class: 'help' }, 'An action counts as reliable for a kind of robot after at least 20 attempts, at least 90 % of them successful (over its latest 50). A success is what the person confirmed, or else what the robot\'s own detector saw.'),
     h('h3', {}, 'Learned values'),
+    size,
     learned.length === 0
-      ? h('p', { class: 'muted' }, 'Nothing learned yet.')
+      ? (size ? null : h('p', { class: 'muted' }, 'Nothing learned yet.'))
       : h('ul', { class: 'learned' }, learned.map((g) => h('li', { dataset: { action: g.action } },
         h('strong', {}, g.action), `, ${g.robot_class ? `${g.robot_class} robots` : 'robots without a class'}: `,
         Object.entries(g.learned).map(([pointer, value]) => learnedInWords(pointer, value)).join('; ')))));
@@ -166,9 +179,12 @@ export async function render(main, [epc]) {
     replace(head, header(tag, { onArchive: archive, onRestore: restore, robots, stops, words }));
     replace(engineeringBox, engineeringView(tag, schemas));
   };
+  // The latest stats, so that a size registered since says again which size robots use.
+  let shownStats = null;
   const refreshTag = async () => {
     tag = await get(`/api/v1/tags/${seg(tag.epc)}`);
     showHead();
+    if (shownStats) replace(statsBox, statsView(shownStats, tag));
     section(historyBox, () => renderHistory(historyBox, tag.epc));
   };
   const refreshTrials = () => {
@@ -182,7 +198,8 @@ export async function render(main, [epc]) {
       const groups = stats.groups ?? [];
       replace(ratesBox, h('p', { class: 'counted' }, countedInWords(stats)),
         groups.length > 0 ? successRates(groups, words.action) : h('p', { class: 'muted' }, noCountedTrials(stats)));
-      replace(statsBox, statsView(stats));
+      shownStats = stats;
+      replace(statsBox, statsView(stats, tag));
     });
   };
 

@@ -6,7 +6,7 @@ use crate::support::netns::isolated;
 use crate::support::{PATIENCE, Peer, RosNode, logged_times, registry, stored_trial};
 use nalgebra::{Point3, UnitQuaternion, Vector3};
 use pps_robot::navigation::{ApproachParams, plan_approach};
-use pps_robot::perception::tag_color;
+use pps_robot::perception::{tag_color, tag_size};
 use pps_robot::sim::{
     CaptureSettings, DeviceKind, Room, SceneCapture, StartDirection, capture_scene,
 };
@@ -330,6 +330,10 @@ async fn trials_after_a_confirmed_read_carry_the_tag_s_colour_and_teach_the_regi
     let tag = plan.tag.as_ref().expect("the library finds the tag").nearest();
     let expected = tag_color(&scene.image, &scene.calibration, tag, &params.tag).unwrap();
     let expected = serde_json::to_value(expected).unwrap();
+    let wall = plan.backing_plane.as_ref().expect("the library finds the switch's wall");
+    let size = tag_size(&scene.image, &scene.calibration, tag, &params.tag, &wall.normal)
+        .expect("the switch's foam is measured");
+    let size = serde_json::to_value(size).unwrap();
 
     let (server, token) = registry().await;
     // Without pictures: the colour does not depend on them.
@@ -354,6 +358,7 @@ async fn trials_after_a_confirmed_read_carry_the_tag_s_colour_and_teach_the_regi
         assert_eq!(peer.command(json!({"trial": trial_now(&id, &switch)}))["sent"], true);
         let stored = stored_trial(&server, &id, &node).await;
         assert!(stored.get("tag_color").is_none_or(Value::is_null), "{n}: {stored}");
+        assert!(stored.get("tag_size").is_none_or(Value::is_null), "{n}: {stored}");
     }
 
     // Read after each click: the trials carry the colour, and the third teaches the registry.
@@ -363,15 +368,19 @@ async fn trials_after_a_confirmed_read_carry_the_tag_s_colour_and_teach_the_regi
         assert_eq!(answer["entry"]["ambiguous"], false, "{answer}");
         let id = format!("c010a000-0000-4000-8000-00000000001{n}");
         assert_eq!(peer.command(json!({"trial": trial_now(&id, &switch)}))["sent"], true);
-        logged(&node, &format!("trial {id} recorded with its tag's colour")).await;
+        logged(&node, &format!("trial {id} recorded with its tag's colour and its tag's size"))
+            .await;
         let stored = stored_trial(&server, &id, &node).await;
         assert_eq!(stored["tag_color"], expected, "trial {n}");
+        assert_eq!(stored["tag_size"], size, "trial {n}");
         let entry = server.get(&entry_path).await;
         assert_eq!(learned(&entry).is_object(), n == 3, "after {n} confirmed reads: {entry}");
     }
     let entry = server.get(&entry_path).await;
     assert_eq!(learned(&entry)["trials"], 3, "{entry}");
     assert_eq!(entry["provenance"]["/properties/learned_color_segmentation/hue_deg"], "learned");
+    assert_eq!(entry["entry"]["properties"]["tag_size"], size, "three alike: their medians");
+    assert_eq!(entry["provenance"]["/properties/tag_size/width"], "learned");
     assert!(entry["entry"]["properties"]["household_color_segmentation"].is_object(), "{entry}");
 
     // Once the change feed has brought the learned entry, the node's clicks look for it.
