@@ -13,7 +13,7 @@ use serde_json::Value;
 use sqlx::AnyConnection;
 
 use super::{LEARNING_WINDOW, median};
-use crate::store::learned_sizes;
+use crate::store::learned_sizes::{self, LearnedSize};
 
 /// Fewest measurements a size rests on: with one or two, a single look that joined a red
 /// neighbour to the tag (or saw half of it) is the median or half of it; with three, the
@@ -22,13 +22,6 @@ pub const MIN_MEASUREMENTS: usize = 3;
 
 /// The smallest and largest width or height a tag may have, metres: the entry schema's bounds.
 const BOUNDS: std::ops::RangeInclusive<f64> = 0.01..=1.0;
-
-/// A tag's size learned from its confirmed reads, and how many it rests on.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LearnedSize {
-    pub size: TagSize,
-    pub trials: u64,
-}
 
 /// Whether a trial carries what size learning learns from.
 pub fn teaches(trial: &Value) -> bool {

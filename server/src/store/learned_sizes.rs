@@ -5,9 +5,15 @@ use pps_schema::{Epc, TagSize};
 use sqlx::{AnyConnection, AnyPool};
 
 use crate::clock;
-use crate::learning::size::LearnedSize;
 use crate::store::columns::At;
 use crate::store::db::Dialect;
+
+/// A tag's size learned from its confirmed reads, and how many it rests on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LearnedSize {
+    pub size: TagSize,
+    pub trials: u64,
+}
 
 /// The learned size of `epc`, as stored.
 pub async fn learned(pool: &AnyPool, epc: &Epc) -> sqlx::Result<Option<LearnedSize>> {
