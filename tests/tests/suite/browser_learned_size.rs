@@ -3,7 +3,7 @@
 
 use pps_test_kit::{DRAWER, Registry};
 use pps_tests::Browser;
-use pps_tests::browser::PHONE;
+use pps_tests::browser::{DESKTOP, PHONE};
 use reqwest::Method;
 use serde_json::json;
 
@@ -39,6 +39,7 @@ async fn a_size_the_robots_learned_shows_on_the_tag_page_in_centimetres() {
         "Seen by the robots: about 16 × 24 cm, from 3 confirmed visits. Robots use it until a \
          size is registered for the tag."
     );
+    page.screenshot_full_page("tag-learned-size-phone").await;
 
     let mut entry = registry.get(&format!("/api/v1/tags/{DRAWER}")).await;
     entry["properties"]["tag_size"] = json!({ "width": 0.15, "height": 0.25 });
@@ -50,5 +51,7 @@ async fn a_size_the_robots_learned_shows_on_the_tag_page_in_centimetres() {
     assert!(status.is_success(), "the caretaker's size was saved: {status} {body}");
     // The page hears of the change and says which size robots now use, without a reload.
     page.wait_for_text("p.learned-size", "robots use the size registered for it, 15 × 25 cm").await;
+    page.set_viewport(DESKTOP).await;
+    page.screenshot_full_page("tag-learned-size-desktop").await;
     page.close().await;
 }
