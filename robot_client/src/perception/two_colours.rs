@@ -6,9 +6,8 @@
 //! Two tight clusters of pooled colours, far apart for their spreads, are two things, and the
 //! tag is the one its part nearest the target has.
 
-use std::collections::HashMap;
-
 use nalgebra::Point3;
+use rustc_hash::FxHashMap;
 
 use super::hsv::chroma_point;
 use super::voxel_coords::cube_of;
@@ -96,12 +95,14 @@ pub(super) fn of_the_core_colour(
     if voxels.len() < 2 {
         return None;
     }
-    let of_point: HashMap<usize, usize> = voxels
-        .iter()
-        .enumerate()
-        .flat_map(|(v, voxel)| voxel.members.iter().map(move |&i| (i, v)))
-        .collect();
-    let core_voxels: Vec<usize> = core.iter().filter_map(|i| of_point.get(i).copied()).collect();
+    // Each point's voxel, `None` for a point outside the picture.
+    let mut of_point: Vec<Option<usize>> = vec![None; points.len()];
+    for (v, voxel) in voxels.iter().enumerate() {
+        for &i in &voxel.members {
+            of_point[i] = Some(v);
+        }
+    }
+    let core_voxels: Vec<usize> = core.iter().filter_map(|&i| of_point[i]).collect();
     let core_mean = weighted_mean(core_voxels.iter().map(|&v| &voxels[v]))?;
     let mut middles = [core_mean, far_half_mean(&voxels, core_mean)?];
     let mut side = vec![0usize; voxels.len()];
@@ -161,7 +162,8 @@ fn voxel_colours(
     colours: &[Option<[f32; 2]>],
     voxel_size: f32,
 ) -> Vec<VoxelColour> {
-    let mut index: HashMap<[i64; 3], usize> = HashMap::new();
+    // Voxels of one frame, chosen by nobody: SipHash buys nothing here.
+    let mut index: FxHashMap<[i64; 3], usize> = FxHashMap::default();
     let mut sums: Vec<([i64; 3], [f32; 2], Vec<usize>)> = Vec::new();
     for (i, (p, colour)) in points.iter().zip(colours).enumerate() {
         let Some(c) = colour else { continue };
@@ -187,7 +189,7 @@ fn voxel_colours(
 /// the number pooled, nine or so on a surface, while only the voxels along the boundary of two
 /// things mix their colours.
 fn pooled_with_neighbours(voxels: Vec<VoxelColour>) -> Vec<VoxelColour> {
-    let at: HashMap<[i64; 3], usize> =
+    let at: FxHashMap<[i64; 3], usize> =
         voxels.iter().enumerate().map(|(i, v)| (v.cube, i)).collect();
     let pooled: Vec<[f32; 2]> = voxels
         .iter()
