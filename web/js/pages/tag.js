@@ -21,7 +21,7 @@ import { askControl } from './ask.js';
 import { engineeringView } from './tag-engineering.js';
 import { renderHistory } from './tag-history.js';
 import { successRates } from './tag-rates.js';
-import { renderRobotView } from './tag-robots.js';
+import { robotView } from './tag-robots.js';
 import { renderTrials } from './tag-trials.js';
 import { renderLatestPicture } from '../picture.js';
 
@@ -142,6 +142,7 @@ export async function render(main, [epc]) {
   const statsBox = h('div', { class: 'card' }, h('p', { class: 'muted' }, 'Loading…'));
   const trialsBox = h('div', { class: 'card', id: 'trials' }, h('p', { class: 'muted' }, 'Loading…'));
   const robotsBox = h('div', { class: 'card' }, h('p', { class: 'muted' }, 'Loading…'));
+  const refreshRobots = robotView(robotsBox, tag.epc);
   const historyBox = h('div', { class: 'card' }, h('p', { class: 'muted' }, 'Loading…'));
   const retagBox = h('div');
   const robots = await getAll('/api/v1/robots?limit=500', { maxPages: 1 }).catch(() => []);
@@ -185,6 +186,7 @@ export async function render(main, [epc]) {
     tag = await get(`/api/v1/tags/${seg(tag.epc)}`);
     showHead();
     if (shownStats) replace(statsBox, statsView(shownStats, tag));
+    section(robotsBox, refreshRobots);
     section(historyBox, () => renderHistory(historyBox, tag.epc));
   };
   const refreshTrials = () => {
@@ -216,7 +218,7 @@ export async function render(main, [epc]) {
       h('section', { 'aria-labelledby': 'history-h' }, h('h3', { id: 'history-h' }, 'History of changes'), historyBox),
       retagBox));
   refreshTrials();
-  section(robotsBox, () => renderRobotView(robotsBox, tag.epc));
+  section(robotsBox, refreshRobots);
   section(historyBox, () => renderHistory(historyBox, tag.epc));
   const inbox = await getAll('/api/v1/inbox?limit=100', { maxPages: 1 }).catch(() => []);
   if (!tag.archived) replace(retagBox, retagForm(tag, inbox));
@@ -225,7 +227,7 @@ export async function render(main, [epc]) {
   const tagChanged = debounce(refreshTag, 150);
   const learnedChanged = debounce(() => {
     refreshTrials();
-    section(robotsBox, () => renderRobotView(robotsBox, tag.epc));
+    section(robotsBox, refreshRobots);
   }, 150);
   const unsubscribe = subscribe((type, data) => {
     if (data.epc !== tag.epc) return;
