@@ -37,6 +37,10 @@ enum Command {
         /// With --rgbd: wood in the furniture and red things touching the tag as well.
         #[arg(long, requires = "rgbd")]
         homes: bool,
+        /// With --rgbd: the farthest the camera stands from the tag, metres (the corpus's
+        /// variants "within 2.5 m" draw their scenes with 2.5).
+        #[arg(long, requires = "rgbd", default_value_t = 5.0, value_parser = parse_farthest)]
+        farthest: f64,
         #[arg(long)]
         out: PathBuf,
     },
@@ -103,6 +107,15 @@ fn rgbd_variants(homes: bool) -> RgbdVariants {
     if homes { RgbdVariants::HOMES } else { RgbdVariants::PLAIN }
 }
 
+fn parse_farthest(text: &str) -> Result<f64, String> {
+    let metres: f64 = text.parse().map_err(|_| format!("`{text}` is not a number of metres"))?;
+    if (0.6..=5.0).contains(&metres) {
+        Ok(metres)
+    } else {
+        Err(format!("{metres} m is outside the RGB-D scenes' ranges; give 0.6 to 5 m"))
+    }
+}
+
 fn parse_kind(text: &str) -> Result<DeviceKind, String> {
     DeviceKind::parse(text).ok_or_else(|| {
         let names: Vec<&str> = DeviceKind::ALL.iter().map(|k| k.name()).collect();
@@ -114,8 +127,9 @@ fn main() -> anyhow::Result<()> {
     // The benchmark runs the chain on this thread: it works beside the pool, not waiting on it.
     pps_robot::cores::work_on_this_thread();
     match Cli::parse().command {
-        Command::Write { seed, kind, rgbd, homes, out } => {
-            write(seed, kind, rgbd.then(|| rgbd_variants(homes)), &out)
+        Command::Write { seed, kind, rgbd, homes, farthest, out } => {
+            let variants = RgbdVariants { farthest_m: farthest, ..rgbd_variants(homes) };
+            write(seed, kind, rgbd.then_some(variants), &out)
         }
         Command::WriteCorpus { scenes, rgbd, homes, out } => (0..scenes).try_for_each(|i| {
             let (seed, kind) = corpus_scene(i);
