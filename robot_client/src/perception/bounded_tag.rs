@@ -1,25 +1,29 @@
 //! A tag is a bounded thing (issue 34). A red region far larger than any tag in the home (a
 //! plywood cabinet whose orange-brown passes the thresholds, a red bin touching the towel) is
 //! never the tag as a whole: it is divided, by colour first, then by surface, and last by the
-//! two colours its voxels may fall into ([`super::two_colours`]); when its part nearest the
-//! target stays larger than a tag, neither it nor anything farther is taken for one. Every
-//! division and every refusal is said in words.
+//! two colours, then the two surfaces a few millimetres apart, its voxels may fall into
+//! ([`super::two_clusters`]). When its part nearest the target stays larger than a tag, that
+//! part is not the tag the person pointed at, and only a tag-sized part of the region beside
+//! it, about as near the target, may be ([`super::tag::choose_tag`]). Every division and every
+//! refusal is said in words.
 //!
-//! A region no larger than a tag is divided by the last alone: two colours whose voxels lie
+//! A region no larger than a tag is divided by two colours alone: two colours whose voxels lie
 //! clearly apart are two things whatever their size (a small patch and the red plastic against
 //! it make a region no larger than a towel), and a tag of one colour is left as it was.
 //!
 //! Every division takes its limits from the data: the tag's colour is the colour of the part
 //! nearest the pointed location, within that part's own spread, the tag's surface is the one
-//! that part lies on, within the noise measured on it, and two colours are two when their
-//! voxels' clusters lie four of their own spreads apart.
+//! that part lies on, within the noise measured on it, and two colours or two surfaces are two
+//! when their voxels' clusters lie four of their own spreads apart.
 
 use nalgebra::{Matrix3, Point3, Vector3};
+use rustc_hash::FxHashSet;
 
 use super::mask::Mask;
 use super::occupancy::{Component, OccupancyGrid};
 use super::tag::TagSearchParams;
-use super::two_colours::{colours_around, colours_of, of_the_core_colour};
+use super::two_clusters::of_the_core_cluster;
+use super::two_colours::{colours_around, colours_of};
 use crate::hal::{CameraCalibration, ColorImage};
 
 /// How far a point's colour may lie from the tag's, in standard deviations of the tag's own
@@ -35,6 +39,13 @@ const SURFACE_BAND_SIGMAS: f64 = 3.0;
 /// as far as a third of the way to an orange-brown wood's; the mean of the nine pixels one
 /// around scatters a third as far, and mixes only the ring of pixels at an edge.
 const PIXEL_NOISE_REACH: u32 = 1;
+
+/// How far outside the search's colours, in the voxels' pooled spread, a second colour may
+/// lie and still be a red the search takes: at two, 2 % of its voxels or more pass the
+/// thresholds, as a red fabric's do whose middle lies a hair under the least saturation
+/// (0.56–0.60 under 0.6 in warm light), while a tag's pale folds and shadows lie ten spreads
+/// and more away (a towel's fold: saturation 0.38).
+const RED_REACH_SPREADS: f32 = 2.0;
 
 /// The median distance of two-dimensional normal noise from its middle, over its standard
 /// deviation along each axis (the Rayleigh distribution's median, √(2 ln 2)): a spread that the
@@ -72,6 +83,7 @@ pub(super) fn bound_tags(
             continue;
         }
         let across = component.radius * 200.0;
+        let region = component.members.clone();
         let mut members = component.members;
         let colours = colours_around(&members, image, calibration, PIXEL_NOISE_REACH);
         match tag_coloured(&members, &colours, &core_of(&members, target, params)) {
@@ -126,14 +138,44 @@ pub(super) fn bound_tags(
         {
             divided = join(parts);
         }
+        if let Some(part) = nearest_part(&divided, params)
+            && part.radius > params.max_tag_radius
+            && let Some(parts) = of_two_surfaces(part, target, params, notes)
+        {
+            divided = join(parts);
+        }
         match nearest_part(&divided, params) {
-            // Kept whole, so that nothing farther from the target is taken in its stead, and
-            // `refusal` says why it is not a tag.
-            Some(part) if part.radius > params.max_tag_radius => bounded.push(part.clone()),
+            // Kept whole, so that `choose_tag` knows the red thing nearest the target is not a
+            // tag and `refusal` can say why; beside it, the rest of the region's tag-sized
+            // parts, one of which may be the tag the person pointed at.
+            Some(part) if part.radius > params.max_tag_radius => {
+                let beside = tag_sized_beside(&region, part, target, params, join);
+                bounded.push(part.clone());
+                bounded.extend(beside);
+            }
             _ => bounded.extend(divided),
         }
     }
     bounded
+}
+
+/// The parts of `region` no larger than a tag once `part`, a red thing too large to be one,
+/// is taken out of it: one of them may be the tag the person pointed at beside it.
+fn tag_sized_beside(
+    region: &[Point3<f32>],
+    part: &Component,
+    target: &Point3<f64>,
+    params: &TagSearchParams,
+    join: &dyn Fn(Vec<Component>) -> Vec<Component>,
+) -> Vec<Component> {
+    let bits = |p: &Point3<f32>| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+    let taken: FxHashSet<[u32; 3]> = part.members.iter().map(bits).collect();
+    let rest: Vec<Point3<f32>> =
+        region.iter().filter(|p| !taken.contains(&bits(p))).copied().collect();
+    join(components_of(&rest, target, params))
+        .into_iter()
+        .filter(|c| c.radius <= params.max_tag_radius)
+        .collect()
 }
 
 /// The part of `parts` nearest the target that is large enough to be a tag.
@@ -171,9 +213,9 @@ fn of_two_colours(
     let colours = colours_of(&part.members, image, calibration);
     let core = core_of(&part.members, target, params);
     let half =
-        of_the_core_colour(&part.members, &colours, &core, params.voxel_size, params.min_points)?;
+        of_the_core_cluster(&part.members, &colours, &core, params.voxel_size, params.min_points)?;
     if let OtherColour::Red = other
-        && !params.thresholds.admits_chroma(half.other)
+        && params.thresholds.chroma_distance(half.other) > RED_REACH_SPREADS * half.spread
     {
         return None;
     }
@@ -187,7 +229,63 @@ fn of_two_colours(
         half.kept.len(),
         part.points,
     ));
-    Some(components_of(&half.kept, target, params))
+    let kept: Vec<Point3<f32>> = half.kept.iter().map(|&i| part.members[i]).collect();
+    Some(components_of(&kept, target, params))
+}
+
+/// `part` divided by its voxels' distances from the plane its part nearest the target lies on,
+/// when they fall into two (a red plastic of the tag's colour standing a few millimetres
+/// prouder or flatter than the tag on the same surface).
+fn of_two_surfaces(
+    part: &Component,
+    target: &Point3<f64>,
+    params: &TagSearchParams,
+    notes: &mut Vec<String>,
+) -> Option<Vec<Component>> {
+    // The tag and the thing beside it lie on one surface and face the same way: the normal of
+    // the whole part is theirs, held steady by the larger thing's breadth (a tag-sized core's
+    // own tilts by a degree in the noise, a millimetre across a box).
+    let members: Vec<Point3<f64>> = part.members.iter().map(|p| p.cast::<f64>()).collect();
+    let (centre, normal, _) = plane_through(&members)?;
+    let core = core_of(&part.members, target, params);
+    let offset = |p: &Point3<f32>| (p.cast::<f64>().coords - centre).dot(&normal);
+    let offsets: Vec<Option<[f32; 2]>> =
+        part.members.iter().map(|p| Some([offset(p) as f32, 0.0])).collect();
+    // Grouped by their cells on the surface, not by voxels of space: a voxel's face cuts
+    // through a surface's noise and would sort its points by the very distance measured.
+    let on_surface: Vec<Point3<f32>> =
+        part.members.iter().map(|p| (p.cast::<f64>() - normal * offset(p)).cast::<f32>()).collect();
+    let half =
+        of_the_core_cluster(&on_surface, &offsets, &core, params.voxel_size, params.min_points)?;
+    notes.push(format!(
+        "a part {:.0} cm across lies on two surfaces voxel by voxel ({:.1} mm apart, {:.0} times \
+         their spread): {} of its {} points lie on the surface of its part nearest the target",
+        part.radius * 200.0,
+        half.distance * 1e3,
+        half.distance / half.spread,
+        half.kept.len(),
+        part.points,
+    ));
+    let kept: Vec<Point3<f32>> = half.kept.iter().map(|&i| part.members[i]).collect();
+    Some(components_of(&kept, target, params))
+}
+
+/// The plane through `points` (their centre and the normal of least scatter), and the standard
+/// deviation of the points about it; `None` for fewer than three.
+fn plane_through(points: &[Point3<f64>]) -> Option<(Vector3<f64>, Vector3<f64>, f64)> {
+    if points.len() < 3 {
+        return None;
+    }
+    let centre = points.iter().map(|p| p.coords).sum::<Vector3<f64>>() / points.len() as f64;
+    let scatter = points.iter().fold(Matrix3::zeros(), |m, p| {
+        let d = p.coords - centre;
+        m + d * d.transpose()
+    });
+    let eigen = scatter.symmetric_eigen();
+    let smallest = eigen.eigenvalues.imin();
+    let normal: Vector3<f64> = eigen.eigenvectors.column(smallest).into();
+    let noise = (eigen.eigenvalues[smallest].max(0.0) / points.len() as f64).sqrt();
+    Some((centre, normal, noise))
 }
 
 /// The points of `points` that have the colour of those nearest `anchor` (all of them when
@@ -318,18 +416,7 @@ fn on_the_nearest_surface(
         .into_iter()
         .map(|i| part.members[i].cast::<f64>())
         .collect();
-    if core.len() < 3 {
-        return None;
-    }
-    let centre = core.iter().map(|p| p.coords).sum::<Vector3<f64>>() / core.len() as f64;
-    let scatter = core.iter().fold(Matrix3::zeros(), |m, p| {
-        let d = p.coords - centre;
-        m + d * d.transpose()
-    });
-    let eigen = scatter.symmetric_eigen();
-    let smallest = eigen.eigenvalues.imin();
-    let normal: Vector3<f64> = eigen.eigenvectors.column(smallest).into();
-    let noise = (eigen.eigenvalues[smallest].max(0.0) / core.len() as f64).sqrt();
+    let (centre, normal, noise) = plane_through(&core)?;
     // The band is never thinner than the grid resolves.
     let band = (SURFACE_BAND_SIGMAS * noise).max(f64::from(params.voxel_size) / 2.0);
     let in_band: Vec<Point3<f32>> = part
@@ -419,6 +506,69 @@ mod tests {
             }
         }
         (towel, side)
+    }
+
+    /// A 6 × 6 cm tag on the plane x = 1 and a 20 × 20 cm red box beside it whose front stands
+    /// `step` metres prouder, toward the robot; each point scattered ±3 mm along x, about a
+    /// structured-light camera's noise at 1.5 m, 16 points a 1 cm voxel.
+    fn tag_and_box(step: f32, rng: &mut ChaCha8Rng) -> (Vec<Point3<f32>>, Vec<Point3<f32>>) {
+        let (mut tag, mut red_box) = (Vec::new(), Vec::new());
+        for i in 0..104 {
+            for j in 0..80 {
+                let (y, z) = (i as f32 * 0.0025, j as f32 * 0.0025);
+                let noise = rng.random_range(-0.003f32..0.003);
+                if y < 0.06 && z < 0.06 {
+                    tag.push(Point3::new(1.0 + noise, y, z));
+                } else if y >= 0.06 {
+                    red_box.push(Point3::new(1.0 - step + noise, y, z));
+                }
+            }
+        }
+        (tag, red_box)
+    }
+
+    fn region_of(points: &[Point3<f32>], target: &Point3<f64>) -> Component {
+        let params = TagSearchParams::default();
+        let mut parts = OccupancyGrid::new(points, params.voxel_size).connected_components(target);
+        assert_eq!(parts.len(), 1, "tag and box touch");
+        parts.remove(0)
+    }
+
+    #[test]
+    fn a_red_box_a_few_millimetres_prouder_than_the_tag_is_parted_from_it() {
+        let params = TagSearchParams::default();
+        let target = Point3::new(1.0, 0.02, 0.03);
+        for seed in 0..10 {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let (tag, red_box) = tag_and_box(0.004, &mut rng);
+            let all: Vec<Point3<f32>> = tag.iter().chain(&red_box).copied().collect();
+            let mut notes = Vec::new();
+            let parts = of_two_surfaces(&region_of(&all, &target), &target, &params, &mut notes)
+                .expect("two surfaces");
+            let nearest = parts
+                .iter()
+                .min_by(|a, b| a.distance_to_target.total_cmp(&b.distance_to_target))
+                .unwrap();
+            let of_the_box = nearest.members.iter().filter(|p| p.y >= 0.07).count();
+            assert_eq!(of_the_box, 0, "seed {seed}: none of the box beyond its edge stays");
+            // All but the cells along the box's edge, whose means pool with the box's.
+            assert!(nearest.points >= tag.len() * 8 / 10, "seed {seed}: {}", nearest.points);
+            assert!(notes[0].contains("two surfaces"), "{notes:?}");
+        }
+    }
+
+    #[test]
+    fn a_red_box_flush_with_the_tag_is_one_surface() {
+        let params = TagSearchParams::default();
+        let target = Point3::new(1.0, 0.02, 0.03);
+        for seed in 0..10 {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let (tag, red_box) = tag_and_box(0.0, &mut rng);
+            let all: Vec<Point3<f32>> = tag.iter().chain(&red_box).copied().collect();
+            let region = region_of(&all, &target);
+            let divided = of_two_surfaces(&region, &target, &params, &mut Vec::new());
+            assert!(divided.is_none(), "seed {seed}");
+        }
     }
 
     #[test]

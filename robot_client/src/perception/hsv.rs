@@ -102,12 +102,23 @@ impl HsvThresholds {
         }
     }
 
-    /// Whether a point of the chroma disc ([`chroma_point`]) has a hue and saturation inside
-    /// the ranges, whatever its value.
-    pub fn admits_chroma(&self, [x, y]: [f32; 2]) -> bool {
+    /// How far a point of the chroma disc ([`chroma_point`]) lies from the hues and
+    /// saturations the ranges admit, whatever its value: 0 inside them.
+    pub fn chroma_distance(&self, [x, y]: [f32; 2]) -> f32 {
         let saturation = x.hypot(y);
         let hue = y.atan2(x).to_degrees().rem_euclid(360.0);
-        (self.saturation[0]..=self.saturation[1]).contains(&saturation) && self.contains_hue(hue)
+        let [least, most] = self.saturation;
+        if self.contains_hue(hue) {
+            return (least - saturation).max(saturation - most).max(0.0);
+        }
+        // Outside the hues, the nearest admitted chroma lies on one of the two edges of the
+        // admitted sector: the segment of saturations at its first or its last hue.
+        let to_edge = |edge: f32| {
+            let (sin, cos) = edge.to_radians().sin_cos();
+            let along = (x * cos + y * sin).clamp(least, most);
+            (x - along * cos).hypot(y - along * sin)
+        };
+        to_edge(self.hue_from).min(to_edge(self.hue_to))
     }
 
     /// Whether an 8-bit sRGB colour passes all three thresholds.
@@ -256,15 +267,20 @@ mod tests {
     }
 
     #[test]
-    fn a_point_of_the_chroma_disc_is_admitted_by_hue_and_saturation() {
+    fn a_point_of_the_chroma_disc_lies_as_far_from_the_ranges_as_its_hue_and_saturation_say() {
         let t = HsvThresholds::default();
-        assert!(t.admits_chroma(chroma_point([200, 30, 20])));
-        // The same red, paler: saturation 0.5, under the default 0.6.
-        assert!(!t.admits_chroma(chroma_point([200, 110, 100])));
-        // Orange-brown wood: hue 25°.
-        assert!(!t.admits_chroma(chroma_point([180, 110, 40])));
+        let distance = |rgb| t.chroma_distance(chroma_point(rgb));
+        assert_eq!(distance([200, 30, 20]), 0.0);
         // Just past 0° on the magenta side, wrapping through it.
-        assert!(t.admits_chroma(chroma_point([200, 20, 40])));
+        assert_eq!(distance([200, 20, 40]), 0.0);
+        // The same red, paler: saturation 0.5, 0.1 under the default 0.6.
+        assert!((distance([200, 110, 100]) - 0.1).abs() < 1e-3, "{}", distance([200, 110, 100]));
+        // Orange-brown wood: hue 30° at saturation 0.78, 10° past the range's 20°.
+        let wood = distance([180, 110, 40]);
+        let expected = (140.0f32 / 180.0) * 10.0f32.to_radians().sin();
+        assert!((wood - expected).abs() < 2e-3, "{wood} against {expected}");
+        // A grey: as far as the range's least saturation.
+        assert!((distance([120, 120, 120]) - 0.6).abs() < 1e-3);
     }
 
     #[test]

@@ -317,11 +317,19 @@ pub fn choose_tag(components: Vec<Component>, params: &TagSearchParams) -> Optio
         .filter(|c| c.points >= params.min_points && c.distance_to_target <= params.max_distance)
         .collect();
     near.sort_by(|a, b| a.distance_to_target.total_cmp(&b.distance_to_target));
-    if near.first()?.radius > params.max_tag_radius {
-        return None;
-    }
-    let candidates: Vec<Component> =
-        near.into_iter().filter(|c| c.radius <= params.max_tag_radius).collect();
+    let first = near.first()?;
+    // A red thing larger than any tag nearest the pointed location is not what the person
+    // meant, and a tag about as near as it (within the pointing's ambiguity) beside it may be;
+    // one farther away is not.
+    let reach = if first.radius > params.max_tag_radius {
+        first.distance_to_target + params.ambiguity_margin
+    } else {
+        f64::INFINITY
+    };
+    let candidates: Vec<Component> = near
+        .into_iter()
+        .filter(|c| c.radius <= params.max_tag_radius && c.distance_to_target <= reach)
+        .collect();
     let nearest = TagDetection::from(candidates.first()?);
     let rival = candidates[1..].iter().find(|c| {
         (c.centroid - nearest.centroid).norm() >= params.min_tag_separation
@@ -378,6 +386,20 @@ mod tests {
         too_large.distance_to_target = 0.3;
         let found = choose_tag(vec![too_large, mug.clone()], &params);
         assert_eq!(found, Some(TagSighting::Found(TagDetection::from(&mug))));
+    }
+
+    #[test]
+    fn a_tag_about_as_near_as_a_red_thing_larger_than_any_tag_is_taken_beside_it() {
+        let params = TagSearchParams::default();
+        // A red box standing prouder than a foam tube beside it, nearer the pointed location.
+        let mut red_box = component(0.02, 5000);
+        red_box.radius = params.max_tag_radius * 1.5;
+        let tube = component(0.035, 300);
+        let found = choose_tag(vec![red_box.clone(), tube.clone()], &params);
+        assert_eq!(found, Some(TagSighting::Found(TagDetection::from(&tube))));
+        // Beyond the pointing's ambiguity, it is not what the person meant.
+        let far = component(0.02 + params.ambiguity_margin + 0.01, 300);
+        assert_eq!(choose_tag(vec![red_box, far], &params), None);
     }
 
     #[test]
