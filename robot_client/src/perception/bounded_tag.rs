@@ -21,7 +21,7 @@ use rustc_hash::FxHashSet;
 
 use super::mask::Mask;
 use super::occupancy::{Component, OccupancyGrid};
-use super::tag::TagSearchParams;
+use super::tag::{TagDetection, TagSearchParams};
 use super::two_clusters::of_the_core_cluster;
 use super::two_colours::{colours_around, colours_of};
 use crate::hal::{CameraCalibration, ColorImage};
@@ -53,9 +53,10 @@ const RED_REACH_SPREADS: f32 = 2.0;
 const MEDIAN_DISTANCE_PER_SIGMA: f32 = 1.1774;
 
 /// The components with each one near the target that is larger than any tag, or of two
-/// colours, divided into the parts a tag could be; `notes` says what was divided and why. `join` joins the fragments of
-/// one tag that its voxels alone leave apart (a towel at a steep angle, sampled sparsely), as
-/// the search joined them before the division: a division must not break the tag it frees.
+/// colours, divided into the parts a tag could be; `notes` says what was divided and why.
+/// `join` joins the fragments of one tag that its voxels alone leave apart (a towel at a steep
+/// angle, sampled sparsely), as the search joined them before the division: a division must
+/// not break the tag it frees.
 pub(super) fn bound_tags(
     components: Vec<Component>,
     image: &ColorImage,
@@ -146,8 +147,8 @@ pub(super) fn bound_tags(
         }
         match nearest_part(&divided, params) {
             // Kept whole, so that `choose_tag` knows the red thing nearest the target is not a
-            // tag and `refusal` can say why; beside it, the rest of the region's tag-sized
-            // parts, one of which may be the tag the person pointed at.
+            // tag and `too_large_nearest` can say why; beside it, the rest of the region's
+            // tag-sized parts, one of which may be the tag the person pointed at.
             Some(part) if part.radius > params.max_tag_radius => {
                 let beside = tag_sized_beside(&region, part, target, params, join);
                 bounded.push(part.clone());
@@ -304,22 +305,40 @@ pub(crate) fn of_the_colour_at(
     }
 }
 
-/// Why no component near the target was taken, when the nearest is too large to be a tag.
-pub(super) fn refusal(components: &[Component], params: &TagSearchParams) -> Option<String> {
+/// What is said of the red region nearest the target when it is too large to be a tag: why
+/// no component was taken (`taken` is `None`), or why the tag `taken` beside it, not it, is
+/// the one the person pointed at.
+pub(super) fn too_large_nearest(
+    components: &[Component],
+    taken: Option<&TagDetection>,
+    params: &TagSearchParams,
+) -> Option<String> {
     let nearest = components
         .iter()
         .filter(|c| c.points >= params.min_points && c.distance_to_target <= params.max_distance)
         .min_by(|a, b| a.distance_to_target.total_cmp(&b.distance_to_target))?;
-    (nearest.radius > params.max_tag_radius).then(|| {
-        format!(
-            "the red region nearest the target ({} points, {:.0} cm from it) is {:.0} cm \
-             across, larger than any tag ({:.0} cm at most), and neither its colours nor its \
-             surfaces divide it, so it is not taken for a tag",
-            nearest.points,
-            nearest.distance_to_target * 100.0,
-            nearest.radius * 200.0,
-            params.max_tag_radius * 200.0,
-        )
+    if nearest.radius <= params.max_tag_radius {
+        return None;
+    }
+    let region = format!(
+        "the red region nearest the target ({} points, {:.0} cm from it) is {:.0} cm across, \
+         larger than any tag ({:.0} cm at most)",
+        nearest.points,
+        nearest.distance_to_target * 100.0,
+        nearest.radius * 200.0,
+        params.max_tag_radius * 200.0,
+    );
+    Some(match taken {
+        None => format!(
+            "{region}, and neither its colours nor its surfaces divide it, so it is not taken \
+             for a tag"
+        ),
+        Some(tag) => format!(
+            "{region}: the tag-sized part beside it ({} points, {:.0} cm from the target) is \
+             taken for the tag",
+            tag.points,
+            tag.distance_to_target * 100.0,
+        ),
     })
 }
 

@@ -5,7 +5,7 @@ use std::collections::{BTreeMap, BTreeSet, HashSet};
 use nalgebra::Point3;
 
 use super::blobs::Blobs;
-use super::bounded_tag::{bound_tags, refusal};
+use super::bounded_tag::{bound_tags, too_large_nearest};
 use super::depth_noise::DepthNoise;
 use super::hsv::HsvThresholds;
 use super::occupancy::{Component, OccupancyGrid};
@@ -224,9 +224,11 @@ pub fn search_tag(
         let join = |parts| join_fragments(parts, &blobs, calibration, params);
         let bounded = bound_tags(joined, image, calibration, target, params, &join, &mut notes);
         let sighting = choose_tag(bounded.clone(), params);
-        if sighting.is_none() {
-            notes.extend(refusal(&bounded, params));
-        }
+        notes.extend(too_large_nearest(
+            &bounded,
+            sighting.as_ref().map(TagSighting::nearest),
+            params,
+        ));
         TagSearch { sighting, notes }
     }))
 }
@@ -399,7 +401,14 @@ mod tests {
         assert_eq!(found, Some(TagSighting::Found(TagDetection::from(&tube))));
         // Beyond the pointing's ambiguity, it is not what the person meant.
         let far = component(0.02 + params.ambiguity_margin + 0.01, 300);
-        assert_eq!(choose_tag(vec![red_box, far], &params), None);
+        assert_eq!(choose_tag(vec![red_box.clone(), far.clone()], &params), None);
+        // And the notes say which, and why.
+        let taken = TagDetection::from(&tube);
+        let said = too_large_nearest(&[red_box.clone(), tube], Some(&taken), &params).unwrap();
+        let beside = "the tag-sized part beside it (300 points, 4 cm from the target) is taken";
+        assert!(said.ends_with(&format!("{beside} for the tag")), "{said}");
+        let said = too_large_nearest(&[red_box, far], None, &params).unwrap();
+        assert!(said.ends_with("so it is not taken for a tag"), "{said}");
     }
 
     #[test]
