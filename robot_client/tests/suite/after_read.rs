@@ -137,9 +137,11 @@ fn moved_after_the_read(report: &TaskReport) -> f64 {
 /// and standing 4 cm out. Bounded by the household's largest tag (the drawer's towel, 17 cm
 /// from its middle), the search takes patch and box for one tag 4.4 cm right of the patch's
 /// middle, and the fingers press the box: the light stays off. Once the EPC is read, the
-/// rocker's own 6 × 6 cm bounds the search at 7 cm: the region, 19 cm across, is divided by
-/// colour and cut to the surface the patch lies on, the hand is brought to the patch, and the
-/// light comes on.
+/// rocker's own 6 × 6 cm bounds the search at 7 cm: the region, 18 cm across, is divided by
+/// colour, the hand is brought to the patch, and the light comes on. (The robot looks from
+/// where it first saw the tag, which its way in leads back to; looking from straight back, 3.7
+/// cm to the side of that, the region was 19 cm across and also had to be cut to the surface
+/// the patch lies on.)
 #[tokio::test(flavor = "multi_thread")]
 async fn the_rockers_own_size_after_its_read_parts_it_from_a_red_box_beside_it() {
     let dir = tempfile::tempdir().unwrap();
@@ -161,7 +163,11 @@ async fn the_rockers_own_size_after_its_read_parts_it_from_a_red_box_beside_it()
     let said = report.to_string();
     assert!(said.contains("reaching more than 17 cm from its middle is taken for a tag"), "{said}");
     assert!(said.contains("reaching more than 7 cm from its middle is taken for it"), "{said}");
-    assert!(said.contains("was cut to the surface its part nearest the target lies on"), "{said}");
+    let after_the_read = report.phases[3].lines.join("\n");
+    assert!(
+        after_the_read.contains("have the colour of its part nearest the target"),
+        "{after_the_read}"
+    );
     assert!(said.contains("looked again with the registered colour and its own size (6 × 6 cm)"));
     let moved = moved_after_the_read(report);
     assert!(moved > 0.03, "the tag {:.1} cm from where it was first seen: {said}", moved * 100.0);
