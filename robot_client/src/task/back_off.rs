@@ -13,7 +13,7 @@ use nalgebra::{Isometry2, Point3};
 use super::drive::{camera_origin, odom_from_base};
 use super::report::PhaseReport;
 use super::run::TaskRobot;
-use super::trail::{Trail, between};
+use super::trail::{Move, Trail, between};
 use crate::hal::{CameraCalibration, HalError, MobileBase, PlanarPose};
 use crate::navigation::RobotFootprint;
 
@@ -21,13 +21,9 @@ use crate::navigation::RobotFootprint;
 /// on the tag changes by 2 % per centimetre at 1 m.
 const SAME_RANGE: f64 = 0.01;
 
-/// The legs of a drive or a turn shorter than these are not made, metres and radians.
-const TINY_DRIVE: f64 = 0.001;
-const TINY_TURN: f64 = 0.001;
-
 /// Which way the robot backed off.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) enum Way {
+enum Way {
     /// Straight back the whole way: it stays on the ground the base came over.
     Straight,
     /// Back along the way it came to where it first saw the tag: straight back would have left
@@ -35,12 +31,13 @@ pub(super) enum Way {
     Retraced { straight: f64 },
 }
 
-/// Where the robot went to look: the poses it passed, odometry frame, from where the hand was
-/// brought to where it looked.
+/// How the robot went to look: the motions it made from where the hand was brought, and where
+/// odometry expected them to take it.
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct BackOff {
-    pub way: Way,
-    legs: Vec<PlanarPose>,
+    way: Way,
+    moves: Vec<Move>,
+    end: PlanarPose,
 }
 
 /// Backs the base off from `here` (odometry frame) to look at the tag at `tag` (odometry frame)
@@ -60,22 +57,37 @@ pub(super) fn back_off(
         return Ok(None);
     };
     robot.move_to_extension(0.0, f64::INFINITY)?;
-    follow(robot, &back_off.legs[1..])?;
-    let last = back_off.legs.last().expect("a back-off has legs");
-    let (from, went) = (range(&calibration, last, tag), travelled(&back_off.legs));
+    make(robot, back_off.moves.iter().copied())?;
+    let from = range(&calibration, &robot.pose_estimate()?, tag);
     phase.note(match back_off.way {
         Way::Straight => format!(
-            "backed off {went:.2} m straight, over ground it came by, to look from {from:.2} m, \
-             as far as the tag was first seen from: its colour was learned at that range"
+            "backed off {:.2} m straight, over ground it came by, to look from {from:.2} m, as \
+             far as the tag was first seen from: its colour was learned at that range",
+            (back_off.end.translation.vector - here.translation.vector).norm()
         ),
         Way::Retraced { straight } => format!(
             "backed off along its way in ({}) to where it first saw the tag, to look from \
              {from:.2} m: straight back would have left the ground it came over after \
              {straight:.2} m",
-            describe(&back_off.legs)
+            describe(&back_off.moves)
         ),
     });
     Ok(Some(back_off))
+}
+
+impl BackOff {
+    /// A point seen from where the robot looked (base frame then) in the base frame where the
+    /// hand was brought, by the motions as commanded: the way back undoes them, so the base
+    /// stands there again, while odometry has drifted on the way there and back.
+    pub(super) fn seen_from_the_hand(&self, point: &Point3<f64>) -> Point3<f64> {
+        let looked = self.moves.iter().fold(PlanarPose::identity(), |pose, made| {
+            pose * match *made {
+                Move::Drive(distance) => Isometry2::translation(distance, 0.0),
+                Move::Turn(angle) => Isometry2::rotation(angle),
+            }
+        });
+        odom_from_base(&looked) * point
+    }
 }
 
 /// Drives back to where the hand was brought before the back-off, the way it backed off.
@@ -84,13 +96,12 @@ pub(super) fn come_back(
     back_off: &BackOff,
     phase: &mut PhaseReport,
 ) -> Result<(), HalError> {
-    let back: Vec<PlanarPose> = back_off.legs.iter().rev().skip(1).copied().collect();
-    follow(robot, &back)?;
+    make(robot, back_off.moves.iter().rev().map(|made| made.undone()))?;
     phase.note("came back the way it backed off");
     Ok(())
 }
 
-/// Where to back off to from `here`, as [`back_off`] chooses: the poses to pass, `here` first.
+/// How to back off from `here`, as [`back_off`] chooses.
 fn plan(
     calibration: &CameraCalibration,
     here: &PlanarPose,
@@ -111,26 +122,25 @@ fn plan(
         .last()
         .map_or(0.0, |pose| (pose.translation.vector - here.translation.vector).norm());
     if straight >= back - 1e-9 {
-        return Some(BackOff { way: Way::Straight, legs: vec![*here, straight_back(back)] });
+        let (moves, end) = (vec![Move::Drive(-back)], straight_back(back));
+        return Some(BackOff { way: Way::Straight, moves, end });
     }
-    // Where it stood when it first saw the tag, it saw it from that range.
-    // It looks as it did then, facing the way it faced: only the colour and size it looks for
-    // differ from that look.
-    let legs = std::iter::once(*here).chain(trail.since_sighting().iter().rev().copied());
-    Some(BackOff { way: Way::Retraced { straight }, legs: legs.collect() })
+    // Where it stood when it first saw the tag it saw it from that range; looking as it did
+    // then, facing the same way, only the colour and size it looks for differ from that look.
+    let moves = trail.moves_since_sighting().iter().rev().map(|made| made.undone()).collect();
+    let end = trail.since_sighting()[0];
+    Some(BackOff { way: Way::Retraced { straight }, moves, end })
 }
 
-/// Makes the base pass each of `poses` (odometry frame) in turn, each reached from the last by
-/// a drive straight ahead or back and a turn in place, as the legs of a trail are.
-fn follow(base: &impl MobileBase, poses: &[PlanarPose]) -> Result<(), HalError> {
-    for to in poses {
-        let ahead = (base.pose_estimate()?.inverse() * to).translation.x;
-        if ahead.abs() > TINY_DRIVE {
-            base.drive(ahead)?;
-        }
-        let turn = (base.pose_estimate()?.inverse() * to).rotation.angle();
-        if turn.abs() > TINY_TURN {
-            base.turn(turn)?;
+/// Makes `moves` with the base. They are the drives and turns it came by, undone as they were
+/// commanded rather than steered to the poses odometry recorded: a base's own error in a drive
+/// or a turn (a wheel a little larger than its maker says) then undoes itself on the way back,
+/// where steering by odometry would add it up, and the hand would come back beside the tag.
+fn make(base: &impl MobileBase, moves: impl Iterator<Item = Move>) -> Result<(), HalError> {
+    for made in moves {
+        match made {
+            Move::Drive(distance) => base.drive(distance)?,
+            Move::Turn(angle) => base.turn(angle)?,
         }
     }
     Ok(())
@@ -141,24 +151,98 @@ fn range(calibration: &CameraCalibration, pose: &PlanarPose, tag: &Point3<f64>) 
     (odom_from_base(pose).inverse() * tag - camera_origin(calibration)).norm()
 }
 
-/// How far the base drives along `legs`, metres.
-fn travelled(legs: &[PlanarPose]) -> f64 {
-    legs.windows(2).map(|leg| (leg[1].translation.vector - leg[0].translation.vector).norm()).sum()
+/// The motions in words: "turned 68° back, drove 0.95 m back".
+fn describe(moves: &[Move]) -> String {
+    // What a person would not call a move is left out.
+    let said: Vec<String> = moves
+        .iter()
+        .filter_map(|made| match *made {
+            Move::Drive(d) if d.abs() >= 0.01 => {
+                Some(format!("drove {:.2} m {}", d.abs(), if d < 0.0 { "back" } else { "ahead" }))
+            }
+            Move::Turn(a) if a.to_degrees().abs() >= 1.0 => {
+                Some(format!("turned {:.0}° back", a.to_degrees().abs()))
+            }
+            _ => None,
+        })
+        .collect();
+    said.join(", ")
 }
 
-/// The legs in words: "turned 23° back, drove 0.80 m back".
-fn describe(legs: &[PlanarPose]) -> String {
-    let mut said = Vec::new();
-    for leg in legs.windows(2) {
-        let distance = (leg[1].translation.vector - leg[0].translation.vector).norm();
-        let angle = (leg[0].rotation.inverse() * leg[1].rotation).angle().to_degrees();
-        // What a person would not call a move is left out.
-        if distance >= 0.01 {
-            said.push(format!("drove {distance:.2} m back"));
-        }
-        if angle.abs() >= 1.0 {
-            said.push(format!("turned {:.0}° back", angle.abs()));
-        }
+#[cfg(test)]
+mod tests {
+    use nalgebra::Vector2;
+
+    use super::*;
+    use crate::sim::head_camera;
+
+    /// A tag on a wall 2 m ahead of the origin, 1.2 m up; the base starts at `start`, facing
+    /// it, and the trail then turns toward a waypoint half a metre out from the tag, drives
+    /// there and turns to face the tag.
+    fn approach(start: Vector2<f64>) -> (Point3<f64>, Trail, PlanarPose) {
+        let tag = Point3::new(2.0, 0.0, 1.2);
+        let facing = |at: Vector2<f64>| (tag.y - at.y).atan2(tag.x - at.x);
+        let first = PlanarPose::new(start, facing(start));
+        let mut trail = Trail::starting_at(first);
+        let waypoint = Vector2::new(1.5, 0.0);
+        let toward = waypoint - start;
+        let heading = toward.y.atan2(toward.x);
+        let turned = PlanarPose::new(start, heading);
+        let arrived = PlanarPose::new(waypoint, heading);
+        let faced = PlanarPose::new(waypoint, facing(waypoint));
+        trail.push(Move::Turn(heading - facing(start)), turned);
+        trail.push(Move::Drive(toward.norm()), arrived);
+        trail.push(Move::Turn(facing(waypoint) - heading), faced);
+        (tag, trail, faced)
     }
-    said.join(", ")
+
+    fn seen_from(calibration: &CameraCalibration, trail: &Trail, tag: &Point3<f64>) -> f64 {
+        range(calibration, &trail.since_sighting()[0], tag)
+    }
+
+    #[test]
+    fn straight_back_where_the_base_came_straight() {
+        let calibration = head_camera(0.25);
+        let (tag, trail, here) = approach(Vector2::new(0.5, 0.0));
+        let from = seen_from(&calibration, &trail, &tag);
+        let footprint = RobotFootprint::default();
+        let plan = plan(&calibration, &here, &tag, from, &trail, &footprint).unwrap();
+        assert_eq!(plan.way, Way::Straight);
+        assert_eq!(plan.moves.len(), 1);
+        assert!((range(&calibration, &plan.end, &tag) - from).abs() < 1e-6);
+    }
+
+    #[test]
+    fn along_the_way_in_where_the_base_came_from_the_side() {
+        let calibration = head_camera(0.25);
+        let (tag, trail, here) = approach(Vector2::new(0.9, 0.7));
+        let from = seen_from(&calibration, &trail, &tag);
+        let footprint = RobotFootprint::default();
+        let plan = plan(&calibration, &here, &tag, from, &trail, &footprint).unwrap();
+        let Way::Retraced { straight } = plan.way else { panic!("{plan:?}") };
+        assert!(straight < 0.1, "straight back stays on its way in for {straight:.2} m");
+        // Made from here, the motions pass over the ground it came by to where it saw the tag.
+        let mut at = here;
+        for made in &plan.moves {
+            let next = match *made {
+                Move::Drive(d) => at * Isometry2::translation(d, 0.0),
+                Move::Turn(a) => at * Isometry2::rotation(a),
+            };
+            assert!(between(&at, &next).all(|pose| trail.covers(&footprint, &pose)), "{made:?}");
+            at = next;
+        }
+        let first = trail.since_sighting()[0];
+        assert!((at.translation.vector - first.translation.vector).norm() < 1e-9);
+        assert!((at.rotation.inverse() * first.rotation).angle().abs() < 1e-9);
+        assert_eq!(plan.end, first);
+    }
+
+    #[test]
+    fn no_back_off_where_the_camera_is_as_far_already() {
+        let calibration = head_camera(0.25);
+        let (tag, trail, here) = approach(Vector2::new(0.5, 0.0));
+        let near = range(&calibration, &here, &tag);
+        let footprint = RobotFootprint::default();
+        assert_eq!(plan(&calibration, &here, &tag, near + 0.005, &trail, &footprint), None);
+    }
 }

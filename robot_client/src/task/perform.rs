@@ -197,12 +197,15 @@ fn look_knowing_the_tag(
     let params = ApproachParams { tag: search.params, ..config.approach.clone() };
     let look = look_from_here(robot, &first, &tag.pointed, config, &params)?;
     let moved = backed.is_some();
+    // Where the hand was brought, base frame then and again once the robot is back.
     let act_at = match look {
         SecondLook::Seen { at: seen, notes, color, size } => {
             for note in notes {
                 phase.note(note);
             }
-            let off = (seen - first).norm();
+            let here = in_base(robot, &seen)?;
+            let seen = backed.as_ref().map_or(here, |backed| backed.seen_from_the_hand(&here));
+            let off = (seen - tag.at).norm();
             let stays = !moved && off <= HAND_STAYS_WITHIN;
             phase.note(format!(
                 "looked again with {}: the tag is {:.1} cm from where it was first seen; {}",
@@ -227,11 +230,11 @@ fn look_knowing_the_tag(
                 search.with,
                 why.map(|why| format!(" ({why})")).unwrap_or_default()
             ));
-            moved.then_some(first)
+            moved.then_some(tag.at)
         }
         SecondLook::OutOfView => {
             phase.note("the camera cannot see the tag from here; acting where it was first seen");
-            moved.then_some(first)
+            moved.then_some(tag.at)
         }
     };
     if let Some(at) = act_at {
@@ -239,6 +242,7 @@ fn look_knowing_the_tag(
             // Back where the hand was brought before, so the behaviour has the arm's travel.
             come_back(robot, backed, phase)?;
         }
+        let at = in_odom(robot, &at)?;
         reach_toward(robot, &at, config, phase)?;
         tag.at = in_base(robot, &at)?;
     }

@@ -1,6 +1,6 @@
 //! The ground the base covered on its way to the tag, as its own odometry tells it: the pose
 //! after each drive and turn since it first looked for the tag, and the outline of the base
-//! swept between them. A base whose camera and laser look ahead knows nothing of the ground
+//! swept between them; and those drives and turns as they were commanded, for the way back. A base whose camera and laser look ahead knows nothing of the ground
 //! behind it except that it came over it; so that ground, and no other, is where it may go
 //! backwards.
 //!
@@ -24,22 +24,44 @@ const TURN_STEP: f64 = 0.0175;
 /// How far apart the points of the outline checked against the ground are, metres.
 const OUTLINE_SPACING: f64 = 0.025;
 
+/// One motion of the base as it was commanded.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Move {
+    /// Straight ahead (negative: back), metres.
+    Drive(f64),
+    /// In place, counter-clockwise, radians.
+    Turn(f64),
+}
+
+impl Move {
+    /// The motion that undoes this one.
+    pub(crate) fn undone(self) -> Self {
+        match self {
+            Self::Drive(distance) => Self::Drive(-distance),
+            Self::Turn(angle) => Self::Turn(-angle),
+        }
+    }
+}
+
 /// The base's odometry poses, oldest first: where it stood when it first looked for the tag,
-/// then after each drive and each turn.
+/// then after each drive and each turn; and those motions as they were commanded.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Trail {
     poses: Vec<PlanarPose>,
-    /// Which of them the tag was seen from, in the look that led to the waypoint.
+    /// `moves[i]` took the base from `poses[i]` to `poses[i + 1]`.
+    moves: Vec<Move>,
+    /// Which pose the tag was seen from, in the look that led to the waypoint.
     sighting: usize,
 }
 
 impl Trail {
     pub(crate) fn starting_at(pose: PlanarPose) -> Self {
-        Self { poses: vec![pose], sighting: 0 }
+        Self { poses: vec![pose], moves: Vec::new(), sighting: 0 }
     }
 
-    /// Adds where the base stands after a drive or a turn.
-    pub(crate) fn push(&mut self, pose: PlanarPose) {
+    /// Adds a motion and where the base stands after it.
+    pub(crate) fn push(&mut self, made: Move, pose: PlanarPose) {
+        self.moves.push(made);
         self.poses.push(pose);
     }
 
@@ -51,6 +73,11 @@ impl Trail {
     /// The poses from where the base stood when it saw the tag on.
     pub(crate) fn since_sighting(&self) -> &[PlanarPose] {
         &self.poses[self.sighting..]
+    }
+
+    /// The motions that took the base from where it saw the tag to where it stands.
+    pub(crate) fn moves_since_sighting(&self) -> &[Move] {
+        &self.moves[self.sighting..]
     }
 
     /// Whether the base's outline standing at `pose` stays on the ground it covered along the
@@ -110,12 +137,13 @@ mod tests {
     /// Drives `distance` along the trail's last heading.
     fn driven(trail: &mut Trail, distance: f64) {
         let last = *trail.since_sighting().last().unwrap();
-        trail.push(last * Isometry2::translation(distance, 0.0));
+        trail.push(Move::Drive(distance), last * Isometry2::translation(distance, 0.0));
     }
 
     fn turned(trail: &mut Trail, degrees: f64) {
         let last = *trail.since_sighting().last().unwrap();
-        trail.push(last * Isometry2::rotation(degrees.to_radians()));
+        let angle = degrees.to_radians();
+        trail.push(Move::Turn(angle), last * Isometry2::rotation(angle));
     }
 
     #[test]

@@ -10,7 +10,7 @@
 use std::sync::Mutex;
 
 use super::run::TaskRobot;
-use super::trail::Trail;
+use super::trail::{Move, Trail};
 use crate::hal::{
     Arm, BrightnessCamera, CameraCalibration, Carriage, ColorCamera, ColorImage, Finger,
     FingerForceTorque, GrayImage, Gripper, HalError, LookDirection, MobileBase, PalmRange,
@@ -39,10 +39,10 @@ impl<'a, R: TaskRobot> Trailing<'a, R> {
         self.trail.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).saw_the_tag();
     }
 
-    /// Adds where the base stands now, after a motion that moved it or failed partway.
-    fn keep(&self) -> Result<(), HalError> {
+    /// Adds `made` and where the base stands now, after it moved or failed partway.
+    fn keep(&self, made: Move) -> Result<(), HalError> {
         let pose = self.robot.pose_estimate()?;
-        self.trail.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).push(pose);
+        self.trail.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).push(made, pose);
         Ok(())
     }
 }
@@ -54,13 +54,13 @@ impl<R: TaskRobot> MobileBase for Trailing<'_, R> {
 
     fn drive(&self, distance: f64) -> Result<(), HalError> {
         let driven = self.robot.drive(distance);
-        self.keep()?;
+        self.keep(Move::Drive(distance))?;
         driven
     }
 
     fn turn(&self, angle: f64) -> Result<(), HalError> {
         let turned = self.robot.turn(angle);
-        self.keep()?;
+        self.keep(Move::Turn(angle))?;
         turned
     }
 }

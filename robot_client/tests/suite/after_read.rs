@@ -10,7 +10,9 @@
 //! waypoint only roughly: the hand goes to 1.24 m, 2 cm above the patch's middle. Once the EPC
 //! is read, the rocker's
 //! own colour, learned from its own three reads (hue 353..357°), leaves the wood out: the look
-//! again finds the patch 5.9 cm from where the tag was first seen, the hand is brought to
+//! again finds the patch 3.8 cm from where the tag was first seen (carried back to the hand by
+//! the motions that undo the back-off; through odometry, drifted on the way there and back, it
+//! read 5.9 cm), the hand is brought to
 //! within 1 cm of the patch's middle, and the light comes on. The trial then carries the
 //! patch's colour as that look saw it (median hue 355°), not the colour of the middle of what
 //! was first taken for the tag (the plate's wood, median hue 24°).
@@ -94,7 +96,7 @@ async fn the_rockers_own_colour_after_its_read_leaves_the_wooden_plate_out() {
     );
     assert!(said.contains("looked again with this tag's own colour"), "{said}");
     let moved = moved_after_the_read(report);
-    assert!(moved > 0.04, "the tag {:.1} cm from where it was first seen: {said}", moved * 100.0);
+    assert!(moved > 0.03, "the tag {:.1} cm from where it was first seen: {said}", moved * 100.0);
     let after = hand_height(report, 4);
     assert!(
         (after - truth.z).abs() < 0.01,
