@@ -31,13 +31,11 @@ enum Way {
     Retraced { straight: f64 },
 }
 
-/// How the robot went to look: the motions it made from where the hand was brought, and where
-/// odometry expected them to take it.
+/// How the robot went to look: the motions it made from where the hand was brought.
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct BackOff {
     way: Way,
     moves: Vec<Move>,
-    end: PlanarPose,
 }
 
 /// Backs the base off from `here` (odometry frame) to look at the tag at `tag` (odometry frame)
@@ -57,13 +55,18 @@ pub(super) fn back_off(
         return Ok(None);
     };
     robot.move_to_extension(0.0, f64::INFINITY)?;
+    if let (Way::Retraced { .. }, Some(height)) = (back_off.way, trail.hand_height()) {
+        // Turning near the device, fingers at its height would sweep through it (a lamp's
+        // chain); at the height they had on the way in they sweep only what they swept then.
+        robot.move_to_height(height, f64::INFINITY)?;
+    }
     make(robot, back_off.moves.iter().copied())?;
-    let from = range(&calibration, &robot.pose_estimate()?, tag);
+    let from = range(&calibration, &(here * back_off.looked()), tag);
     phase.note(match back_off.way {
         Way::Straight => format!(
             "backed off {:.2} m straight, over ground it came by, to look from {from:.2} m, as \
              far as the tag was first seen from: its colour was learned at that range",
-            (back_off.end.translation.vector - here.translation.vector).norm()
+            back_off.looked().translation.vector.norm()
         ),
         Way::Retraced { straight } => format!(
             "backed off along its way in ({}) to where it first saw the tag, to look from \
@@ -80,13 +83,17 @@ impl BackOff {
     /// hand was brought, by the motions as commanded: the way back undoes them, so the base
     /// stands there again, while odometry has drifted on the way there and back.
     pub(super) fn seen_from_the_hand(&self, point: &Point3<f64>) -> Point3<f64> {
-        let looked = self.moves.iter().fold(PlanarPose::identity(), |pose, made| {
+        odom_from_base(&self.looked()) * point
+    }
+
+    /// Where the robot looked from, in the base frame where the hand was brought.
+    fn looked(&self) -> PlanarPose {
+        self.moves.iter().fold(PlanarPose::identity(), |pose, made| {
             pose * match *made {
                 Move::Drive(distance) => Isometry2::translation(distance, 0.0),
                 Move::Turn(angle) => Isometry2::rotation(angle),
             }
-        });
-        odom_from_base(&looked) * point
+        })
     }
 }
 
@@ -122,14 +129,12 @@ fn plan(
         .last()
         .map_or(0.0, |pose| (pose.translation.vector - here.translation.vector).norm());
     if straight >= back - 1e-9 {
-        let (moves, end) = (vec![Move::Drive(-back)], straight_back(back));
-        return Some(BackOff { way: Way::Straight, moves, end });
+        return Some(BackOff { way: Way::Straight, moves: vec![Move::Drive(-back)] });
     }
     // Where it stood when it first saw the tag it saw it from that range; looking as it did
     // then, facing the same way, only the colour and size it looks for differ from that look.
     let moves = trail.moves_since_sighting().iter().rev().map(|made| made.undone()).collect();
-    let end = trail.since_sighting()[0];
-    Some(BackOff { way: Way::Retraced { straight }, moves, end })
+    Some(BackOff { way: Way::Retraced { straight }, moves })
 }
 
 /// Makes `moves` with the base. They are the drives and turns it came by, undone as they were
@@ -209,7 +214,7 @@ mod tests {
         let plan = plan(&calibration, &here, &tag, from, &trail, &footprint).unwrap();
         assert_eq!(plan.way, Way::Straight);
         assert_eq!(plan.moves.len(), 1);
-        assert!((range(&calibration, &plan.end, &tag) - from).abs() < 1e-6);
+        assert!((range(&calibration, &(here * plan.looked()), &tag) - from).abs() < 1e-6);
     }
 
     #[test]
@@ -234,7 +239,8 @@ mod tests {
         let first = trail.since_sighting()[0];
         assert!((at.translation.vector - first.translation.vector).norm() < 1e-9);
         assert!((at.rotation.inverse() * first.rotation).angle().abs() < 1e-9);
-        assert_eq!(plan.end, first);
+        let looked = here * plan.looked();
+        assert!((looked.translation.vector - first.translation.vector).norm() < 1e-9);
     }
 
     #[test]

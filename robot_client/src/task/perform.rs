@@ -59,6 +59,11 @@ pub(super) struct FoundTag {
 /// themselves.
 const HAND_STAYS_WITHIN: f64 = 0.01;
 
+/// How finely a look from the range the tag was first seen from places it, metres: at 1.2 m a
+/// pixel of the camera and a step of the laser each span about 5 mm, and a tag seen from the
+/// side of a first sighting shows a few of them less.
+const FAR_LOOK_PRECISION: f64 = 0.02;
+
 /// The action chosen and the behaviour the entry names for it.
 struct Chosen<'e> {
     action: String,
@@ -206,23 +211,47 @@ fn look_knowing_the_tag(
             let here = in_base(robot, &seen)?;
             let seen = backed.as_ref().map_or(here, |backed| backed.seen_from_the_hand(&here));
             let off = (seen - tag.at).norm();
-            let stays = !moved && off <= HAND_STAYS_WITHIN;
-            phase.note(format!(
-                "looked again with {}: the tag is {:.1} cm from where it was first seen; {}",
-                search.with,
-                off * 100.0,
-                if stays { "the hand stays" } else { "acting there" }
-            ));
-            // Found elsewhere, what was first taken for the tag was not only the tag: its
-            // colour would teach the registry the wood or the box beside it. This look was
-            // taken from the same range, so its colour is as comparable.
-            // A read that did not name one tag sends neither, whatever this look saw.
-            if off > HAND_STAYS_WITHIN && tag.color.is_some() && color.is_some() {
-                phase.note("the trial carries the tag's colour and size as this look saw them");
-                tag.color = color;
-                tag.size = size;
+            // The tag read lies within what was first taken for it, which reached no farther
+            // from its middle than the search before the read allowed: a tag farther off, seen
+            // from where the robot looked (at a side approach's first sighting, obliquely), is
+            // another red thing.
+            let reach = config.approach.tag.max_tag_radius;
+            if off > reach {
+                phase.note(format!(
+                    "looked again with {}: took a tag {:.1} cm from where the tag was first \
+                     seen, farther than what was first taken for it could reach ({:.0} cm): \
+                     not the tag read; acting where it was first seen",
+                    search.with,
+                    off * 100.0,
+                    reach * 100.0
+                ));
+                moved.then_some(tag.at)
+            } else {
+                // From afar the look tells the tag's place less finely than phase 3's from
+                // the hand did: where it agrees within that, the nearer look's point stands.
+                let agrees = if moved { FAR_LOOK_PRECISION } else { HAND_STAYS_WITHIN };
+                let stays = off <= agrees;
+                phase.note(format!(
+                    "looked again with {}: the tag is {:.1} cm from where it was first seen; {}",
+                    search.with,
+                    off * 100.0,
+                    if stays { "the hand stays" } else { "acting there" }
+                ));
+                // Found elsewhere, what was first taken for the tag was not only the tag: its
+                // colour would teach the registry the wood or the box beside it. This look was
+                // taken from the same range, so its colour is as comparable.
+                // A read that did not name one tag sends neither, whatever this look saw.
+                if off > HAND_STAYS_WITHIN && tag.color.is_some() && color.is_some() {
+                    phase.note("the trial carries the tag's colour and size as this look saw them");
+                    tag.color = color;
+                    tag.size = size;
+                }
+                match (stays, moved) {
+                    (false, _) => Some(seen),
+                    (true, true) => Some(tag.at),
+                    (true, false) => None,
+                }
             }
-            (!stays).then_some(seen)
         }
         SecondLook::NotFound(why) => {
             phase.note(format!(

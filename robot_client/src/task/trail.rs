@@ -52,11 +52,14 @@ pub(crate) struct Trail {
     moves: Vec<Move>,
     /// Which pose the tag was seen from, in the look that led to the waypoint.
     sighting: usize,
+    /// The hand's height then, metres: the base turned and drove with the hand there, so the
+    /// fingers swept nothing else on the way.
+    hand_height: Option<f64>,
 }
 
 impl Trail {
     pub(crate) fn starting_at(pose: PlanarPose) -> Self {
-        Self { poses: vec![pose], moves: Vec::new(), sighting: 0 }
+        Self { poses: vec![pose], moves: Vec::new(), sighting: 0, hand_height: None }
     }
 
     /// Adds a motion and where the base stands after it.
@@ -65,12 +68,20 @@ impl Trail {
         self.poses.push(pose);
     }
 
-    /// Notes that the tag was seen from where the base stands now.
-    pub(crate) fn saw_the_tag(&mut self) {
+    /// Notes that the tag was seen from where the base stands now, the hand `hand_height`
+    /// metres up.
+    pub(crate) fn saw_the_tag(&mut self, hand_height: f64) {
         self.sighting = self.poses.len() - 1;
+        self.hand_height = Some(hand_height);
+    }
+
+    /// The hand's height when the tag was seen, if it was.
+    pub(crate) fn hand_height(&self) -> Option<f64> {
+        self.hand_height
     }
 
     /// The poses from where the base stood when it saw the tag on.
+    #[cfg(test)]
     pub(crate) fn since_sighting(&self) -> &[PlanarPose] {
         &self.poses[self.sighting..]
     }

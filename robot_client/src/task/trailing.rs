@@ -35,8 +35,10 @@ impl<'a, R: TaskRobot> Trailing<'a, R> {
     }
 
     /// Notes that the tag was seen from where the base stands now.
-    pub(super) fn saw_the_tag(&self) {
-        self.trail.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).saw_the_tag();
+    pub(super) fn saw_the_tag(&self) -> Result<(), HalError> {
+        let height = self.robot.height()?;
+        self.trail.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).saw_the_tag(height);
+        Ok(())
     }
 
     /// Adds `made` and where the base stands now, after it moved or failed partway.
