@@ -97,13 +97,12 @@ fn overlap(a: (&PlanarPose, Vector2<f64>), b: (&PlanarPose, Vector2<f64>)) -> bo
 /// it never crossed (its outline would stand up to 65 cm outside what it covered) and on it,
 /// 0.35 m back, a footstool 1.1–1.5 m out from the wall that its camera and laser never had
 /// in view. Instead it goes back along its way in (the 67° turn undone in place, the 0.94 m
-/// drive reversed, the 23° turn undone) to where it first saw the tag, looks from 1.19 m, and
+/// drive reversed, the 23° turn undone) to where it first saw the tag, looks from 1.18 m, and
 /// comes back the same way.
 ///
 /// Checked on the simulator's true poses, every 5 mm and 5 mrad of the base's motion after the
-/// read (1,012 poses, each outline sampled at 441 points): none reaches more than 1 mm outside
-/// the ground the base's 50 × 50 cm outline covered before (2 cm allowed), and none touches the
-/// stool.
+/// read (1,011 poses, each outline sampled at 441 points): none reaches outside the ground the
+/// base's 50 × 50 cm outline covered before (2 cm allowed), and none touches the stool.
 #[tokio::test(flavor = "multi_thread")]
 async fn backing_off_after_the_read_keeps_to_the_ground_it_came_over() {
     let dir = tempfile::tempdir().unwrap();
