@@ -7,7 +7,7 @@ use time::OffsetDateTime;
 
 use super::person::{Person, achieved};
 use super::real_reader::WithRealReader;
-use crate::hal::{RfidReader, VerticalChoice};
+use crate::hal::{PlanarPose, RfidReader, VerticalChoice};
 use crate::registry::RegistryClient;
 use crate::sim::{
     DeviceKind, DeviceTruth, OperatorScript, Room, RoomOptions, Scenario, SimBody, SimClock,
@@ -78,6 +78,12 @@ pub struct SimulatedResult {
     pub after: DeviceTruth,
     /// Whether the room changed as the person wanted.
     pub achieved: bool,
+    /// Every pose the base truly stood in, world frame, from where it started (the
+    /// simulator's [`base_path`](crate::sim::SimState::base_path)).
+    pub base_path: Vec<PlanarPose>,
+    /// Where in `base_path` the base stood at the robot's last RFID read, if its reader is the
+    /// simulator's.
+    pub read_from: Option<usize>,
 }
 
 /// Runs one task in a fresh simulated room against the registry.
@@ -135,7 +141,13 @@ pub async fn run_simulated_reading(
         None => run_task(&robot, &person, registry, &clock, &config).await?,
     };
     let after = robot.truth();
+    let (base_path, read_from) = {
+        let state = robot.state();
+        (state.base_path.clone(), state.read_from)
+    };
     Ok(SimulatedResult {
+        base_path,
+        read_from,
         achieved: achieved(trial.device, &trial.action, &before, &after),
         report,
         before,

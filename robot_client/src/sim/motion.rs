@@ -111,7 +111,8 @@ impl SimState {
             let body = at(self, fraction);
             let (devices, forces) = self.settled_at(&body);
             if !too_hard(&forces, before) {
-                (self.body, self.devices, reached) = (body, devices, fraction);
+                self.go_to(body, devices);
+                reached = fraction;
                 before = peak(&forces);
                 continue;
             }
@@ -125,17 +126,27 @@ impl SimState {
                 if too_hard(&forces, before) {
                     over = (body, devices, mid);
                 } else {
-                    (self.body, self.devices, reached) = (body, devices, mid);
+                    self.go_to(body, devices);
+                    reached = mid;
                     before = peak(&forces);
                 }
             }
             let (body, _, fraction) = over;
             let (devices, _) = self.settled_at(&body);
-            (self.body, self.devices, reached) = (body, devices, fraction);
+            self.go_to(body, devices);
+            reached = fraction;
             break;
         }
         self.show_moving_parts();
         reached
+    }
+
+    /// Puts the body at `body` with the devices settled as `devices`, keeping the base's path.
+    fn go_to(&mut self, body: BodyState, devices: DeviceMechanics) {
+        if body.world_from_base != self.body.world_from_base {
+            self.base_path.push(body.world_from_base);
+        }
+        (self.body, self.devices) = (body, devices);
     }
 
     /// Moves the parts the camera and laser see (the drawer, the lever) and the drawer's tag to

@@ -52,6 +52,12 @@ pub struct SimState {
     pub body: BodyState,
     pub geometry: BodyGeometry,
     pub rfid: RfidModel,
+    /// Every pose the base has truly stood in, world frame, oldest first: where it started, and
+    /// each step of its drives (5 mm) and turns (5 mrad). For tests that check where the robot
+    /// went; behaviours see only odometry.
+    pub base_path: Vec<PlanarPose>,
+    /// Where in `base_path` the base stood at the last RFID inventory, if there was one.
+    pub read_from: Option<usize>,
     pub(super) rng: ChaCha8Rng,
 }
 
@@ -118,6 +124,8 @@ impl SimRobot {
             body,
             geometry,
             rfid: RfidModel::default(),
+            base_path: vec![world_from_base],
+            read_from: None,
             rng: ChaCha8Rng::seed_from_u64(seed),
         };
         state.show_moving_parts();
@@ -207,6 +215,7 @@ impl RfidReader for SimRobot {
         let mut s = self.state();
         let antennas = s.body.antennas(&s.geometry);
         let model = s.rfid;
+        s.read_from = Some(s.base_path.len() - 1);
         let SimState { room, rng, clock, .. } = &mut *s;
         clock.advance(std::time::Duration::from_millis(50));
         Ok(model.inventory(&antennas, &room.devices, rng))

@@ -97,6 +97,10 @@ pub struct RoomOptions {
     /// A red plastic key box on the wall right of the rocker switch, touching its plate: as red
     /// as the tag, 8 × 10 cm and standing 4 cm out from the wall.
     pub red_box_by_rocker: bool,
+    /// A footstool in the room straight out from the rocker switch, 1.1–1.5 m from its wall:
+    /// 40 cm square and 45 cm high, off the way of a robot that comes to the switch from the
+    /// side, and behind it once it faces the switch.
+    pub footstool_by_rocker: bool,
 }
 
 impl RoomOptions {
@@ -138,6 +142,7 @@ impl Default for RoomOptions {
             orange_towel: false,
             wooden_rocker_plate: false,
             red_box_by_rocker: false,
+            footstool_by_rocker: false,
         }
     }
 }
@@ -173,6 +178,8 @@ const ORANGE_TOWEL: Surface = Surface::Matte([0.448, 0.042, 0.006]);
 /// Red things that are not tags: as red as the tags, so colour alone cannot tell them apart.
 const RED_BOOK: Surface = Surface::Matte([0.48, 0.022, 0.030]);
 const RED_CLOTH: Surface = Surface::Matte([0.52, 0.028, 0.034]);
+/// A footstool's blue-grey upholstery.
+const FABRIC: Surface = Surface::Matte([0.18, 0.21, 0.28]);
 
 impl Room {
     /// The paper's room with the default options.
@@ -281,6 +288,9 @@ impl Room {
             ));
         }
         tag(DeviceKind::AdaLightSwitch, &north, [a, 0.0135, h]);
+        if options.footstool_by_rocker {
+            parts.push(north.cuboid("footstool", [a, 1.3, 0.225], [0.2, 0.2, 0.225], FABRIC));
+        }
 
         // Floor lamp by the south wall, its pull chain toward the room, red foam on the chain.
         let a = options.lamp_along;

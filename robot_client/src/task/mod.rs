@@ -10,12 +10,15 @@
 
 mod act;
 mod approach;
+mod back_off;
 mod drive;
 mod identify;
 mod known_tags;
 mod perform;
 mod report;
 mod run;
+mod trail;
+mod trailing;
 
 pub use act::{ActionChoice, choose_action, vertical_choice_for};
 pub use known_tags::{ColourSource, ThisTagSearch, search_for_known_tags, search_for_this_tag};

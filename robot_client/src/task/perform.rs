@@ -11,11 +11,13 @@ use time::OffsetDateTime;
 use uuid::Uuid;
 
 use super::act::{ActionChoice, choose_action, run_behavior};
-use super::drive::{camera_origin, in_base, in_odom};
+use super::back_off::{back_off, come_back};
+use super::drive::{in_base, in_odom};
 use super::identify::{SecondLook, look_from_here, reach_toward};
 use super::known_tags::{ColourSource, search_for_this_tag};
 use super::report::{PhaseReport, TaskReport};
 use super::run::{TaskConfig, TaskRobot};
+use super::trail::Trail;
 use crate::behaviors::{DropGeometry, ForceRecorder};
 use crate::hal::{Clock, HalError, Operator};
 use crate::navigation::{ApproachParams, RfidIdentity};
@@ -47,6 +49,8 @@ pub(super) struct FoundTag {
     pub color: Option<TagColor>,
     /// The tag's size on its surface in that look, sent with the trial on the same condition.
     pub size: Option<TagSize>,
+    /// Where the base went since it first looked for the tag: the ground it may back off over.
+    pub trail: Trail,
 }
 
 /// How far the tag, seen again after its read, may lie from where the hand was brought for the
@@ -55,9 +59,10 @@ pub(super) struct FoundTag {
 /// themselves.
 const HAND_STAYS_WITHIN: f64 = 0.01;
 
-/// A range this near the one the tag was first seen from is the same, metres: the flash's light
-/// on the tag changes by 2 % per centimetre at 1 m.
-const SAME_RANGE: f64 = 0.01;
+/// How finely a look from the range the tag was first seen from places it, metres: at 1.2 m a
+/// pixel of the camera and a step of the laser each span about 5 mm, and a tag seen from the
+/// side of a first sighting shows a few of them less.
+const FAR_LOOK_PRECISION: f64 = 0.02;
 
 /// The action chosen and the behaviour the entry names for it.
 struct Chosen<'e> {
@@ -168,9 +173,10 @@ async fn read_entry(
 
 /// Looks for the tag again now that its entry says what it is: in its own learned colour and at
 /// its own registered size, which a neighbouring wooden or red surface joins less often than
-/// the household's colour and its largest tag's size did before the read. The hand is brought
-/// to what that look finds; where it finds nothing, or the camera cannot see the tag, the robot
-/// acts where the tag was first seen.
+/// the household's colour and its largest tag's size did before the read. It looks from the
+/// range the tag was first seen from, backing off over the ground it came over
+/// ([`back_off`]). The hand is brought to what that look finds; where it finds nothing, or the
+/// camera cannot see the tag, the robot acts where the tag was first seen.
 fn look_knowing_the_tag(
     acting: &Acting<'_, impl TaskRobot>,
     entry: &EffectiveEntry,
@@ -191,33 +197,61 @@ fn look_knowing_the_tag(
         phase.note(note);
     }
     let first = in_odom(robot, &tag.at)?;
-    let backed = back_to_the_first_range(robot, &first, tag.seen_from, phase)?;
+    let footprint = &config.approach.footprint;
+    let backed = back_off(robot, &first, tag.seen_from, &tag.trail, footprint, phase)?;
     let params = ApproachParams { tag: search.params, ..config.approach.clone() };
     let look = look_from_here(robot, &first, &tag.pointed, config, &params)?;
-    let moved = backed > 0.0;
+    let moved = backed.is_some();
+    // Where the hand was brought, base frame then and again once the robot is back.
     let act_at = match look {
         SecondLook::Seen { at: seen, notes, color, size } => {
             for note in notes {
                 phase.note(note);
             }
-            let off = (seen - first).norm();
-            let stays = !moved && off <= HAND_STAYS_WITHIN;
-            phase.note(format!(
-                "looked again with {}: the tag is {:.1} cm from where it was first seen; {}",
-                search.with,
-                off * 100.0,
-                if stays { "the hand stays" } else { "acting there" }
-            ));
-            // Found elsewhere, what was first taken for the tag was not only the tag: its
-            // colour would teach the registry the wood or the box beside it. This look was
-            // taken from the same range, so its colour is as comparable.
-            // A read that did not name one tag sends neither, whatever this look saw.
-            if off > HAND_STAYS_WITHIN && tag.color.is_some() && color.is_some() {
-                phase.note("the trial carries the tag's colour and size as this look saw them");
-                tag.color = color;
-                tag.size = size;
+            let here = in_base(robot, &seen)?;
+            let seen = backed.as_ref().map_or(here, |backed| backed.seen_from_the_hand(&here));
+            let off = (seen - tag.at).norm();
+            // The tag read lies within what was first taken for it, which reached no farther
+            // from its middle than the search before the read allowed: a tag farther off, seen
+            // from where the robot looked (at a side approach's first sighting, obliquely), is
+            // another red thing.
+            let reach = config.approach.tag.max_tag_radius;
+            if off > reach {
+                phase.note(format!(
+                    "looked again with {}: took a tag {:.1} cm from where the tag was first \
+                     seen, farther than what was first taken for it could reach ({:.0} cm): \
+                     not the tag read; acting where it was first seen",
+                    search.with,
+                    off * 100.0,
+                    reach * 100.0
+                ));
+                moved.then_some(tag.at)
+            } else {
+                // From afar the look tells the tag's place less finely than phase 3's from
+                // the hand did: where it agrees within that, the nearer look's point stands.
+                let agrees = if moved { FAR_LOOK_PRECISION } else { HAND_STAYS_WITHIN };
+                let stays = off <= agrees;
+                phase.note(format!(
+                    "looked again with {}: the tag is {:.1} cm from where it was first seen; {}",
+                    search.with,
+                    off * 100.0,
+                    if stays { "the hand stays" } else { "acting there" }
+                ));
+                // Found elsewhere, what was first taken for the tag was not only the tag: its
+                // colour would teach the registry the wood or the box beside it. This look was
+                // taken from the same range, so its colour is as comparable.
+                // A read that did not name one tag sends neither, whatever this look saw.
+                if off > HAND_STAYS_WITHIN && tag.color.is_some() && color.is_some() {
+                    phase.note("the trial carries the tag's colour and size as this look saw them");
+                    tag.color = color;
+                    tag.size = size;
+                }
+                match (stays, moved) {
+                    (false, _) => Some(seen),
+                    (true, true) => Some(tag.at),
+                    (true, false) => None,
+                }
             }
-            (!stays).then_some(seen)
         }
         SecondLook::NotFound(why) => {
             phase.note(format!(
@@ -225,50 +259,23 @@ fn look_knowing_the_tag(
                 search.with,
                 why.map(|why| format!(" ({why})")).unwrap_or_default()
             ));
-            moved.then_some(first)
+            moved.then_some(tag.at)
         }
         SecondLook::OutOfView => {
             phase.note("the camera cannot see the tag from here; acting where it was first seen");
-            moved.then_some(first)
+            moved.then_some(tag.at)
         }
     };
     if let Some(at) = act_at {
-        if moved {
+        if let Some(backed) = &backed {
             // Back where the hand was brought before, so the behaviour has the arm's travel.
-            robot.drive(backed)?;
+            come_back(robot, backed, phase)?;
         }
+        let at = in_odom(robot, &at)?;
         reach_toward(robot, &at, config, phase)?;
         tag.at = in_base(robot, &at)?;
     }
     Ok(())
-}
-
-/// Backs the base straight away from the tag at `tag` (odometry frame), the arm drawn in, until
-/// the camera is as far from it as when it was first found, `seen_from` metres: the colour
-/// learned from its reads was seen from there, and the camera's flash at arm's length makes a
-/// red tag paler and pinker than any look it was learned from (in the simulator, a Dycem patch
-/// 45 cm away shows saturation 0.56 and hue 347°, at 1.2 m 0.77 and 355°). Returns how far it
-/// backed, metres.
-fn back_to_the_first_range(
-    robot: &impl TaskRobot,
-    tag: &Point3<f64>,
-    seen_from: f64,
-    phase: &mut PhaseReport,
-) -> Result<f64, HalError> {
-    let here = in_base(robot, tag)? - camera_origin(&robot.calibration());
-    // The base moves the camera along the floor only: the height between them stays.
-    let along = here.x.hypot(here.y);
-    let back = (seen_from.powi(2) - here.z.powi(2)).max(0.0).sqrt() - along;
-    if back <= SAME_RANGE {
-        return Ok(0.0);
-    }
-    robot.move_to_extension(0.0, f64::INFINITY)?;
-    robot.drive(-back)?;
-    phase.note(format!(
-        "backed off {back:.2} m to look from {seen_from:.2} m, as far as the tag was first seen \
-         from: its colour was learned at that range"
-    ));
-    Ok(back)
 }
 
 /// The action (asking the person when there are two) and its behaviour; `None`, failing the

@@ -9,6 +9,7 @@ use super::identify::servo_and_read;
 use super::known_tags::{ColourSource, search_for_known_tags};
 use super::perform::{Acting, FoundTag, act, settle_epc};
 use super::report::{PhaseReport, TaskReport};
+use super::trailing::Trailing;
 use crate::behaviors::{Hand, RobotBody};
 use crate::hal::{
     BrightnessCamera, Clock, ColorCamera, MobileBase, Operator, RfidReader, TiltSweep, TiltingLaser,
@@ -98,7 +99,10 @@ pub async fn run_task(
     let target = in_odom(robot, &pointed)?;
     drive_toward(robot, &robot.calibration(), &config.body, &target, config.near_enough, phase)?;
 
-    // Phase 2: find the tag and the surface behind it; drive to the waypoint.
+    // Phase 2: find the tag and the surface behind it; drive to the waypoint. From here on the
+    // base keeps the trail of where it went, the only ground it may later back off over.
+    let trailing = Trailing::new(robot)?;
+    let robot = &trailing;
     let phase = report.phase(2, "approach the tag perpendicular to its surface");
     registry.refresh_announced().await;
     let (tag, notes) = search_for_known_tags(
@@ -114,6 +118,7 @@ pub async fn run_task(
     let config = &config;
     let seen =
         look_for_tag_and_surface(robot, operator, &target, &config.sweep, &config.approach, phase)?;
+    robot.saw_the_tag()?;
     let Some(mut tag) = drive_to_waypoint(robot, &seen.plan, phase)? else {
         return Ok(report);
     };
@@ -144,7 +149,8 @@ pub async fn run_task(
     report.epc = Some(epc.clone());
     let acting = Acting { robot, operator, registry, clock, config, picture: picture.as_deref() };
     let (color, size) = (tag_color.filter(|_| one_tag), tag_size.filter(|_| one_tag));
-    let found = FoundTag { epc, at, seen_from, pointed: seen.target, color, size };
+    let trail = robot.trail();
+    let found = FoundTag { epc, at, seen_from, pointed: seen.target, color, size, trail };
     act(&acting, found, &mut report).await?;
     Ok(report)
 }

@@ -10,7 +10,9 @@
 //! waypoint only roughly: the hand goes to 1.24 m, 2 cm above the patch's middle. Once the EPC
 //! is read, the rocker's
 //! own colour, learned from its own three reads (hue 353..357°), leaves the wood out: the look
-//! again finds the patch 5.9 cm from where the tag was first seen, the hand is brought to
+//! again finds the patch 3.8 cm from where the tag was first seen (carried back to the hand by
+//! the motions that undo the back-off; through odometry, drifted on the way there and back, it
+//! read 5.9 cm), the hand is brought to
 //! within 1 cm of the patch's middle, and the light comes on. The trial then carries the
 //! patch's colour as that look saw it (median hue 355°), not the colour of the middle of what
 //! was first taken for the tag (the plate's wood, median hue 24°).
@@ -94,7 +96,7 @@ async fn the_rockers_own_colour_after_its_read_leaves_the_wooden_plate_out() {
     );
     assert!(said.contains("looked again with this tag's own colour"), "{said}");
     let moved = moved_after_the_read(report);
-    assert!(moved > 0.04, "the tag {:.1} cm from where it was first seen: {said}", moved * 100.0);
+    assert!(moved > 0.03, "the tag {:.1} cm from where it was first seen: {said}", moved * 100.0);
     let after = hand_height(report, 4);
     assert!(
         (after - truth.z).abs() < 0.01,
@@ -137,9 +139,11 @@ fn moved_after_the_read(report: &TaskReport) -> f64 {
 /// and standing 4 cm out. Bounded by the household's largest tag (the drawer's towel, 17 cm
 /// from its middle), the search takes patch and box for one tag 4.4 cm right of the patch's
 /// middle, and the fingers press the box: the light stays off. Once the EPC is read, the
-/// rocker's own 6 × 6 cm bounds the search at 7 cm: the region, 19 cm across, is divided by
-/// colour and cut to the surface the patch lies on, the hand is brought to the patch, and the
-/// light comes on.
+/// rocker's own 6 × 6 cm bounds the search at 7 cm: the region, 18 cm across, is divided by
+/// colour, the hand is brought to the patch, and the light comes on. (The robot looks from
+/// where it first saw the tag, which its way in leads back to; looking from straight back, 3.7
+/// cm to the side of that, the region was 19 cm across and also had to be cut to the surface
+/// the patch lies on.)
 #[tokio::test(flavor = "multi_thread")]
 async fn the_rockers_own_size_after_its_read_parts_it_from_a_red_box_beside_it() {
     let dir = tempfile::tempdir().unwrap();
@@ -161,7 +165,11 @@ async fn the_rockers_own_size_after_its_read_parts_it_from_a_red_box_beside_it()
     let said = report.to_string();
     assert!(said.contains("reaching more than 17 cm from its middle is taken for a tag"), "{said}");
     assert!(said.contains("reaching more than 7 cm from its middle is taken for it"), "{said}");
-    assert!(said.contains("was cut to the surface its part nearest the target lies on"), "{said}");
+    let after_the_read = report.phases[3].lines.join("\n");
+    assert!(
+        after_the_read.contains("have the colour of its part nearest the target"),
+        "{after_the_read}"
+    );
     assert!(said.contains("looked again with the registered colour and its own size (6 × 6 cm)"));
     let moved = moved_after_the_read(report);
     assert!(moved > 0.03, "the tag {:.1} cm from where it was first seen: {said}", moved * 100.0);

@@ -2,6 +2,7 @@
 //! for each cost more than running them). nextest still runs each test in a process of its own.
 
 mod after_read;
+mod back_off;
 mod behaviors;
 mod learned_colour;
 mod learned_sizes;
