@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::sync::{Arc, Mutex};
 
+use pps_server::transport::DEFAULT_HEADER_READ_TIMEOUT;
 use reqwest::{Method, StatusCode};
 use serde_json::Value;
 use tempfile::TempDir;
@@ -167,7 +168,14 @@ impl Registry {
             admin_token: admin_token.unwrap_or_default(),
             db: db.to_owned(),
             flags: flags.iter().map(|flag| flag.to_string()).collect(),
-            http: reqwest::Client::new(),
+            // The server closes a connection left idle for its header-read timeout. A test that
+            // blocks its runtime for longer (waiting for a command line's output) never sees the
+            // close, and its next request would go out on the closed connection: the client
+            // drops idle connections well before the server would.
+            http: reqwest::Client::builder()
+                .pool_idle_timeout(DEFAULT_HEADER_READ_TIMEOUT / 3)
+                .build()
+                .expect("an HTTP client"),
             log,
             _dir: tempfile::tempdir().expect("a temporary directory"),
         })
