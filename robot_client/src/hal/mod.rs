@@ -14,6 +14,7 @@
 mod base;
 mod camera;
 mod clock;
+mod forward;
 mod laser;
 mod manipulator;
 mod operator;
@@ -26,6 +27,7 @@ pub use camera::{
     LookDirection,
 };
 pub use clock::{Clock, WallClock};
+pub(crate) use forward::forward_to;
 pub use laser::{PointCloud, TiltSweep, TiltingLaser};
 pub use manipulator::{Arm, Carriage, Gripper};
 pub use operator::{Operator, VerticalChoice};

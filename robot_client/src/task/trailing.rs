@@ -11,11 +11,7 @@ use std::sync::Mutex;
 
 use super::run::TaskRobot;
 use super::trail::{Move, Trail};
-use crate::hal::{
-    Arm, BrightnessCamera, CameraCalibration, Carriage, ColorCamera, ColorImage, Finger,
-    FingerForceTorque, GrayImage, Gripper, HalError, LookDirection, MobileBase, PalmRange,
-    PlanarPose, PointCloud, RfidReader, TagRead, TiltSweep, TiltingLaser, Wrench,
-};
+use crate::hal::{HalError, MobileBase, PlanarPose, forward_to};
 
 /// `robot`, keeping the trail of its base.
 pub(super) struct Trailing<'a, R> {
@@ -67,77 +63,7 @@ impl<R: TaskRobot> MobileBase for Trailing<'_, R> {
     }
 }
 
-impl<R: TaskRobot> ColorCamera for Trailing<'_, R> {
-    fn calibration(&self) -> CameraCalibration {
-        self.robot.calibration()
-    }
-    fn capture(&self, flash: bool) -> Result<ColorImage, HalError> {
-        self.robot.capture(flash)
-    }
-}
-
-impl<R: TaskRobot> BrightnessCamera for Trailing<'_, R> {
-    fn capture_light_source(&self, look: LookDirection) -> Result<GrayImage, HalError> {
-        self.robot.capture_light_source(look)
-    }
-    fn mean_intensity(&self, look: LookDirection) -> Result<f64, HalError> {
-        self.robot.mean_intensity(look)
-    }
-}
-
-impl<R: TaskRobot> TiltingLaser for Trailing<'_, R> {
-    fn scan(&self, sweep: &TiltSweep) -> Result<PointCloud, HalError> {
-        self.robot.scan(sweep)
-    }
-}
-
-impl<R: TaskRobot> RfidReader for Trailing<'_, R> {
-    fn inventory(&self) -> Result<Vec<TagRead>, HalError> {
-        self.robot.inventory()
-    }
-}
-
-impl<R: TaskRobot> Carriage for Trailing<'_, R> {
-    fn height(&self) -> Result<f64, HalError> {
-        self.robot.height()
-    }
-    fn move_to_height(&self, height: f64, max_force: f64) -> Result<f64, HalError> {
-        self.robot.move_to_height(height, max_force)
-    }
-}
-
-impl<R: TaskRobot> Arm for Trailing<'_, R> {
-    fn extension(&self) -> Result<f64, HalError> {
-        self.robot.extension()
-    }
-    fn farthest(&self) -> f64 {
-        self.robot.farthest()
-    }
-    fn move_to_extension(&self, extension: f64, max_force: f64) -> Result<f64, HalError> {
-        self.robot.move_to_extension(extension, max_force)
-    }
-}
-
-impl<R: TaskRobot> Gripper for Trailing<'_, R> {
-    fn opening(&self) -> Result<f64, HalError> {
-        self.robot.opening()
-    }
-    fn widest(&self) -> f64 {
-        self.robot.widest()
-    }
-    fn set_opening(&self, angle: f64, max_force: f64) -> Result<f64, HalError> {
-        self.robot.set_opening(angle, max_force)
-    }
-}
-
-impl<R: TaskRobot> FingerForceTorque for Trailing<'_, R> {
-    fn wrench(&self, finger: Finger) -> Result<Wrench, HalError> {
-        self.robot.wrench(finger)
-    }
-}
-
-impl<R: TaskRobot> PalmRange for Trailing<'_, R> {
-    fn range(&self) -> Result<Option<f64>, HalError> {
-        self.robot.range()
-    }
-}
+// Every other capability is the wrapped robot's own.
+forward_to!([R: TaskRobot] Trailing<'_, R> => robot:
+    ColorCamera, BrightnessCamera, TiltingLaser, RfidReader, Carriage, Arm, Gripper,
+    FingerForceTorque, PalmRange);
