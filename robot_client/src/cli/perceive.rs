@@ -50,8 +50,9 @@ pub struct PerceiveArgs {
     #[arg(long, value_name = "HMIN,HMAX,SMIN,SMAX,VMIN,VMAX", allow_hyphen_values = true, value_parser = parse_hsv)]
     pub hsv: Option<HsvThresholds>,
     /// The home's largest tag as registered (`tag_size`), WIDTH,HEIGHT in metres: a red region
-    /// reaching further than its half diagonal and 3 cm is never taken as a tag. Default: a
-    /// towel over a wide drawer's handle (60 × 35 cm).
+    /// reaching further than its half diagonal and 3 cm is never taken as a tag, though a piece
+    /// of it a disc a little wider than the tag cannot reach may be. Default: a towel over a
+    /// wide drawer's handle (60 × 35 cm), and no such piece.
     #[arg(long, value_name = "WIDTH,HEIGHT", value_parser = parse_largest_tag)]
     pub largest_tag: Option<TagSize>,
     /// Print one JSON document on stdout and nothing else.
@@ -220,7 +221,7 @@ pub fn run(args: &PerceiveArgs) -> anyhow::Result<()> {
         params.tag.thresholds = hsv;
     }
     if let Some(largest) = args.largest_tag {
-        params.tag = params.tag.for_home_tags([largest.reach()]);
+        params.tag = params.tag.for_home_tags([largest]);
     }
     // Turning depth into a cloud is a compute step, and the first; on a depth frame only the
     // pixels that can matter are turned into points.

@@ -2,10 +2,11 @@
 //! plywood cabinet whose orange-brown passes the thresholds, a red bin touching the towel) is
 //! never the tag as a whole: it is divided, by colour first, then by surface, and last by the
 //! two colours, then the two surfaces a few millimetres apart, its voxels may fall into
-//! ([`super::two_clusters`]). When its part nearest the target stays larger than a tag, that
-//! part is not the tag the person pointed at, and only a tag-sized part of the region beside
-//! it, about as near the target, may be ([`super::tag::choose_tag`]). Every division and every
-//! refusal is said in words.
+//! ([`super::two_clusters`]), and where the home's tags' sizes are known, by the shape of a tag
+//! standing out of it ([`super::tag_shape`]). When its part nearest the target stays larger
+//! than a tag, that part is not the tag the person pointed at, and only a tag-sized part of the
+//! region beside it, about as near the target, may be ([`super::tag::choose_tag`]). Every
+//! division and every refusal is said in words.
 //!
 //! A region no larger than a tag is divided by two colours alone: two colours whose voxels lie
 //! clearly apart are two things whatever their size (a small patch and the red plastic against
@@ -13,8 +14,9 @@
 //!
 //! Every division takes its limits from the data: the tag's colour is the colour of the part
 //! nearest the pointed location, within that part's own spread, the tag's surface is the one
-//! that part lies on, within the noise measured on it, and two colours or two surfaces are two
-//! when their voxels' clusters lie four of their own spreads apart.
+//! that part lies on, within the noise measured on it, two colours or two surfaces are two
+//! when their voxels' clusters lie four of their own spreads apart, and a tag's shape is as
+//! wide as the home's widest tag registered.
 
 use nalgebra::{Matrix3, Point3, Vector3};
 use rustc_hash::FxHashSet;
@@ -22,6 +24,7 @@ use rustc_hash::FxHashSet;
 use super::mask::Mask;
 use super::occupancy::{Component, OccupancyGrid};
 use super::tag::{TagDetection, TagSearchParams};
+use super::tag_shape::out_of_reach_of_a_disc;
 use super::two_clusters::of_the_core_cluster;
 use super::two_colours::{colours_around, colours_of};
 use crate::hal::{CameraCalibration, ColorImage};
@@ -142,6 +145,12 @@ pub(super) fn bound_tags(
         if let Some(part) = nearest_part(&divided, params)
             && part.radius > params.max_tag_radius
             && let Some(parts) = of_two_surfaces(part, target, params, notes)
+        {
+            divided = join(parts);
+        }
+        if let Some(part) = nearest_part(&divided, params)
+            && part.radius > params.max_tag_radius
+            && let Some(parts) = standing_out(part, &region, target, params, notes)
         {
             divided = join(parts);
         }
@@ -271,6 +280,39 @@ fn of_two_surfaces(
     Some(components_of(&kept, target, params))
 }
 
+/// The piece of `part`'s surface in `region` that a disc a little wider than the home's widest
+/// tag cannot reach, when the home's tags' sizes are known: a tag standing out of a red thing
+/// of nearly its colour beside it ([`super::tag_shape`]).
+fn standing_out(
+    part: &Component,
+    region: &[Point3<f32>],
+    target: &Point3<f64>,
+    params: &TagSearchParams,
+    notes: &mut Vec<String>,
+) -> Option<Vec<Component>> {
+    let half_width = params.widest_tag_half_width?;
+    let members: Vec<Point3<f64>> = part.members.iter().map(|p| p.cast::<f64>()).collect();
+    let (centre, normal, _) = plane_through(&members)?;
+    // The whole region on the part's surface, whatever its colour: the colour division keeps
+    // of a red plastic nearly the tag's colour only the pixels the noise moved toward it.
+    let offset = |p: &Point3<f64>| (p.coords - centre).dot(&normal);
+    let band = members.iter().map(|p| offset(p).abs()).fold(0.0, f64::max);
+    let on_surface: Vec<Point3<f32>> =
+        region.iter().filter(|p| offset(&p.cast::<f64>()).abs() <= band).copied().collect();
+    let piece = out_of_reach_of_a_disc(&on_surface, &centre, &normal, half_width, target)?;
+    notes.push(format!(
+        "a part {:.0} cm across has a piece no disc {:.0} cm wide reaches, no tag in the home \
+         being wider than {:.0} cm: {} of the {} points of its region on its surface",
+        part.radius * 200.0,
+        piece.disc * 100.0,
+        half_width * 200.0,
+        piece.kept.len(),
+        on_surface.len(),
+    ));
+    let kept: Vec<Point3<f32>> = piece.kept.iter().map(|&i| on_surface[i]).collect();
+    Some(components_of(&kept, target, params))
+}
+
 /// The plane through `points` (their centre and the normal of least scatter), and the standard
 /// deviation of the points about it; `None` for fewer than three.
 fn plane_through(points: &[Point3<f64>]) -> Option<(Vector3<f64>, Vector3<f64>, f64)> {
@@ -329,10 +371,13 @@ pub(super) fn too_large_nearest(
         params.max_tag_radius * 200.0,
     );
     Some(match taken {
-        None => format!(
-            "{region}, and neither its colours nor its surfaces divide it, so it is not taken \
-             for a tag"
-        ),
+        None => {
+            let divisions = match params.widest_tag_half_width {
+                Some(_) => "neither its colours, its surfaces nor its shape divide it",
+                None => "neither its colours nor its surfaces divide it",
+            };
+            format!("{region}, and {divisions}, so it is not taken for a tag")
+        }
         Some(tag) => format!(
             "{region}: the tag-sized part beside it ({} points, {:.0} cm from the target) is \
              taken for the tag",

@@ -29,6 +29,7 @@ mod tag;
 mod tag_colour_stats;
 mod tag_colours;
 mod tag_extent;
+mod tag_shape;
 mod two_clusters;
 mod two_colours;
 pub(crate) mod voxel_coords;

@@ -3,6 +3,7 @@
 use std::collections::{BTreeMap, BTreeSet, HashSet};
 
 use nalgebra::Point3;
+use pps_schema::TagSize;
 
 use super::blobs::Blobs;
 use super::bounded_tag::{bound_tags, too_large_nearest};
@@ -43,6 +44,10 @@ pub struct TagSearchParams {
     /// How far the largest tag in the home reaches from its middle (half its diagonal),
     /// metres: a red region reaching further is never a tag as a whole.
     pub max_tag_radius: f64,
+    /// Half the narrower side of the widest tag in the home, metres, when the home's tags'
+    /// sizes are known: a disc a little wider rolls over a red thing too large to be a tag and
+    /// over none of a tag standing out of it ([`super::tag_shape`]).
+    pub widest_tag_half_width: Option<f64>,
 }
 
 impl Default for TagSearchParams {
@@ -61,21 +66,28 @@ impl Default for TagSearchParams {
             // The largest tag of the paper's materials: a towel over a wide drawer's handle,
             // 60 × 35 cm and a fold 3 cm deep.
             max_tag_radius: 0.35,
+            widest_tag_half_width: None,
         }
     }
 }
 
 impl TagSearchParams {
-    /// These parameters bounded by the home's own tags: a red region reaching further from its
-    /// middle than the largest of `reaches` (metres, half each tag's diagonal) by more than a
-    /// tag's own fragments may lie apart (`fragment_gap`) is never a tag as a whole. Unchanged
-    /// when no reach is given, since an unknown tag may be as large as a towel.
-    pub fn for_home_tags(&self, reaches: impl IntoIterator<Item = f64>) -> Self {
-        let largest = reaches.into_iter().filter(|r| r.is_finite() && *r > 0.0).reduce(f64::max);
+    /// These parameters bounded by the home's own tags, of `sizes`: a red region reaching
+    /// further from its middle than the largest tag's half diagonal by more than a tag's own
+    /// fragments may lie apart (`fragment_gap`) is never a tag as a whole, and the widest tag's
+    /// half width sizes the disc that finds a tag standing out of such a region. Unchanged
+    /// when no size is given, since an unknown tag may be as large as a towel.
+    pub fn for_home_tags(&self, sizes: impl IntoIterator<Item = TagSize>) -> Self {
+        let sizes: Vec<TagSize> = sizes
+            .into_iter()
+            .filter(|s| [s.width, s.height].iter().all(|x| x.is_finite() && *x > 0.0))
+            .collect();
         let mut params = self.clone();
-        if let Some(largest) = largest {
+        if let Some(largest) = sizes.iter().map(TagSize::reach).reduce(f64::max) {
             params.max_tag_radius = largest + self.fragment_gap;
         }
+        params.widest_tag_half_width =
+            sizes.iter().map(|s| s.width.min(s.height) / 2.0).reduce(f64::max);
         params
     }
 
@@ -350,11 +362,14 @@ mod tests {
     #[test]
     fn the_homes_largest_tag_bounds_a_tag_and_no_size_leaves_the_towels() {
         let params = TagSearchParams::default();
-        // A rocker's 5 × 8 cm patch and a flip switch's 3 × 4 cm tube.
-        let small = params.for_home_tags([0.0472, 0.025]);
-        assert!((small.max_tag_radius - (0.0472 + params.fragment_gap)).abs() < 1e-12);
+        // A rocker's 5 × 8 cm patch and a flip switch's 4 × 3 cm tube.
+        let patch = TagSize { width: 0.05, height: 0.08 };
+        let tube = TagSize { width: 0.04, height: 0.03 };
+        let small = params.for_home_tags([patch, tube]);
+        assert!((small.max_tag_radius - (patch.reach() + params.fragment_gap)).abs() < 1e-12);
+        assert_eq!(small.widest_tag_half_width, Some(0.025));
         assert_eq!(params.for_home_tags([]), params);
-        assert_eq!(params.for_home_tags([f64::NAN]), params);
+        assert_eq!(params.for_home_tags([TagSize { width: f64::NAN, height: 0.05 }]), params);
     }
 
     fn component(distance: f64, points: usize) -> Component {

@@ -63,7 +63,7 @@ pub fn search_for_this_tag(
     };
     let size_from = match properties.tag_size {
         Some(size) => {
-            params = params.for_home_tags([size.reach()]);
+            params = params.for_home_tags([size]);
             notes.push(format!(
                 "no red region reaching more than {:.0} cm from its middle is taken for it (its \
                  registered size, {})",
@@ -152,7 +152,7 @@ fn bounded_by_known_sizes(
     let sizes: Option<Vec<TagSize>> = known.iter().map(|e| e.entry.properties.tag_size).collect();
     match sizes {
         Some(sizes) if !sizes.is_empty() => {
-            let bounded = params.for_home_tags(sizes.iter().map(TagSize::reach));
+            let bounded = params.for_home_tags(sizes.iter().copied());
             notes.push(format!(
                 "no red region reaching more than {:.0} cm from its middle is taken for a tag \
                  (the largest of this household's {} tags, by their registered or learned sizes)",
