@@ -61,11 +61,18 @@ pub(super) fn out_of_reach_of_a_disc(
     let grid = Grid::of(&flat)?;
     let occupied = grid.closed(&grid.occupancy(&flat), HOLE_CELLS);
     let radius = half_width / CELL + OUTLINE_CELLS;
-    let disc = disc_offsets(radius);
-    let rolled = grid.dilated(&grid.eroded(&occupied, &disc), &disc);
-    let residue: Vec<bool> = occupied.iter().zip(&rolled).map(|(o, r)| *o && !*r).collect();
+    // Rolling the disc: the cells it can be centred on lie further than its radius from every
+    // empty cell, and it covers those within its radius of one of them.
+    let empty: Vec<bool> = occupied.iter().map(|o| !o).collect();
+    let centres: Vec<bool> =
+        grid.squared_distances_to(&empty).iter().map(|d| *d > radius * radius).collect();
+    let rolled = grid.squared_distances_to(&centres).into_iter().map(|d| d <= radius * radius);
+    let residue: Vec<bool> = occupied.iter().zip(rolled).map(|(o, r)| *o && !r).collect();
     // The residue's pieces as wide as a tag: those holding a disc of the narrowest a tag is.
-    let core = grid.eroded(&residue, &disc_offsets(TAG_OF_DISC * radius));
+    let outside: Vec<bool> = residue.iter().map(|r| !r).collect();
+    let narrowest = TAG_OF_DISC * radius;
+    let core: Vec<bool> =
+        grid.squared_distances_to(&outside).iter().map(|d| *d > narrowest * narrowest).collect();
     let pieces = grid.pieces(&residue);
     let target_cell = grid.cell_at(target);
     let piece = pieces
@@ -155,6 +162,26 @@ impl Grid {
         self.eroded(&self.dilated(set, &square), &square)
     }
 
+    /// Each cell's squared distance, in cells, to the nearest cell of `set` ([`FAR`] or more
+    /// when `set` is empty): along the rows, then along the columns.
+    fn squared_distances_to(&self, set: &[bool]) -> Vec<f64> {
+        let (columns, rows) = (self.columns as usize, self.rows as usize);
+        let mut along_rows = vec![0.0; set.len()];
+        for y in 0..rows {
+            let row: Vec<f64> =
+                (0..columns).map(|x| if set[y * columns + x] { 0.0 } else { FAR }).collect();
+            along_rows[y * columns..(y + 1) * columns].copy_from_slice(&distances_along(&row));
+        }
+        let mut out = vec![0.0; set.len()];
+        for x in 0..columns {
+            let column: Vec<f64> = (0..rows).map(|y| along_rows[y * columns + x]).collect();
+            for (y, d) in distances_along(&column).into_iter().enumerate() {
+                out[y * columns + x] = d;
+            }
+        }
+        out
+    }
+
     /// The cells of `set` whose every offset in `shape` lies in `set` too; outside the grid
     /// is outside the set.
     fn eroded(&self, set: &[bool], shape: &[[i64; 2]]) -> Vec<bool> {
@@ -225,13 +252,43 @@ impl Grid {
     }
 }
 
-/// The cells of a disc of `radius` cells about its middle.
-fn disc_offsets(radius: f64) -> Vec<[i64; 2]> {
-    let r = radius.floor() as i64;
-    (-r..=r)
-        .flat_map(|x| (-r..=r).map(move |y| [x, y]))
-        .filter(|[x, y]| ((x * x + y * y) as f64) <= radius * radius)
-        .collect()
+/// Far enough for any grid: a squared distance no cell pair reaches.
+const FAR: f64 = 1e18;
+
+/// Each cell's squared distance, in cells, to the nearest of `values` that is 0 (the rest
+/// [`FAR`]) along one row or column: the lower envelope of the parabolas rooted at those
+/// (Felzenszwalb and Huttenlocher's distance transform), in time linear in the cells.
+fn distances_along(values: &[f64]) -> Vec<f64> {
+    let n = values.len();
+    let (mut roots, mut bounds) = (vec![0usize; n], vec![0.0f64; n + 1]);
+    let mut k = 0;
+    bounds[0] = f64::NEG_INFINITY;
+    bounds[1] = f64::INFINITY;
+    let meet = |q: usize, r: usize| {
+        let (q2, r2) = ((q * q) as f64, (r * r) as f64);
+        ((values[q] + q2) - (values[r] + r2)) / (2.0 * (q as f64 - r as f64))
+    };
+    for q in 1..n {
+        let mut s = meet(q, roots[k]);
+        while s <= bounds[k] {
+            k -= 1;
+            s = meet(q, roots[k]);
+        }
+        k += 1;
+        roots[k] = q;
+        bounds[k] = s;
+        bounds[k + 1] = f64::INFINITY;
+    }
+    let mut out = vec![0.0; n];
+    k = 0;
+    for (q, out) in out.iter_mut().enumerate() {
+        while bounds[k + 1] < q as f64 {
+            k += 1;
+        }
+        let d = q as f64 - roots[k] as f64;
+        *out = d * d + values[roots[k]];
+    }
+    out
 }
 
 #[cfg(test)]
@@ -272,6 +329,32 @@ mod tests {
         assert!(kept.iter().all(|p| in_tag(p)), "only the tag's points");
         assert!(kept.len() >= tag_points * 3 / 4, "{} of the tag's {tag_points}", kept.len());
         assert!((piece.disc - 0.08).abs() < 1e-9, "a disc of {} m", piece.disc);
+    }
+
+    #[test]
+    fn the_distance_transform_finds_every_cells_nearest_set_cell() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let grid = Grid { origin: [0.0, 0.0], columns: 23, rows: 17 };
+        for share in [0.0, 0.02, 0.3, 0.9] {
+            let set: Vec<bool> = (0..grid.cells()).map(|_| rng.random_bool(share)).collect();
+            let fast = grid.squared_distances_to(&set);
+            for (c, fast) in fast.iter().enumerate() {
+                let [x, y] = grid.xy(c);
+                let slow = (0..grid.cells())
+                    .filter(|&n| set[n])
+                    .map(|n| {
+                        let [nx, ny] = grid.xy(n);
+                        ((nx - x).pow(2) + (ny - y).pow(2)) as f64
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                if slow.is_finite() {
+                    assert_eq!(*fast, slow, "cell {c}, {share} set");
+                } else {
+                    assert!(*fast >= FAR, "cell {c}: nothing is set");
+                }
+            }
+        }
     }
 
     #[test]
