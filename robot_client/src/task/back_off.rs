@@ -235,22 +235,28 @@ impl Stop {
     /// In words: "the base stopped after 0.31 m of a 0.94 m drive back (its safety stopped it:
     /// something was in its way)".
     fn describe(&self) -> String {
-        let what = match (self.commanded, self.made) {
-            (Move::Drive(want), Move::Drive(got)) => format!(
+        let want = match self.commanded {
+            Move::Drive(amount) | Move::Turn(amount) => amount,
+            Move::Lift { to, .. } | Move::Reach { to, .. } => to,
+        };
+        let what = match self.made {
+            Move::Drive(got) => format!(
                 "the base stopped after {:.2} m of a {:.2} m drive {}",
                 got.abs(),
                 want.abs(),
                 if want < 0.0 { "back" } else { "ahead" }
             ),
-            (Move::Turn(want), Move::Turn(got)) => format!(
+            Move::Turn(got) => format!(
                 "the base stopped after {:.0}° of a {:.0}° turn",
                 got.to_degrees().abs(),
                 want.to_degrees().abs()
             ),
-            (Move::Lift { to, .. }, Move::Lift { to: got, .. }) => {
-                format!("the carriage stopped at {got:.2} m on its way to {to:.2} m")
+            Move::Lift { to: got, .. } => {
+                format!("the carriage stopped at {got:.2} m on its way to {want:.2} m")
             }
-            (commanded, made) => format!("{made:?} of {commanded:?}"),
+            Move::Reach { to: got, .. } => {
+                format!("the arm stopped {got:.2} m out on its way to {want:.2} m")
+            }
         };
         match &self.error {
             Some(error) => format!("{what} ({error})"),

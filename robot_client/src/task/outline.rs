@@ -6,7 +6,9 @@
 //! shelf's edge below a switch), so the hand's sweep counts only at the heights it was at.
 //!
 //! The arm's extension is comparable at any length: a hand drawn in stays inside the box the
-//! extended arm swept from the base's front out, at the same height.
+//! extended arm swept from the base's front out, at the same height. The hand is as wide as the
+//! footprint says the arm and hand are (`arm_half_width`, 6 cm either side for EL-E), which
+//! holds the fingers open up to about 50°; the task closes them before it reaches for a tag.
 
 use nalgebra::Point2;
 
