@@ -8,7 +8,8 @@
 //! The arm's extension is comparable at any length: a hand drawn in stays inside the box the
 //! extended arm swept from the base's front out, at the same height. The hand is as wide as the
 //! footprint says the arm and hand are (`arm_half_width`, 6 cm either side for EL-E), which
-//! holds the fingers open up to about 50°; the task closes them before it reaches for a tag.
+//! holds the fingers open up to about 50° and around a held object (3 cm either side in the
+//! simulator); the task closes them before it reaches for a tag unless they hold something.
 
 use nalgebra::Point2;
 
