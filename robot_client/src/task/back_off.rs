@@ -335,10 +335,15 @@ fn describe(moves: &[Move]) -> String {
 mod tests {
     use nalgebra::Vector2;
 
+    use std::sync::atomic::{AtomicBool, Ordering};
+
     use super::*;
     use crate::behaviors::RobotBody;
+    use crate::hal::{ColorCamera, MobileBase, forward_to};
     use crate::navigation::RobotFootprint;
-    use crate::sim::head_camera;
+    use crate::sim::{DeviceKind, Room, RoomOptions, SimRobot, head_camera, start_pose_at_angle};
+    use crate::task::report::TaskReport;
+    use crate::task::trailing::Trailing;
 
     fn outline() -> Outline {
         Outline::of(&RobotFootprint::default(), &RobotBody::default())
@@ -438,6 +443,74 @@ mod tests {
             panic!("{plan:?}")
         };
         assert_eq!(moves[..2], [Move::Drive(-0.4), Move::Lift { from: 1.2, to: 0.8 }]);
+    }
+
+    /// A simulated robot whose base's next drive fails partway: it goes 40 % of the way and
+    /// its motor controller reports a fault.
+    struct FaultyDrive<'a> {
+        robot: &'a SimRobot,
+        armed: AtomicBool,
+    }
+
+    impl MobileBase for FaultyDrive<'_> {
+        fn pose_estimate(&self) -> Result<PlanarPose, HalError> {
+            self.robot.pose_estimate()
+        }
+
+        fn drive(&self, distance: f64) -> Result<(), HalError> {
+            if self.armed.swap(false, Ordering::SeqCst) {
+                self.robot.drive(0.4 * distance)?;
+                let reason = "its motor controller faulted".to_owned();
+                return Err(HalError::Failed { device: "base", reason });
+            }
+            self.robot.drive(distance)
+        }
+
+        fn turn(&self, angle: f64) -> Result<(), HalError> {
+            self.robot.turn(angle)
+        }
+    }
+
+    forward_to!([] FaultyDrive<'_> => robot:
+        ColorCamera, BrightnessCamera, TiltingLaser, RfidReader, Carriage, Arm, Gripper,
+        FingerForceTorque, PalmRange);
+
+    /// The robot came to the tag turning 17°, driving 0.8 m and turning to face it; going back
+    /// along that way, its drive back fails after 0.32 m of the 0.8 m. Without the check of
+    /// each motion as made, the error would end the task with the robot 0.32 m back and turned
+    /// away from the tag; it comes back by what it made instead, and says so. Checked on the
+    /// simulator's true pose: it ends within 2 cm of where it backed off from.
+    #[test]
+    fn a_drive_failing_partway_is_undone_as_far_as_it_went() {
+        let room = Room::new(RoomOptions::default());
+        let start = start_pose_at_angle(room.device(DeviceKind::AdaLightSwitch), 0.0, 1.5);
+        let sim = SimRobot::new(room, start, 34);
+        let trailing = Trailing::new(&sim).unwrap();
+        trailing.saw_the_tag();
+        trailing.turn(0.3).unwrap();
+        trailing.drive(0.8).unwrap();
+        let tag = Point3::new(2.0, 0.0, 1.2);
+        let facing = odom_from_base(&trailing.pose_estimate().unwrap()).inverse() * tag;
+        trailing.turn(facing.y.atan2(facing.x)).unwrap();
+        let trail = trailing.trail();
+        let backed_from = sim.state().body.world_from_base;
+        let calibration = sim.calibration();
+        let seen_from = seen_from(&calibration, &trail, &tag);
+
+        let faulty = FaultyDrive { robot: &sim, armed: AtomicBool::new(true) };
+        let mut report = TaskReport::default();
+        let phase = report.phase(4, "read the entry, act, ask, record");
+        let backing = back_off(&faulty, &tag, seen_from, &trail, &outline(), phase).unwrap();
+        assert_eq!(backing, Backing::NoLook);
+        let said = phase.lines.join("\n");
+        assert!(said.contains("the base stopped after 0.32 m of a 0.80 m drive back"), "{said}");
+        assert!(said.contains("(base failed: its motor controller faulted)"), "{said}");
+        assert!(said.contains("came back by what it had made (drove 0.32 m ahead"), "{said}");
+        let end = sim.state().body.world_from_base;
+        let off = (end.translation.vector - backed_from.translation.vector).norm();
+        assert!(off < 0.02, "it ended {:.1} cm from where it backed off from", off * 100.0);
+        let turned = (end.rotation.inverse() * backed_from.rotation).angle().abs();
+        assert!(turned < 2f64.to_radians(), "it ended turned {:.1}°", turned.to_degrees());
     }
 
     #[test]
