@@ -335,7 +335,7 @@ fn describe(moves: &[Move]) -> String {
 mod tests {
     use nalgebra::Vector2;
 
-    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::atomic::{AtomicUsize, Ordering};
 
     use super::*;
     use crate::behaviors::RobotBody;
@@ -445,11 +445,11 @@ mod tests {
         assert_eq!(moves[..2], [Move::Drive(-0.4), Move::Lift { from: 1.2, to: 0.8 }]);
     }
 
-    /// A simulated robot whose base's next drive fails partway: it goes 40 % of the way and
-    /// its motor controller reports a fault.
+    /// A simulated robot whose base's next `failing` drives fail partway: each goes 40 % of
+    /// the way and its motor controller reports a fault.
     struct FaultyDrive<'a> {
         robot: &'a SimRobot,
-        armed: AtomicBool,
+        failing: AtomicUsize,
     }
 
     impl MobileBase for FaultyDrive<'_> {
@@ -458,7 +458,10 @@ mod tests {
         }
 
         fn drive(&self, distance: f64) -> Result<(), HalError> {
-            if self.armed.swap(false, Ordering::SeqCst) {
+            let fails = self
+                .failing
+                .fetch_update(Ordering::SeqCst, Ordering::SeqCst, |left| left.checked_sub(1));
+            if fails.is_ok() {
                 self.robot.drive(0.4 * distance)?;
                 let reason = "its motor controller faulted".to_owned();
                 return Err(HalError::Failed { device: "base", reason });
@@ -480,8 +483,9 @@ mod tests {
     /// each motion as made, the error would end the task with the robot 0.32 m back and turned
     /// away from the tag; it comes back by what it made instead, and says so. Checked on the
     /// simulator's true pose: it ends within 2 cm of where it backed off from.
-    #[test]
-    fn a_drive_failing_partway_is_undone_as_far_as_it_went() {
+    /// The trail of [`a_drive_failing_partway_is_undone_as_far_as_it_went`]: the robot, the
+    /// trail, the tag and the range it was first seen from.
+    fn came_from_the_side() -> (SimRobot, Trail, Point3<f64>, f64) {
         let room = Room::new(RoomOptions::default());
         let start = start_pose_at_angle(room.device(DeviceKind::AdaLightSwitch), 0.0, 1.5);
         let sim = SimRobot::new(room, start, 34);
@@ -493,11 +497,16 @@ mod tests {
         let facing = odom_from_base(&trailing.pose_estimate().unwrap()).inverse() * tag;
         trailing.turn(facing.y.atan2(facing.x)).unwrap();
         let trail = trailing.trail();
-        let backed_from = sim.state().body.world_from_base;
-        let calibration = sim.calibration();
-        let seen_from = seen_from(&calibration, &trail, &tag);
+        let seen_from = seen_from(&sim.calibration(), &trail, &tag);
+        drop(trailing);
+        (sim, trail, tag, seen_from)
+    }
 
-        let faulty = FaultyDrive { robot: &sim, armed: AtomicBool::new(true) };
+    #[test]
+    fn a_drive_failing_partway_is_undone_as_far_as_it_went() {
+        let (sim, trail, tag, seen_from) = came_from_the_side();
+        let backed_from = sim.state().body.world_from_base;
+        let faulty = FaultyDrive { robot: &sim, failing: AtomicUsize::new(1) };
         let mut report = TaskReport::default();
         let phase = report.phase(4, "read the entry, act, ask, record");
         let backing = back_off(&faulty, &tag, seen_from, &trail, &outline(), phase).unwrap();
@@ -511,6 +520,26 @@ mod tests {
         assert!(off < 0.02, "it ended {:.1} cm from where it backed off from", off * 100.0);
         let turned = (end.rotation.inverse() * backed_from.rotation).angle().abs();
         assert!(turned < 2f64.to_radians(), "it ended turned {:.1}°", turned.to_degrees());
+    }
+
+    /// As [`a_drive_failing_partway_is_undone_as_far_as_it_went`], and the drive coming back
+    /// fails too: the robot stands 19 cm short of where the hand was brought, and the phase
+    /// fails saying so rather than reaching from there.
+    #[test]
+    fn a_robot_stopped_going_and_coming_back_does_not_act() {
+        let (sim, trail, tag, seen_from) = came_from_the_side();
+        let faulty = FaultyDrive { robot: &sim, failing: AtomicUsize::new(2) };
+        let mut report = TaskReport::default();
+        let phase = report.phase(4, "read the entry, act, ask, record");
+        let backing = back_off(&faulty, &tag, seen_from, &trail, &outline(), phase).unwrap();
+        assert_eq!(backing, Backing::Stranded);
+        assert!(!phase.ok, "{:?}", phase.lines);
+        let said = phase.lines.join("\n");
+        assert!(
+            said.contains("coming back, the base stopped after 0.13 m of a 0.32 m drive ahead"),
+            "{said}"
+        );
+        assert!(said.contains("is not where the hand was brought and does not act"), "{said}");
     }
 
     #[test]
