@@ -64,13 +64,6 @@ pub(super) enum Backing {
     Stranded,
 }
 
-/// How the robot backs off, or why it does not.
-#[derive(Debug, Clone, PartialEq)]
-enum Plan {
-    Stay,
-    Go(BackOff),
-}
-
 /// Backs the robot off from where it stands to look at the tag at `tag` (odometry frame) from
 /// `seen_from` metres, keeping inside `trail`; says where it went in the phase's notes.
 pub(super) fn back_off(
@@ -83,9 +76,8 @@ pub(super) fn back_off(
 ) -> Result<Backing, HalError> {
     let drawn_in = Stance { base: robot.pose_estimate()?, height: robot.height()?, extension: 0.0 };
     let calibration = robot.calibration();
-    let back_off = match plan(&calibration, &drawn_in, tag, seen_from, trail, outline) {
-        Plan::Stay => return Ok(Backing::Stayed),
-        Plan::Go(back_off) => back_off,
+    let Some(back_off) = plan(&calibration, &drawn_in, tag, seen_from, trail, outline) else {
+        return Ok(Backing::Stayed);
     };
     robot.move_to_extension(0.0, f64::INFINITY)?;
     let made = make(robot, back_off.moves.iter().copied())?;
@@ -160,7 +152,7 @@ pub(super) fn come_back(
 }
 
 /// How to back off from `drawn_in` (the arm drawn in where the hand was brought), as
-/// [`back_off`] chooses.
+/// [`back_off`] chooses; `None` where the camera is about as far from the tag already.
 fn plan(
     calibration: &CameraCalibration,
     drawn_in: &Stance,
@@ -168,18 +160,18 @@ fn plan(
     seen_from: f64,
     trail: &Trail,
     outline: &Outline,
-) -> Plan {
+) -> Option<BackOff> {
     let camera = odom_from_base(&drawn_in.base).inverse() * tag - camera_origin(calibration);
     // The base moves the camera along the floor only: the height between them stays.
     let back = (seen_from.powi(2) - camera.z.powi(2)).max(0.0).sqrt() - camera.x.hypot(camera.y);
     if back <= SAME_RANGE {
-        return Plan::Stay;
+        return None;
     }
     let swept = trail.swept();
     let straight_back = [Move::Drive(-back)];
     let straight = inside(outline, &swept, drawn_in, &straight_back);
     if straight >= back - 1e-9 {
-        return Plan::Go(BackOff { way: Way::Straight, moves: straight_back.to_vec() });
+        return Some(BackOff { way: Way::Straight, moves: straight_back.to_vec() });
     }
     // Where it stood when it first saw the tag it saw it from that range; looking as it did
     // then, facing the same way, only the colour and size it looks for differ from that look.
@@ -189,7 +181,7 @@ fn plan(
         .into_iter()
         .filter(|made| !matches!(made, Move::Reach { .. }))
         .collect();
-    Plan::Go(BackOff { way: Way::Retraced { straight }, moves })
+    Some(BackOff { way: Way::Retraced { straight }, moves })
 }
 
 /// How far the base's centre travels making `moves` from `start` before the robot first leaves
@@ -380,8 +372,8 @@ mod tests {
         range(calibration, &trail.since_sighting()[0].base, tag)
     }
 
-    fn looked(here: &Stance, plan: &Plan) -> PlanarPose {
-        let Plan::Go(back_off) = plan else { panic!("{plan:?}") };
+    fn looked(here: &Stance, plan: &Option<BackOff>) -> PlanarPose {
+        let Some(back_off) = plan else { panic!("no back-off") };
         here.base * back_off.looked()
     }
 
@@ -391,7 +383,7 @@ mod tests {
         let (tag, trail, here) = approach(Vector2::new(0.5, 0.0));
         let from = seen_from(&calibration, &trail, &tag);
         let plan = plan(&calibration, &here, &tag, from, &trail, &outline());
-        let Plan::Go(BackOff { way: Way::Straight, moves }) = &plan else { panic!("{plan:?}") };
+        let Some(BackOff { way: Way::Straight, moves }) = &plan else { panic!("{plan:?}") };
         assert_eq!(moves.len(), 1);
         assert!((range(&calibration, &looked(&here, &plan), &tag) - from).abs() < 1e-6);
     }
@@ -403,7 +395,7 @@ mod tests {
         let from = seen_from(&calibration, &trail, &tag);
         let outline = outline();
         let plan = plan(&calibration, &here, &tag, from, &trail, &outline);
-        let Plan::Go(BackOff { way: Way::Retraced { straight }, moves }) = &plan else {
+        let Some(BackOff { way: Way::Retraced { straight }, moves }) = &plan else {
             panic!("{plan:?}")
         };
         assert!(*straight < 0.1, "straight back stays on its way in for {straight:.2} m");
@@ -439,9 +431,7 @@ mod tests {
         assert!(!trail.covers(&outline, &between(&read, &lowered_here)));
         let from = seen_from(&calibration, &trail, &tag);
         let plan = plan(&calibration, &read, &tag, from, &trail, &outline);
-        let Plan::Go(BackOff { way: Way::Retraced { .. }, moves }) = &plan else {
-            panic!("{plan:?}")
-        };
+        let Some(BackOff { way: Way::Retraced { .. }, moves }) = &plan else { panic!("{plan:?}") };
         assert_eq!(moves[..2], [Move::Drive(-0.4), Move::Lift { from: 1.2, to: 0.8 }]);
     }
 
@@ -547,6 +537,6 @@ mod tests {
         let calibration = head_camera(0.25);
         let (tag, trail, here) = approach(Vector2::new(0.5, 0.0));
         let near = range(&calibration, &here.base, &tag);
-        assert_eq!(plan(&calibration, &here, &tag, near + 0.005, &trail, &outline()), Plan::Stay);
+        assert_eq!(plan(&calibration, &here, &tag, near + 0.005, &trail, &outline()), None);
     }
 }
