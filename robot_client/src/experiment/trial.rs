@@ -10,8 +10,8 @@ use super::real_reader::WithRealReader;
 use crate::hal::{PlanarPose, RfidReader, VerticalChoice};
 use crate::registry::RegistryClient;
 use crate::sim::{
-    DeviceKind, DeviceTruth, OperatorScript, Room, RoomOptions, Scenario, SimBody, SimClock,
-    SimOperator, SimRobot, start_pose_at_angle,
+    BodyState, DeviceKind, DeviceTruth, OperatorScript, Room, RoomOptions, Scenario, SimBody,
+    SimClock, SimOperator, SimRobot, start_pose_at_angle,
 };
 use crate::task::{TaskConfig, TaskReport, run_task, vertical_choice_for};
 
@@ -84,6 +84,11 @@ pub struct SimulatedResult {
     /// Where in `base_path` the base stood at the robot's last RFID read, if its reader is the
     /// simulator's.
     pub read_from: Option<usize>,
+    /// Every state the body truly was in (the simulator's
+    /// [`body_path`](crate::sim::SimState::body_path)), and where in it the body stood at the
+    /// robot's last RFID read.
+    pub body_path: Vec<BodyState>,
+    pub body_read_from: Option<usize>,
 }
 
 /// Runs one task in a fresh simulated room against the registry.
@@ -141,13 +146,15 @@ pub async fn run_simulated_reading(
         None => run_task(&robot, &person, registry, &clock, &config).await?,
     };
     let after = robot.truth();
-    let (base_path, read_from) = {
+    let (base_path, read_from, body_path, body_read_from) = {
         let state = robot.state();
-        (state.base_path.clone(), state.read_from)
+        (state.base_path.clone(), state.read_from, state.body_path.clone(), state.body_read_from)
     };
     Ok(SimulatedResult {
         base_path,
         read_from,
+        body_path,
+        body_read_from,
         achieved: achieved(trial.device, &trial.action, &before, &after),
         report,
         before,

@@ -17,8 +17,9 @@ pub struct BodyGeometry {
     pub laser: LaserModel,
     /// Where the brightness camera sits (it looks up or forward from there).
     pub brightness_camera: Point3<f64>,
-    /// Distance from the base's centre to its front, metres.
+    /// Distance from the base's centre to its front (and back), and to its sides, metres.
     pub base_front: f64,
+    pub base_half_width: f64,
     /// Travel of the carriage (hand height), the arm (extension) and the gripper (opening,
     /// radians; wide enough for the entries' 90° drawer and trash-can openings).
     pub carriage_travel: (f64, f64),
@@ -61,6 +62,7 @@ impl Default for BodyGeometry {
             laser: LaserModel::default(),
             brightness_camera: Point3::new(0.1, 0.0, 1.4),
             base_front: 0.25,
+            base_half_width: 0.25,
             carriage_travel: (0.1, 1.5),
             arm_travel: (0.0, 0.5),
             gripper_travel: (0.0, 1.6),

@@ -12,6 +12,10 @@ use super::robot::SimState;
 use super::room::DeviceKind;
 use crate::hal::Finger;
 
+/// How far a person standing on the floor reaches from where they stand, metres: feet and legs
+/// about 40 cm across.
+const PERSON_RADIUS: f64 = 0.2;
+
 /// Halvings of a step when refining where a motion met its force limit.
 const REFINEMENTS: usize = 10;
 /// Force along the fingers past which the arm gives way backwards while the gripper moves,
@@ -106,9 +110,14 @@ impl SimState {
         };
         let steps = steps.max(1);
         let mut reached = 0.0;
+        let bumped_before = self.bumps(&start);
         for i in 1..=steps {
             let fraction = i as f64 / steps as f64;
             let body = at(self, fraction);
+            // The base's bumper stops it at the step before its outline meets a person.
+            if !bumped_before && self.bumps(&body) {
+                break;
+            }
             let (devices, forces) = self.settled_at(&body);
             if !too_hard(&forces, before) {
                 self.go_to(body, devices);
@@ -141,10 +150,24 @@ impl SimState {
         reached
     }
 
-    /// Puts the body at `body` with the devices settled as `devices`, keeping the base's path.
+    /// Whether the base's outline at `body` meets the person standing in the room, if one does.
+    fn bumps(&self, body: &BodyState) -> bool {
+        self.person.is_some_and(|person| {
+            let p = body.world_from_base.inverse_transform_point(&person);
+            let dx = (p.x.abs() - self.geometry.base_front).max(0.0);
+            let dy = (p.y.abs() - self.geometry.base_half_width).max(0.0);
+            dx.hypot(dy) <= PERSON_RADIUS
+        })
+    }
+
+    /// Puts the body at `body` with the devices settled as `devices`, keeping the base's and
+    /// the body's paths.
     fn go_to(&mut self, body: BodyState, devices: DeviceMechanics) {
         if body.world_from_base != self.body.world_from_base {
             self.base_path.push(body.world_from_base);
+        }
+        if body != self.body {
+            self.body_path.push(body);
         }
         (self.body, self.devices) = (body, devices);
     }

@@ -8,7 +8,7 @@
 use std::sync::{Arc, Mutex, MutexGuard};
 
 use nalgebra::{
-    Isometry2, Isometry3, Point3, Rotation3, Translation3, UnitQuaternion, Vector2, Vector3,
+    Isometry2, Isometry3, Point2, Point3, Rotation3, Translation3, UnitQuaternion, Vector2, Vector3,
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -58,6 +58,16 @@ pub struct SimState {
     pub base_path: Vec<PlanarPose>,
     /// Where in `base_path` the base stood at the last RFID inventory, if there was one.
     pub read_from: Option<usize>,
+    /// Every state the body has truly been in, oldest first: where it started, and each step
+    /// of every motion of its base, carriage, arm and gripper. For tests that check what the
+    /// whole robot swept.
+    pub body_path: Vec<BodyState>,
+    /// Where in `body_path` the body stood at the last RFID inventory, if there was one.
+    pub body_read_from: Option<usize>,
+    /// Someone who steps in behind the robot once it reads a tag, and where they stand once
+    /// they have (world frame): see [`Scenario::person_behind`].
+    pub(super) person_behind: Option<f64>,
+    pub person: Option<Point2<f64>>,
     pub(super) rng: ChaCha8Rng,
 }
 
@@ -126,6 +136,10 @@ impl SimRobot {
             rfid: RfidModel::default(),
             base_path: vec![world_from_base],
             read_from: None,
+            body_path: vec![body],
+            body_read_from: None,
+            person_behind: scenario.person_behind,
+            person: None,
             rng: ChaCha8Rng::seed_from_u64(seed),
         };
         state.show_moving_parts();
@@ -216,6 +230,12 @@ impl RfidReader for SimRobot {
         let antennas = s.body.antennas(&s.geometry);
         let model = s.rfid;
         s.read_from = Some(s.base_path.len() - 1);
+        s.body_read_from = Some(s.body_path.len() - 1);
+        if s.person.is_none()
+            && let Some(behind) = s.person_behind
+        {
+            s.person = Some(back_along(&s.base_path, behind));
+        }
         let SimState { room, rng, clock, .. } = &mut *s;
         clock.advance(std::time::Duration::from_millis(50));
         Ok(model.inventory(&antennas, &room.devices, rng))
@@ -287,6 +307,21 @@ impl MobileBase for SimRobot {
         s.clock.advance_motion(turned, 0.5);
         Ok(())
     }
+}
+
+/// The point `distance` metres back along `path` from its last pose, measured along the way the
+/// base's centre went; its start where the path is shorter.
+fn back_along(path: &[PlanarPose], distance: f64) -> Point2<f64> {
+    let mut left = distance;
+    for leg in path.windows(2).rev() {
+        let (from, to) = (leg[0].translation.vector, leg[1].translation.vector);
+        let length = (to - from).norm();
+        if length >= left && length > 0.0 {
+            return Point2::from(to + (from - to) * (left / length));
+        }
+        left -= length;
+    }
+    Point2::from(path[0].translation.vector)
 }
 
 fn check_finite(device: &'static str, value: f64) -> Result<(), HalError> {

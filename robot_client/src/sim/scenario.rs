@@ -22,6 +22,11 @@ pub struct Scenario {
     pub lamp_on: bool,
     /// Initial opening of the drawer, metres (0 is closed).
     pub drawer_open: f64,
+    /// Once the robot first reads a tag, a person steps onto the way it came, this many metres
+    /// back along it from where its base's centre stands, and stays there; the base's bumper
+    /// stops it where its outline meets them. Neither camera nor laser is drawn seeing them:
+    /// they step in behind the robot, where neither looks.
+    pub person_behind: Option<f64>,
 }
 
 impl Scenario {

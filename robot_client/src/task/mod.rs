@@ -10,10 +10,12 @@
 
 mod act;
 mod approach;
+mod as_made;
 mod back_off;
 mod drive;
 mod identify;
 mod known_tags;
+mod outline;
 mod perform;
 mod report;
 mod run;

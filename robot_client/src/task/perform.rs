@@ -11,10 +11,11 @@ use time::OffsetDateTime;
 use uuid::Uuid;
 
 use super::act::{ActionChoice, choose_action, run_behavior};
-use super::back_off::{back_off, come_back};
+use super::back_off::{Backing, back_off, come_back};
 use super::drive::{in_base, in_odom};
 use super::identify::{SecondLook, look_from_here, reach_toward};
 use super::known_tags::{ColourSource, search_for_this_tag};
+use super::outline::Outline;
 use super::report::{PhaseReport, TaskReport};
 use super::run::{TaskConfig, TaskRobot};
 use super::trail::Trail;
@@ -129,7 +130,9 @@ pub(super) async fn act(
     report.action = Some(chosen.action.clone());
     report.behavior = Some(chosen.key.to_owned());
     let phase = report.phases.last_mut().expect("phase 4 started");
-    look_knowing_the_tag(acting, &fetched.entry, &mut tag, phase)?;
+    if !look_knowing_the_tag(acting, &fetched.entry, &mut tag, phase)? {
+        return Ok(());
+    }
     let performed = perform(acting, &chosen, &fetched.entry.entry.properties, tag.at, phase);
     let confirmed = ask_the_person(acting.operator, performed.outcome, phase)?;
     let trial = trial_record(acting, &tag, chosen, performed, confirmed);
@@ -175,14 +178,16 @@ async fn read_entry(
 /// its own registered size, which a neighbouring wooden or red surface joins less often than
 /// the household's colour and its largest tag's size did before the read. It looks from the
 /// range the tag was first seen from, backing off over the ground it came over
-/// ([`back_off`]). The hand is brought to what that look finds; where it finds nothing, or the
-/// camera cannot see the tag, the robot acts where the tag was first seen.
+/// ([`back_off`]). The hand is brought to what that look finds; where it finds nothing, the
+/// camera cannot see the tag, or the base was stopped on its way to look, the robot acts where
+/// the tag was first seen. `false`, failing the phase, when the base was stopped and could not
+/// come back to where the hand was brought.
 fn look_knowing_the_tag(
     acting: &Acting<'_, impl TaskRobot>,
     entry: &EffectiveEntry,
     tag: &mut FoundTag,
     phase: &mut PhaseReport,
-) -> Result<(), HalError> {
+) -> Result<bool, HalError> {
     let Acting { robot, config, .. } = *acting;
     let search = search_for_this_tag(&config.approach.tag, entry, ColourSource::KnownTags);
     if !search.differs {
@@ -191,14 +196,23 @@ fn look_knowing_the_tag(
              seen",
             search.with
         ));
-        return Ok(());
+        return Ok(true);
     }
     for note in search.notes {
         phase.note(note);
     }
     let first = in_odom(robot, &tag.at)?;
-    let footprint = &config.approach.footprint;
-    let backed = back_off(robot, &first, tag.seen_from, &tag.trail, footprint, phase)?;
+    let outline = Outline::of(&config.approach.footprint, &config.body);
+    let backed = match back_off(robot, &first, tag.seen_from, &tag.trail, &outline, phase)? {
+        Backing::Stayed => None,
+        Backing::Went(backed) => Some(backed),
+        Backing::NoLook => {
+            // Back by odometry where the hand was brought: the hand goes to the tag again.
+            reach_again(robot, tag, config, phase)?;
+            return Ok(true);
+        }
+        Backing::Stranded => return Ok(false),
+    };
     let params = ApproachParams { tag: search.params, ..config.approach.clone() };
     let look = look_from_here(robot, &first, &tag.pointed, config, &params)?;
     let moved = backed.is_some();
@@ -267,14 +281,29 @@ fn look_knowing_the_tag(
         }
     };
     if let Some(at) = act_at {
-        if let Some(backed) = &backed {
-            // Back where the hand was brought before, so the behaviour has the arm's travel.
-            come_back(robot, backed, phase)?;
+        // Back where the hand was brought before, so the behaviour has the arm's travel.
+        if let Some(backed) = &backed
+            && !come_back(robot, backed, phase)?
+        {
+            return Ok(false);
         }
-        let at = in_odom(robot, &at)?;
-        reach_toward(robot, &at, config, phase)?;
-        tag.at = in_base(robot, &at)?;
+        tag.at = at;
+        reach_again(robot, tag, config, phase)?;
     }
+    Ok(true)
+}
+
+/// Brings the hand to the tag at `tag.at` again (base frame where the hand was brought, and
+/// where the base stands again).
+fn reach_again(
+    robot: &impl TaskRobot,
+    tag: &mut FoundTag,
+    config: &TaskConfig,
+    phase: &mut PhaseReport,
+) -> Result<(), HalError> {
+    let at = in_odom(robot, &tag.at)?;
+    reach_toward(robot, &at, config, phase)?;
+    tag.at = in_base(robot, &at)?;
     Ok(())
 }
 

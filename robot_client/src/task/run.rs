@@ -118,7 +118,7 @@ pub async fn run_task(
     let config = &config;
     let seen =
         look_for_tag_and_surface(robot, operator, &target, &config.sweep, &config.approach, phase)?;
-    robot.saw_the_tag()?;
+    robot.saw_the_tag();
     let Some(mut tag) = drive_to_waypoint(robot, &seen.plan, phase)? else {
         return Ok(report);
     };

@@ -1,36 +1,37 @@
-//! The ground the base covered on its way to the tag, as its own odometry tells it: the pose
-//! after each drive and turn since it first looked for the tag, and the outline of the base
-//! swept between them; and those drives and turns as they were commanded, for the way back. A base whose camera and laser look ahead knows nothing of the ground
-//! behind it except that it came over it; so that ground, and no other, is where it may go
-//! backwards.
+//! The ground the robot covered on its way to the tag, as its own odometry and joints tell it:
+//! where its base stood and where its carriage and arm were after each drive, turn, lift and
+//! reach since it first looked for the tag, and what the whole robot ([`Outline`]) swept between
+//! them; and those motions as it made them, for the way back. A robot whose camera and laser
+//! look ahead knows nothing of the ground behind it except that it came over it; so that ground,
+//! and the air its hand swept over it, and no other, is where it may go backwards.
 //!
-//! It never decides where to go: [`Trail::covers`] only says whether a pose stays on the ground.
+//! The trail starts where the robot first looks for the tag (phase 2), not where it started:
+//! the back-off never goes farther from the tag than where it first saw it, and phase 1's drive
+//! toward the tag lies farther out than that.
+//!
+//! It never decides where to go: [`Trail::covers`] only says whether a motion stays on the
+//! ground.
 
-use nalgebra::Point2;
+use nalgebra::Isometry2;
 
-use crate::hal::PlanarPose;
-use crate::navigation::RobotFootprint;
-
-/// How far the base's outline may reach beyond the ground it covered, metres: about what its
-/// odometry drifts sideways over a metre there and back (0.6–2.7 cm in the simulator), so
-/// within what the trail itself is known to.
-pub(super) const SLACK: f64 = 0.02;
+use super::outline::{Stance, Swept};
 
 /// The steps in which the way between two poses of the trail is taken, metres and radians: a
 /// 50 cm base turned by a degree moves its corners 6 mm.
 const STEP: f64 = 0.01;
 const TURN_STEP: f64 = 0.0175;
 
-/// How far apart the points of the outline checked against the ground are, metres.
-const OUTLINE_SPACING: f64 = 0.025;
-
-/// One motion of the base as it was commanded.
+/// One motion of the robot as it was made.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum Move {
     /// Straight ahead (negative: back), metres.
     Drive(f64),
     /// In place, counter-clockwise, radians.
     Turn(f64),
+    /// The carriage from one height to another, metres.
+    Lift { from: f64, to: f64 },
+    /// The arm from one extension to another, metres.
+    Reach { from: f64, to: f64 },
 }
 
 impl Move {
@@ -39,98 +40,92 @@ impl Move {
         match self {
             Self::Drive(distance) => Self::Drive(-distance),
             Self::Turn(angle) => Self::Turn(-angle),
+            Self::Lift { from, to } => Self::Lift { from: to, to: from },
+            Self::Reach { from, to } => Self::Reach { from: to, to: from },
+        }
+    }
+
+    /// Where the robot stands after this motion from `stance`.
+    pub(crate) fn after(self, stance: &Stance) -> Stance {
+        match self {
+            Self::Drive(d) => {
+                Stance { base: stance.base * Isometry2::translation(d, 0.0), ..*stance }
+            }
+            Self::Turn(a) => Stance { base: stance.base * Isometry2::rotation(a), ..*stance },
+            Self::Lift { to, .. } => Stance { height: to, ..*stance },
+            Self::Reach { to, .. } => Stance { extension: to, ..*stance },
         }
     }
 }
 
-/// The base's odometry poses, oldest first: where it stood when it first looked for the tag,
-/// then after each drive and each turn; and those motions as they were commanded.
+/// The robot's stances, oldest first: where it stood when it first looked for the tag, then
+/// after each motion; and those motions as they were made.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Trail {
-    poses: Vec<PlanarPose>,
-    /// `moves[i]` took the base from `poses[i]` to `poses[i + 1]`.
+    stances: Vec<Stance>,
+    /// `moves[i]` took the robot from `stances[i]` to `stances[i + 1]`.
     moves: Vec<Move>,
-    /// Which pose the tag was seen from, in the look that led to the waypoint.
+    /// Which stance the tag was seen from, in the look that led to the waypoint.
     sighting: usize,
-    /// The hand's height then, metres: the base turned and drove with the hand there, so the
-    /// fingers swept nothing else on the way.
-    hand_height: Option<f64>,
 }
 
 impl Trail {
-    pub(crate) fn starting_at(pose: PlanarPose) -> Self {
-        Self { poses: vec![pose], moves: Vec::new(), sighting: 0, hand_height: None }
+    pub(crate) fn starting_at(stance: Stance) -> Self {
+        Self { stances: vec![stance], moves: Vec::new(), sighting: 0 }
     }
 
-    /// Adds a motion and where the base stands after it.
-    pub(crate) fn push(&mut self, made: Move, pose: PlanarPose) {
+    /// Adds a motion and where the robot stands after it.
+    pub(crate) fn push(&mut self, made: Move, stance: Stance) {
         self.moves.push(made);
-        self.poses.push(pose);
+        self.stances.push(stance);
     }
 
-    /// Notes that the tag was seen from where the base stands now, the hand `hand_height`
-    /// metres up.
-    pub(crate) fn saw_the_tag(&mut self, hand_height: f64) {
-        self.sighting = self.poses.len() - 1;
-        self.hand_height = Some(hand_height);
+    /// Notes that the tag was seen from where the robot stands now.
+    pub(crate) fn saw_the_tag(&mut self) {
+        self.sighting = self.stances.len() - 1;
     }
 
-    /// The hand's height when the tag was seen, if it was.
-    pub(crate) fn hand_height(&self) -> Option<f64> {
-        self.hand_height
-    }
-
-    /// The poses from where the base stood when it saw the tag on.
+    /// The stances from where the robot stood when it saw the tag on.
     #[cfg(test)]
-    pub(crate) fn since_sighting(&self) -> &[PlanarPose] {
-        &self.poses[self.sighting..]
+    pub(crate) fn since_sighting(&self) -> &[Stance] {
+        &self.stances[self.sighting..]
     }
 
-    /// The motions that took the base from where it saw the tag to where it stands.
+    /// The motions that took the robot from where it saw the tag to where it stands.
     pub(crate) fn moves_since_sighting(&self) -> &[Move] {
         &self.moves[self.sighting..]
     }
 
-    /// Whether the base's outline standing at `pose` stays on the ground it covered along the
-    /// trail, give or take [`SLACK`]: every point of it, a grid 2.5 cm apart, lies inside the
-    /// outline at some pose the base passed through.
-    pub(crate) fn covers(&self, footprint: &RobotFootprint, pose: &PlanarPose) -> bool {
-        let (l, w) = (footprint.base_half_length, footprint.base_half_width);
-        // Outlines whose centres lie farther apart than this cannot share a point.
-        let reach = 2.0 * l.hypot(w) + SLACK;
-        let near: Vec<PlanarPose> = self
-            .path()
-            .filter(|p| (p.translation.vector - pose.translation.vector).norm() <= reach)
-            .collect();
-        let inside = |at: &PlanarPose, point: &Point2<f64>| {
-            let p = at.inverse_transform_point(point);
-            p.x.abs() <= l + SLACK && p.y.abs() <= w + SLACK
-        };
-        let (nl, nw) = ((2.0 * l / OUTLINE_SPACING).ceil(), (2.0 * w / OUTLINE_SPACING).ceil());
-        (0..=nl as usize).all(|i| {
-            (0..=nw as usize).all(|j| {
-                let local = Point2::new(-l + 2.0 * l * i as f64 / nl, -w + 2.0 * w * j as f64 / nw);
-                let point = pose * local;
-                near.iter().any(|at| inside(at, &point))
-            })
-        })
+    /// What the robot filled along the trail, in steps of at most a centimetre and a degree.
+    pub(crate) fn swept(&self) -> Vec<Swept> {
+        let first = self.stances.first().map(Swept::standing);
+        first
+            .into_iter()
+            .chain(self.stances.windows(2).flat_map(|leg| between(&leg[0], &leg[1])))
+            .collect()
     }
 
-    /// Every pose the base passed through, in steps, oldest first.
-    fn path(&self) -> impl Iterator<Item = PlanarPose> + '_ {
-        let first = self.poses.first().copied();
-        first.into_iter().chain(self.poses.windows(2).flat_map(|leg| between(&leg[0], &leg[1])))
+    /// Whether every step of `steps` stays inside what the robot filled along the trail.
+    #[cfg(test)]
+    pub(crate) fn covers(&self, outline: &super::outline::Outline, steps: &[Swept]) -> bool {
+        let swept = self.swept();
+        steps.iter().all(|step| outline.covered(&swept, step))
     }
 }
 
-/// The poses on the way from `from` to `to` (a drive or a turn in place), in steps of at most a
-/// centimetre and a degree; `from` left out, `to` last.
-pub(super) fn between(from: &PlanarPose, to: &PlanarPose) -> impl Iterator<Item = PlanarPose> {
-    let (from, to) = (*from, *to);
-    let distance = (to.translation.vector - from.translation.vector).norm();
-    let angle = (from.rotation.inverse() * to.rotation).angle().abs();
+/// What the robot fills on the way from `from` to `to` (a drive or a turn in place, a lift or a
+/// reach), in steps of at most a centimetre and a degree; `from` left out, `to` last. A lift
+/// fills every height between; a reach the farther extension.
+pub(super) fn between(from: &Stance, to: &Stance) -> Vec<Swept> {
+    let (a, b) = (from.base, to.base);
+    let distance = (b.translation.vector - a.translation.vector).norm();
+    let angle = (a.rotation.inverse() * b.rotation).angle().abs();
     let steps = ((distance / STEP).max(angle / TURN_STEP).ceil() as usize).max(1);
-    (1..=steps).map(move |i| from.lerp_slerp(&to, i as f64 / steps as f64))
+    let (low, high) = (from.height.min(to.height), from.height.max(to.height));
+    let extension = from.extension.max(to.extension);
+    (1..=steps)
+        .map(|i| Swept { base: a.lerp_slerp(&b, i as f64 / steps as f64), extension, low, high })
+        .collect()
 }
 
 #[cfg(test)]
@@ -140,63 +135,82 @@ mod tests {
     use rand_chacha::ChaCha8Rng;
 
     use super::*;
+    use crate::behaviors::RobotBody;
+    use crate::navigation::RobotFootprint;
+    use crate::task::outline::{Outline, SLACK};
 
-    fn pose(x: f64, y: f64, heading_deg: f64) -> PlanarPose {
-        Isometry2::new(Vector2::new(x, y), heading_deg.to_radians())
+    fn outline() -> Outline {
+        Outline::of(&RobotFootprint::default(), &RobotBody::default())
     }
 
-    /// Drives `distance` along the trail's last heading.
-    fn driven(trail: &mut Trail, distance: f64) {
-        let last = *trail.since_sighting().last().unwrap();
-        trail.push(Move::Drive(distance), last * Isometry2::translation(distance, 0.0));
+    fn stance(x: f64, y: f64, heading_deg: f64) -> Stance {
+        let base = Isometry2::new(Vector2::new(x, y), heading_deg.to_radians());
+        Stance { base, height: 0.8, extension: 0.0 }
     }
 
-    fn turned(trail: &mut Trail, degrees: f64) {
+    /// Makes `made` from the trail's last stance.
+    fn made(trail: &mut Trail, made: Move) {
         let last = *trail.since_sighting().last().unwrap();
-        let angle = degrees.to_radians();
-        trail.push(Move::Turn(angle), last * Isometry2::rotation(angle));
+        trail.push(made, made.after(&last));
+    }
+
+    fn standing(trail: &Trail, stance: Stance) -> bool {
+        trail.covers(&outline(), &[Swept::standing(&stance)])
     }
 
     #[test]
-    fn every_pose_the_base_passed_through_is_covered() {
-        let footprint = RobotFootprint::default();
+    fn every_step_the_robot_made_is_covered() {
         let mut rng = ChaCha8Rng::seed_from_u64(34);
-        for _ in 0..100 {
-            let mut trail = Trail::starting_at(pose(rng.random_range(-2.0..2.0), 0.5, 30.0));
+        for _ in 0..20 {
+            let mut trail = Trail::starting_at(stance(rng.random_range(-2.0..2.0), 0.5, 30.0));
             for _ in 0..3 {
-                turned(&mut trail, rng.random_range(-90.0..90.0));
-                driven(&mut trail, rng.random_range(0.0..1.0));
+                made(&mut trail, Move::Turn(rng.random_range(-90f64..90.0).to_radians()));
+                made(&mut trail, Move::Drive(rng.random_range(0.0..1.0)));
             }
-            for p in trail.path() {
-                assert!(trail.covers(&footprint, &p), "{p:?} along {trail:?}");
-            }
+            made(&mut trail, Move::Lift { from: 0.8, to: rng.random_range(0.3..1.4) });
+            made(&mut trail, Move::Reach { from: 0.0, to: rng.random_range(0.0..0.5) });
+            assert!(trail.covers(&outline(), &trail.swept()), "{trail:?}");
         }
     }
 
     #[test]
     fn straight_back_is_covered_only_as_far_as_the_base_came_straight() {
-        let footprint = RobotFootprint::default();
-        let mut trail = Trail::starting_at(pose(0.0, 0.0, 0.0));
-        driven(&mut trail, 0.8);
+        let mut trail = Trail::starting_at(stance(0.0, 0.0, 0.0));
+        made(&mut trail, Move::Drive(0.8));
         let end = *trail.since_sighting().last().unwrap();
-        let back = |d: f64| end * Isometry2::translation(-d, 0.0);
-        assert!(trail.covers(&footprint, &back(0.8)));
-        assert!(trail.covers(&footprint, &back(0.8 + SLACK)));
-        assert!(!trail.covers(&footprint, &back(0.8 + 2.0 * SLACK)));
+        let back = |d: f64| Move::Drive(-d).after(&end);
+        assert!(standing(&trail, back(0.8)));
+        assert!(standing(&trail, back(0.8 + SLACK)));
+        assert!(!standing(&trail, back(0.8 + 2.0 * SLACK)));
         // Beside the way it came, though within the slack of its start and end.
-        assert!(!trail.covers(&footprint, &pose(0.4, 0.05, 0.0)));
-        assert!(trail.covers(&footprint, &pose(0.4, 0.015, 0.0)));
+        assert!(!standing(&trail, stance(0.4, 0.05, 0.0)));
+        assert!(standing(&trail, stance(0.4, 0.015, 0.0)));
     }
 
     #[test]
-    fn after_a_turn_straight_back_leaves_the_ground_the_base_came_over() {
-        let footprint = RobotFootprint::default();
-        let mut trail = Trail::starting_at(pose(0.0, 0.0, 0.0));
-        driven(&mut trail, 1.0);
-        turned(&mut trail, 25.0);
+    fn after_a_turn_straight_back_leaves_the_ground_the_robot_came_over() {
+        let mut trail = Trail::starting_at(stance(0.0, 0.0, 0.0));
+        made(&mut trail, Move::Drive(1.0));
+        made(&mut trail, Move::Turn(25f64.to_radians()));
         let end = *trail.since_sighting().last().unwrap();
         // The turn in place is ground covered; 10 cm back along the new heading is not.
-        assert!(trail.covers(&footprint, &(end * Isometry2::rotation(-10f64.to_radians()))));
-        assert!(!trail.covers(&footprint, &(end * Isometry2::translation(-0.1, 0.0))));
+        assert!(standing(&trail, Move::Turn(-10f64.to_radians()).after(&end)));
+        assert!(!standing(&trail, Move::Drive(-0.1).after(&end)));
+    }
+
+    #[test]
+    fn a_hand_lowered_where_it_was_never_lowered_leaves_the_air_it_swept() {
+        // Hand raised to 1.2 m, then 40 cm ahead: where it stands now it was never at 0.8 m.
+        let mut trail = Trail::starting_at(stance(0.0, 0.0, 0.0));
+        made(&mut trail, Move::Lift { from: 0.8, to: 1.2 });
+        made(&mut trail, Move::Drive(0.4));
+        let end = *trail.since_sighting().last().unwrap();
+        let lowered = Move::Lift { from: 1.2, to: 0.8 }.after(&end);
+        assert!(!trail.covers(&outline(), &between(&end, &lowered)));
+        // Back where it was raised, lowering it sweeps what raising it swept.
+        let back = Move::Drive(-0.4).after(&end);
+        assert!(trail.covers(&outline(), &between(&end, &back)));
+        let lowered = Move::Lift { from: 1.2, to: 0.8 }.after(&back);
+        assert!(trail.covers(&outline(), &between(&back, &lowered)));
     }
 }
