@@ -3,13 +3,17 @@
 //! in: behind a robot facing a switch lies whatever the room holds, and its camera and laser
 //! look ahead.
 
+use std::path::Path;
+
 use nalgebra::{Point2, Point3, Translation2, Vector2};
 use pps_robot::experiment::{SimulatedTrial, run_simulated};
 use pps_robot::hal::PlanarPose;
 use pps_robot::navigation::RobotFootprint;
+use pps_robot::registry::RegistryClient;
 use pps_robot::sim::{BodyGeometry, BodyState, DeviceKind, Room, RoomOptions, SimBody};
 use pps_robot::task::TaskConfig;
 use pps_schema::Outcome;
+use pps_test_kit::RobotRegistry;
 use serde_json::json;
 
 /// How far the base's outline may stand outside the ground it covered before, metres: what
@@ -22,6 +26,20 @@ const SLACK: f64 = 0.02;
 const BACKED_OFF: f64 = 0.3;
 
 /// Points of the base's outline and inside it, a grid 2.5 cm apart, base frame.
+/// A registry whose rocker's tag is registered as 6 × 6 cm, so that the look after the read has
+/// the tag's own size to look for, and a client of it, caching in `dir`, that knows the size.
+async fn knowing_the_rockers_size(dir: &Path) -> (RobotRegistry, RegistryClient) {
+    let registry = RobotRegistry::start().await;
+    let client = registry.client(dir);
+    registry
+        .edit_tag(DeviceKind::AdaLightSwitch.epc().as_hex(), |entry| {
+            entry["properties"]["tag_size"] = json!({"width": 0.06, "height": 0.06});
+        })
+        .await;
+    client.sync_entries().await.unwrap();
+    (registry, client)
+}
+
 fn footprint_points(footprint: &RobotFootprint) -> Vec<Point2<f64>> {
     let (l, w) = (footprint.base_half_length, footprint.base_half_width);
     let n = 20;
@@ -106,14 +124,7 @@ fn overlap(a: (&PlanarPose, Vector2<f64>), b: (&PlanarPose, Vector2<f64>)) -> bo
 #[tokio::test(flavor = "multi_thread")]
 async fn backing_off_after_the_read_keeps_to_the_ground_it_came_over() {
     let dir = tempfile::tempdir().unwrap();
-    let registry = pps_test_kit::RobotRegistry::start().await;
-    let client = registry.client(dir.path());
-    registry
-        .edit_tag(DeviceKind::AdaLightSwitch.epc().as_hex(), |entry| {
-            entry["properties"]["tag_size"] = json!({"width": 0.06, "height": 0.06});
-        })
-        .await;
-    client.sync_entries().await.unwrap();
+    let (_registry, client) = knowing_the_rockers_size(dir.path()).await;
     let room = RoomOptions { footstool_by_rocker: true, ..RoomOptions::default() };
     let trial = SimulatedTrial {
         room,
@@ -243,14 +254,7 @@ fn backing_off(after: &[BodyState]) -> &[BodyState] {
 #[tokio::test(flavor = "multi_thread")]
 async fn the_hand_is_lowered_where_it_was_raised_not_where_it_read() {
     let dir = tempfile::tempdir().unwrap();
-    let registry = pps_test_kit::RobotRegistry::start().await;
-    let client = registry.client(dir.path());
-    registry
-        .edit_tag(DeviceKind::AdaLightSwitch.epc().as_hex(), |entry| {
-            entry["properties"]["tag_size"] = json!({"width": 0.06, "height": 0.06});
-        })
-        .await;
-    client.sync_entries().await.unwrap();
+    let (_registry, client) = knowing_the_rockers_size(dir.path()).await;
     let trial = SimulatedTrial {
         start_angle: 45f64.to_radians(),
         ..SimulatedTrial::new(DeviceKind::AdaLightSwitch, "on", None)
@@ -301,14 +305,7 @@ const BACK_WITHIN: f64 = 0.02;
 #[tokio::test(flavor = "multi_thread")]
 async fn a_back_off_stopped_by_a_person_comes_back_by_what_it_made() {
     let dir = tempfile::tempdir().unwrap();
-    let registry = pps_test_kit::RobotRegistry::start().await;
-    let client = registry.client(dir.path());
-    registry
-        .edit_tag(DeviceKind::AdaLightSwitch.epc().as_hex(), |entry| {
-            entry["properties"]["tag_size"] = json!({"width": 0.06, "height": 0.06});
-        })
-        .await;
-    client.sync_entries().await.unwrap();
+    let (_registry, client) = knowing_the_rockers_size(dir.path()).await;
     let mut trial = SimulatedTrial {
         start_angle: 45f64.to_radians(),
         ..SimulatedTrial::new(DeviceKind::AdaLightSwitch, "on", None)
