@@ -26,8 +26,9 @@ use crate::hal::{CameraCalibration, ColorImage};
 const MIN_BLOCK_POINTS: usize = 6;
 
 /// Mean squared spread of a block's pixels across a line (pixels²) below which they lie on that
-/// one row or column: pixel centres a row apart spread by at least `1/n` over `n ≤ 400` points,
-/// a point's pixel found again by projecting it by about `1e-9`.
+/// one row or column: `n` points on two rows spread by at least `(n − 1)/n²`, over 1/600 for the
+/// largest block (24 × 24 pixels); the rounding of a pixel found again by projecting a point of
+/// single precision, by about 1e-10.
 const ONE_LINE_SPREAD: f64 = 1e-4;
 
 /// How far from a block's fit a point may lie and still be on the block's surface, in standard
