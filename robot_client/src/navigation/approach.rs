@@ -20,8 +20,8 @@ use super::waypoint::{
 };
 use crate::hal::{CameraCalibration, ColorImage, PointCloud};
 use crate::perception::{
-    DepthNoise, OccupancyGrid, PerceptionError, TagSearchParams, TagSighting, search_tag,
-    smooth_along_rays,
+    DepthNoise, OccupancyGrid, OrganisedCloud, PerceptionError, TagSearchParams, TagSighting,
+    search_tag, smooth_along_rays, smooth_organised_along_rays,
 };
 use crate::timings::StepTimings;
 
@@ -119,15 +119,31 @@ pub fn plan_approach(
 ) -> Result<ApproachPlan, PerceptionError> {
     let clearance =
         |w: &ApproachWaypoint| check_clearance(&cloud.points, w, w.position.z, &params.footprint);
-    plan_approach_with(image, cloud, calibration, target, params, StepTimings::default(), clearance)
+    let points = Points::Cloud(cloud);
+    plan_approach_with(
+        image,
+        points,
+        calibration,
+        target,
+        params,
+        StepTimings::default(),
+        clearance,
+    )
 }
 
-/// The approach on `cloud`, which must hold every point of the volume of interest and of the
+/// The points the approach runs on: any cloud, or a depth image's own, whose points know their
+/// pixels.
+pub(crate) enum Points<'a> {
+    Cloud(&'a PointCloud),
+    Organised(OrganisedCloud<'a>),
+}
+
+/// The approach on `points`, which must hold every point of the volume of interest and of the
 /// tag's reach; `clearance` checks the waypoint against whatever the caller holds around it.
 /// Steps already timed come in `timings`.
 pub(crate) fn plan_approach_with(
     image: &ColorImage,
-    cloud: &PointCloud,
+    points: Points<'_>,
     calibration: &CameraCalibration,
     target: &Point3<f64>,
     params: &ApproachParams,
@@ -140,26 +156,47 @@ pub(crate) fn plan_approach_with(
     // A depth camera's fog at this range, smoothed along its rays around the target; the
     // tolerances below are sized by what noise is left.
     let window = params.depth_noise.smoothing_window(range);
+    let reach = params.voi_radius.max(params.tag.max_distance + params.tag.fragment_gap);
+    let half = Vector3::new(reach, reach, params.voi_half_height.max(reach));
+    let (min, max) = (target - half, target + half);
+    let (thresholds, noise) = (&params.tag.thresholds, &params.depth_noise);
     let smoothed;
-    let cloud = if window > 1 {
-        let reach = params.voi_radius.max(params.tag.max_distance + params.tag.fragment_gap);
-        let half = Vector3::new(reach, reach, params.voi_half_height.max(reach));
-        let (min, max) = (target - half, target + half);
-        smoothed = timings.time("ray_smoothing", || PointCloud {
-            points: smooth_along_rays(
-                &cloud.points,
-                image,
-                &params.tag.thresholds,
-                calibration,
-                &min,
-                &max,
-                window,
-                &params.depth_noise,
-            ),
-        });
-        &smoothed
-    } else {
-        cloud
+    let organised;
+    let cloud = match points {
+        Points::Cloud(cloud) if window > 1 => {
+            smoothed = timings.time("ray_smoothing", || PointCloud {
+                points: smooth_along_rays(
+                    &cloud.points,
+                    image,
+                    thresholds,
+                    calibration,
+                    &min,
+                    &max,
+                    window,
+                    noise,
+                ),
+            });
+            &smoothed
+        }
+        Points::Cloud(cloud) => cloud,
+        Points::Organised(mut cloud) => {
+            if window > 1 {
+                timings.time("ray_smoothing", || {
+                    smooth_organised_along_rays(
+                        &mut cloud,
+                        image,
+                        thresholds,
+                        calibration,
+                        &min,
+                        &max,
+                        window,
+                        noise,
+                    )
+                });
+            }
+            organised = cloud;
+            organised.cloud()
+        }
     };
     let raw_sigma = params.depth_noise.sigma_at(range);
     let params = &params.at_range(range);

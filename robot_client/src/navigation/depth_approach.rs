@@ -7,11 +7,12 @@
 
 use nalgebra::{Point3, Vector3};
 
-use super::approach::{ApproachParams, ApproachPlan, plan_approach_with};
+use super::approach::{ApproachParams, ApproachPlan, Points, plan_approach_with};
 use super::waypoint::{ApproachWaypoint, Clearance, check_clearance};
 use crate::hal::{CameraCalibration, ColorImage};
 use crate::perception::{
     DepthImage, DepthRange, DepthSizeMismatch, PerceptionError, PixelWindow, cloud_from_depth_in,
+    organised_cloud_from_depth_in,
 };
 use crate::timings::StepTimings;
 
@@ -46,8 +47,9 @@ pub fn plan_approach_on_depth(
     let k = &calibration.intrinsics;
     let cell_px = (params.tag.occlusion.cell_angle * k.fx.max(k.fy)).ceil() as u32 + 2;
     let window = PixelWindow::of_box(calibration, &(target - half), &(target + half), cell_px);
-    let cloud = timings
-        .time("depth_to_cloud", || cloud_from_depth_in(depth, calibration, range, &window))?;
+    let cloud = timings.time("depth_to_cloud", || {
+        organised_cloud_from_depth_in(depth, calibration, range, &window)
+    })?;
     let mut refused = None;
     let clearance = |w: &ApproachWaypoint| {
         let reach = params.footprint.reach();
@@ -63,7 +65,8 @@ pub fn plan_approach_on_depth(
             }
         }
     };
-    let plan = plan_approach_with(image, &cloud, calibration, target, params, timings, clearance)?;
+    let points = Points::Organised(cloud);
+    let plan = plan_approach_with(image, points, calibration, target, params, timings, clearance)?;
     match refused {
         Some(e) => Err(e.into()),
         None => Ok(plan),

@@ -11,6 +11,7 @@
 
 use nalgebra::{Point3, Vector3};
 
+use super::organised_cloud::OrganisedCloud;
 use crate::hal::{CameraCalibration, PointCloud};
 
 /// How the depth samples are stored.
@@ -140,6 +141,14 @@ pub struct DepthRange {
     pub far: f32,
 }
 
+impl DepthRange {
+    /// Whether a reading of `z` metres is a surface; NaN fails both comparisons, and so is
+    /// dropped with 0 and the infinities.
+    pub fn keeps(&self, z: f32) -> bool {
+        z >= self.near && z <= self.far
+    }
+}
+
 impl Default for DepthRange {
     /// 0.1–10 m: below the nearest any RGB-D camera measures (a D435 starts near 0.1 m at its
     /// smallest resolution), beyond the farthest they are specified for (10 m), and beyond the
@@ -199,13 +208,45 @@ pub fn cloud_from_depth_in(
     for v in v0 as usize..v1 as usize {
         let row = r.column(1) * ((v as f64 + 0.5 - k.cy) / k.fy) as f32 + r.column(2);
         depth.for_each_in_row(v, u0 as usize..u1 as usize, |u, z| {
-            // NaN fails both comparisons, and so is dropped with 0 and the infinities.
-            if z >= range.near && z <= range.far {
+            if range.keeps(z) {
                 points.push(Point3::from((columns[u - u0 as usize] + row) * z + origin));
             }
         });
     }
     Ok(PointCloud { points })
+}
+
+/// [`cloud_from_depth_in`], its points knowing their pixels: the steps after it read a point's
+/// pixel and depth from the image instead of projecting the point back into it.
+pub fn organised_cloud_from_depth_in<'a>(
+    depth: &'a DepthImage,
+    calibration: &CameraCalibration,
+    range: &DepthRange,
+    window: &PixelWindow,
+) -> Result<OrganisedCloud<'a>, DepthSizeMismatch> {
+    let cloud = cloud_from_depth_in(depth, calibration, range, window)?;
+    let k = &calibration.intrinsics;
+    let [u0, v0, u1, v1] = window.clamped(k.width, k.height);
+    let window = PixelWindow { columns: [u0, u1], rows: [v0, v1] };
+    Ok(OrganisedCloud::new(cloud, depth, *range, window))
+}
+
+/// The pixels of `window` that [`cloud_from_depth_in`] makes points of, in the order it makes
+/// them, each handed to `each(u, v, z)` with its depth in metres.
+pub(crate) fn for_each_depth_in(
+    depth: &DepthImage,
+    range: &DepthRange,
+    window: &PixelWindow,
+    mut each: impl FnMut(u32, u32, f32),
+) {
+    let [u0, v0, u1, v1] = window.clamped(depth.width, depth.height);
+    for v in v0..v1 {
+        depth.for_each_in_row(v as usize, u0 as usize..u1 as usize, |u, z| {
+            if range.keeps(z) {
+                each(u as u32, v, z);
+            }
+        });
+    }
 }
 
 /// A rectangle of pixels, `[u0, v0, u1, v1)`.

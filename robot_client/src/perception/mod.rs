@@ -22,6 +22,7 @@ pub(crate) mod flood_fill;
 mod hsv;
 mod mask;
 mod occupancy;
+mod organised_cloud;
 mod projection;
 mod ray_smoothing;
 mod seeded_segmentation;
@@ -38,14 +39,15 @@ pub use blobs::Blobs;
 pub use brightness::{BrightnessChange, LightChange, brightness_change};
 pub use depth_cloud::{
     DepthEncoding, DepthImage, DepthRange, DepthSizeMismatch, PixelWindow, cloud_from_depth,
-    cloud_from_depth_in,
+    cloud_from_depth_in, organised_cloud_from_depth_in,
 };
 pub use depth_noise::{DepthNoise, NotADepthNoise};
 pub use hsv::{HsvThresholds, ThresholdError, chroma_point, hsv_of, segment_color};
 pub use mask::Mask;
 pub use occupancy::{Component, OccupancyGrid};
+pub use organised_cloud::OrganisedCloud;
 pub use projection::{OcclusionTest, ProjectedCloud, Reach, points_on_mask};
-pub use ray_smoothing::smooth_along_rays;
+pub use ray_smoothing::{smooth_along_rays, smooth_organised_along_rays};
 pub use seeded_segmentation::segment_seeded;
 pub use tag::{
     PerceptionError, TagDetection, TagSearch, TagSearchParams, TagSighting, choose_tag, locate_tag,
