@@ -3,7 +3,8 @@
 //! phases, the trial through the outbox, the task's id in the trial's `measurements.task`),
 //! heartbeats while it works, finishes the task with the trial and claims the next. A task on
 //! a tag that no device of its simulated room carries it declines at once, saying so, so the
-//! registry offers it to the other robots and the caretaker reads why.
+//! registry offers it to the other robots and the caretaker reads why; so does a task it tried
+//! and stopped before acting on (the tag not found, say), with what stopped it.
 //!
 //! `pps-robot work` parses its settings and prints what [`Worker::work`] says; the loop, its
 //! retries and the lease live here.
@@ -11,12 +12,12 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use pps_schema::Outcome;
+use pps_schema::{Outcome, decline_reason};
 
 use crate::experiment::{SimulatedTrial, flush_until_stored, run_simulated};
 use crate::registry::{QueuedTask, RegistryClient, RegistryError, retry};
 use crate::sim::{DeviceKind, RoomOptions, SimBody};
-use crate::task::TaskConfig;
+use crate::task::{TaskConfig, TaskReport};
 
 /// The longest one claim waits for a task: short enough that a stop request is answered soon,
 /// since a claim the registry answers is never dropped half-way (its task would be stranded
@@ -108,6 +109,20 @@ impl Worker {
     }
 }
 
+/// Why the robot gave a task back after trying it, as a decline's reason: what it could not do
+/// in a caretaker's words, then what the phase that stopped it said.
+fn stopped_before_acting(report: &TaskReport) -> String {
+    let words = match report.phases.iter().find(|p| !p.ok) {
+        Some(phase) => format!(
+            "it tried and could not {}: {}",
+            phase.could_not(),
+            phase.lines.last().map_or("", String::as_str)
+        ),
+        None => "it tried and recorded no trial".to_owned(),
+    };
+    decline_reason(&words)
+}
+
 /// Runs one claimed task in a fresh simulated room and ends it; returns a line saying how.
 async fn work_on(
     registry: &RegistryClient,
@@ -135,14 +150,16 @@ async fn work_on(
     heartbeat.abort();
     let result = result?;
     let (Some(trial), Some(outcome)) = (result.report.trial, result.report.outcome) else {
-        let failed = result.report.phases.iter().find(|p| !p.ok);
-        let why = failed.map_or("no trial".to_owned(), |p| {
-            format!("phase {} {}: {}", p.phase, p.name, p.lines.last().map_or("", String::as_str))
+        // Said to the registry at once, not left for the lease to run out: the caretaker reads
+        // why beside the task, and the task goes to the other robots or says none can do it.
+        let why = stopped_before_acting(&result.report);
+        return Ok(match registry.decline_task(task.id, &why).await {
+            Ok(_) => format!("{said}: declined after trying: {why}"),
+            Err(error) => format!(
+                "{said}: stopped before acting ({why}), but the decline did not reach the \
+                 registry ({error}); its lease will run out and the task go back to the queue"
+            ),
         });
-        return Ok(format!(
-            "{said}: stopped before acting ({why}); its lease will run out and the task go back \
-             to the queue"
-        ));
     };
     // The registry checks the trial when the task is finished: it must be stored by then.
     flush_until_stored(registry).await?;

@@ -5,6 +5,7 @@
 //! schemas are compiled into it.
 
 mod behavior;
+mod decline;
 mod effective;
 mod entry;
 mod epc;
@@ -22,6 +23,7 @@ pub use behavior::{
     BehaviorKind, BehaviorParams, BehaviorSpec, DropParams, LightSwitchParams, ParamOverride,
     PullBackParams, PullLampParams, PushParams, SweepDirection, SwitchMotion, UnknownBehavior,
 };
+pub use decline::{MAX_DECLINE_REASON_CHARS, decline_reason};
 pub use effective::{EffectiveEntry, Provenance, ProvenanceError, UnavailableAction};
 pub use entry::{
     ColorSegmentation, HOUSEHOLD_COLOR, LEARNED_COLOR, LearnedColor, Location, LookDirection,

@@ -53,6 +53,17 @@ impl PhaseReport {
         self.lines.push(line.into());
         self.ok = false;
     }
+
+    /// What the robot could not do when this phase stopped it, in the words of the person who
+    /// asked for the task: the phases' own names are the paper's.
+    pub fn could_not(&self) -> &'static str {
+        match self.phase {
+            1 => "get near the tag",
+            2 => "find the tag",
+            3 => "read the tag",
+            _ => "act on the tag",
+        }
+    }
 }
 
 impl fmt::Display for TaskReport {

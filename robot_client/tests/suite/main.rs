@@ -23,3 +23,4 @@ mod table_one;
 mod tag_sizes;
 mod task;
 mod work_cli;
+mod worker;

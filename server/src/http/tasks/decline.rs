@@ -9,7 +9,7 @@
 
 use axum::Json;
 use axum::extract::State;
-use pps_schema::{FieldError, RobotId, TaskState};
+use pps_schema::{FieldError, MAX_DECLINE_REASON_CHARS, RobotId, TaskState};
 use serde_json::Value;
 
 use super::{TASK_ID, find, outlook, targets};
@@ -21,9 +21,6 @@ use crate::http::openapi::{Body, Doc, Reply};
 use crate::state::AppState;
 use crate::store::robots;
 use crate::store::tasks::{self, TaskRow};
-
-/// The longest reason a robot may give, in characters.
-pub const MAX_REASON_CHARS: usize = 500;
 
 pub const DECLINE: Doc = Doc::new("declineTask", "Say this robot cannot do a task, and why")
     .describe(
@@ -114,7 +111,7 @@ fn refusal(task: &TaskRow, robot: &RobotId, class: Option<&str>) -> Option<ApiEr
 #[schemars(rename = "task_decline")]
 pub struct DeclineBody {
     /// Why this robot cannot do the task: one line of plain words.
-    #[schemars(length(min = 1, max = MAX_REASON_CHARS))]
+    #[schemars(length(min = 1, max = MAX_DECLINE_REASON_CHARS))]
     #[schemars(regex(pattern = PLAIN_LINE))]
     pub reason: String,
 }
@@ -147,13 +144,15 @@ fn parse_reason(body: &Value) -> Result<DeclineBody, ApiError> {
             "reason says in words why this robot cannot do the task",
         )),
         Some("") => errors.push(FieldError::new("/reason", "reason is empty; say in words why")),
-        Some(reason) if reason.chars().count() > MAX_REASON_CHARS => errors.push(FieldError::new(
-            "/reason",
-            format!(
-                "reason has {} characters; say it in at most {MAX_REASON_CHARS}",
-                reason.chars().count()
-            ),
-        )),
+        Some(reason) if reason.chars().count() > MAX_DECLINE_REASON_CHARS => {
+            errors.push(FieldError::new(
+                "/reason",
+                format!(
+                    "reason has {} characters; say it in at most {MAX_DECLINE_REASON_CHARS}",
+                    reason.chars().count()
+                ),
+            ))
+        }
         Some(reason) if reason.chars().any(char::is_control) => errors.push(FieldError::new(
             "/reason",
             "reason is one line of plain words, without line breaks or control characters",
@@ -182,14 +181,14 @@ mod tests {
             json!({}),
             json!({ "reason": "  " }),
             json!({ "reason": 7 }),
-            json!({ "reason": "x".repeat(MAX_REASON_CHARS + 1) }),
+            json!({ "reason": "x".repeat(MAX_DECLINE_REASON_CHARS + 1) }),
             json!({ "reason": "two\nlines" }),
             json!({ "reason": "fine", "robot": "el-e-1" }),
             json!("fine"),
         ] {
             assert!(matches!(parse_reason(&bad), Err(ApiError::Invalid(_))), "{bad} is refused");
         }
-        let longest = "é".repeat(MAX_REASON_CHARS);
+        let longest = "é".repeat(MAX_DECLINE_REASON_CHARS);
         assert_eq!(parse_reason(&json!({ "reason": longest })).unwrap().reason, longest);
     }
 }
