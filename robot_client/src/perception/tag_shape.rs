@@ -96,7 +96,8 @@ fn axes_of(normal: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
     (across, n.cross(&across))
 }
 
-/// Square cells on the surface over the points' extent, with a margin a disc cannot cross.
+/// Square cells on the surface over the points' extent, and a ring of empty cells round them:
+/// every cell of the region has its nearest empty cell within the grid.
 struct Grid {
     origin: [f64; 2],
     columns: i64,
