@@ -75,10 +75,17 @@ pub(super) fn out_of_reach_of_a_disc(
         grid.squared_distances_to(&outside).iter().map(|d| *d > narrowest * narrowest).collect();
     let pieces = grid.pieces(&residue);
     let target_cell = grid.cell_at(target);
+    // The person pointed at the tag: the spot lies on the piece, or on the strip of the tag the
+    // disc took where it straddled the tag's edge with the thing, within its radius of the
+    // piece. A piece farther off is a part of the thing the disc did not fit, and the tag, if
+    // it is there at all, lies inside the thing's outline.
     let piece = pieces
         .iter()
         .filter(|piece| piece.iter().any(|&c| core[c]))
-        .min_by(|a, b| grid.nearest(a, target_cell).total_cmp(&grid.nearest(b, target_cell)))?;
+        .map(|piece| (grid.nearest(piece, target_cell), piece))
+        .filter(|(distance, _)| *distance <= radius)
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, piece)| piece)?;
     let mut in_piece = vec![false; grid.cells()];
     for &c in piece {
         in_piece[c] = true;
@@ -356,6 +363,16 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn a_tag_standing_out_far_from_the_pointed_spot_is_not_the_one_pointed_at() {
+        // The tag and box of the test above, the spot pointed at 6 cm inside the box's edge:
+        // 7.4 cm from what the disc left of the tag, farther than its 4 cm radius.
+        let points = on_the_wall(&[[0.0, 0.0, 0.20, 0.20], [0.20, 0.07, 0.28, 0.13]]);
+        assert!(standing_out(&points, Point3::new(1.0, 0.14, 0.10)).is_none());
+        // 2 cm inside it, 3.4 cm from it: where a strip of the tag may lie under the disc.
+        assert!(standing_out(&points, Point3::new(1.0, 0.18, 0.10)).is_some());
     }
 
     #[test]
