@@ -20,8 +20,8 @@ use super::waypoint::{
 };
 use crate::hal::{CameraCalibration, ColorImage, PointCloud};
 use crate::perception::{
-    DepthNoise, OccupancyGrid, OrganisedCloud, PerceptionError, TagSearchParams, TagSighting,
-    search_tag, smooth_along_rays, smooth_organised_along_rays,
+    DepthNoise, OccupancyGrid, OrganisedCloud, PerceptionError, RaySmoothing, TagSearchParams,
+    TagSighting, search_tag,
 };
 use crate::timings::StepTimings;
 
@@ -158,41 +158,28 @@ pub(crate) fn plan_approach_with(
     let window = params.depth_noise.smoothing_window(range);
     let reach = params.voi_radius.max(params.tag.max_distance + params.tag.fragment_gap);
     let half = Vector3::new(reach, reach, params.voi_half_height.max(reach));
-    let (min, max) = (target - half, target + half);
-    let (thresholds, noise) = (&params.tag.thresholds, &params.depth_noise);
+    let smoothing = RaySmoothing {
+        image,
+        tag: &params.tag.thresholds,
+        calibration,
+        min: target - half,
+        max: target + half,
+        window,
+        noise: &params.depth_noise,
+    };
     let smoothed;
     let organised;
     let cloud = match points {
         Points::Cloud(cloud) if window > 1 => {
             smoothed = timings.time("ray_smoothing", || PointCloud {
-                points: smooth_along_rays(
-                    &cloud.points,
-                    image,
-                    thresholds,
-                    calibration,
-                    &min,
-                    &max,
-                    window,
-                    noise,
-                ),
+                points: smoothing.of_points(&cloud.points),
             });
             &smoothed
         }
         Points::Cloud(cloud) => cloud,
         Points::Organised(mut cloud) => {
             if window > 1 {
-                timings.time("ray_smoothing", || {
-                    smooth_organised_along_rays(
-                        &mut cloud,
-                        image,
-                        thresholds,
-                        calibration,
-                        &min,
-                        &max,
-                        window,
-                        noise,
-                    )
-                });
+                timings.time("ray_smoothing", || smoothing.of_organised(&mut cloud));
             }
             organised = cloud;
             organised.cloud()

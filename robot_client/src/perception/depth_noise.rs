@@ -87,7 +87,7 @@ impl DepthNoise {
     }
 
     /// The side of the pixel blocks a dense frame is smoothed over at `range` metres
-    /// ([`super::smooth_along_rays`]): fitting a plane to `w²` points brings σ down by about
+    /// ([`super::RaySmoothing`]): fitting a plane to `w²` points brings σ down by about
     /// `w/√3`, so the side that brings it to a centimetre; 1 (no smoothing) for a laser.
     pub fn smoothing_window(&self, range: f64) -> u32 {
         let side = (3f64.sqrt() * self.sigma_at(range) / SMOOTHED_SIGMA).ceil();

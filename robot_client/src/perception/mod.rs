@@ -47,7 +47,7 @@ pub use mask::Mask;
 pub use occupancy::{Component, OccupancyGrid};
 pub use organised_cloud::OrganisedCloud;
 pub use projection::{OcclusionTest, ProjectedCloud, Reach, points_on_mask};
-pub use ray_smoothing::{smooth_along_rays, smooth_organised_along_rays};
+pub use ray_smoothing::RaySmoothing;
 pub use seeded_segmentation::segment_seeded;
 pub use tag::{
     PerceptionError, TagDetection, TagSearch, TagSearchParams, TagSighting, choose_tag, locate_tag,

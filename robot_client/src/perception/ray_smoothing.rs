@@ -35,113 +35,119 @@ const ONE_LINE_SPREAD: f64 = 1e-4;
 /// deviations of the depth there.
 const SURFACE_SIGMAS: f64 = 3.0;
 
-/// `points` (base frame, a depth camera's: one a pixel) with those inside the box from `min` to
-/// `max` moved along their camera rays onto the surface each `window × window`-pixel block of
-/// theirs shows, the points whose pixel in `image` has the tag's colour (`tag`) and the others
-/// each onto their own. Points outside the box, behind the camera, or off their block's surface
-/// are returned as they came, in the same order. Each point's pixel is found by projecting it;
-/// [`smooth_organised_along_rays`] reads it where the depth image's conversion left it.
-#[allow(clippy::too_many_arguments)]
-pub fn smooth_along_rays(
-    points: &[Point3<f32>],
-    image: &ColorImage,
-    tag: &HsvThresholds,
-    calibration: &CameraCalibration,
-    min: &Point3<f64>,
-    max: &Point3<f64>,
-    window: u32,
-    noise: &DepthNoise,
-) -> Vec<Point3<f32>> {
-    let mut out = points.to_vec();
-    if !fits_a_block(window) {
-        return out;
-    }
-    let camera_from_base = calibration.base_from_camera.inverse();
-    let k = &calibration.intrinsics;
-    let w = f64::from(window);
-    // Each point in the box, in camera coordinates with its pixel, and the block it falls in,
-    // numbered as first met. A row of the frame crosses a block in `window` neighbouring
-    // points, so most points are in the block of the point before them and need no lookup.
-    let mut rays: Vec<RayPoint> = Vec::new();
-    let mut block_of: Vec<u32> = Vec::new();
-    // The keys are one frame's pixel blocks, chosen by nobody: SipHash's defence against chosen
-    // keys buys nothing here and cost the step about 8 % of its time.
-    let mut numbers: FxHashMap<(i64, i64, bool), u32> = FxHashMap::default();
-    let mut last: Option<((i64, i64, bool), u32)> = None;
-    for (i, p) in points.iter().enumerate() {
-        let p = p.cast::<f64>();
-        if !inside(&p, min, max) {
-            continue;
-        }
-        let q = camera_from_base * p;
-        if q.z <= 1e-6 {
-            continue;
-        }
-        let (u, v) = (k.fx * q.x / q.z + k.cx, k.fy * q.y / q.z + k.cy);
-        let in_image =
-            u >= 0.0 && v >= 0.0 && u < f64::from(image.width) && v < f64::from(image.height);
-        let tag_coloured = in_image && tag.contains(image.pixel(u as u32, v as u32));
-        let key = ((u / w).floor() as i64, (v / w).floor() as i64, tag_coloured);
-        let number = match last {
-            Some((last_key, number)) if last_key == key => number,
-            _ => {
-                let next = numbers.len() as u32;
-                let number = *numbers.entry(key).or_insert(next);
-                last = Some((key, number));
-                number
-            }
-        };
-        rays.push(RayPoint::new(i, u, v, q.z, noise));
-        block_of.push(number);
-    }
-    let camera = calibration.base_from_camera.translation.vector;
-    smooth_blocks(&rays, &block_of, numbers.len(), noise, |m, depth| {
-        out[m.index] = moved_along_ray(&points[m.index], &camera, depth / m.z);
-    });
-    out
+/// What the smoothing works with: the picture the tag's colour is read from, the camera, the box
+/// around the target (base frame, from `min` to `max`) whose points it moves, the blocks' side
+/// in pixels (`window`), and the depth's noise.
+#[derive(Debug, Clone, Copy)]
+pub struct RaySmoothing<'a> {
+    pub image: &'a ColorImage,
+    pub tag: &'a HsvThresholds,
+    pub calibration: &'a CameraCalibration,
+    pub min: Point3<f64>,
+    pub max: Point3<f64>,
+    pub window: u32,
+    pub noise: &'a DepthNoise,
 }
 
-/// [`smooth_along_rays`] on a depth image's own cloud, in place: each point's pixel and depth
-/// are the ones it was made from and the blocks are the image's `window × window` tiles. The same points are smoothed onto the same fits, to
-/// within the rounding of a pixel found again from a point of single precision.
-#[allow(clippy::too_many_arguments)]
-pub fn smooth_organised_along_rays(
-    cloud: &mut OrganisedCloud<'_>,
-    image: &ColorImage,
-    tag: &HsvThresholds,
-    calibration: &CameraCalibration,
-    min: &Point3<f64>,
-    max: &Point3<f64>,
-    window: u32,
-    noise: &DepthNoise,
-) {
-    if !fits_a_block(window) {
-        return;
+impl RaySmoothing<'_> {
+    /// `points` (base frame, a depth camera's: one a pixel) with those inside the box moved
+    /// along their camera rays onto the surface each `window × window`-pixel block of theirs
+    /// shows, the points whose pixel in `image` has the tag's colour (`tag`) and the others each
+    /// onto their own. Points outside the box, behind the camera, or off their block's surface
+    /// are returned as they came, in the same order. Each point's pixel is found by projecting
+    /// it; [`Self::of_organised`] reads it where the depth image's conversion left it.
+    pub fn of_points(&self, points: &[Point3<f32>]) -> Vec<Point3<f32>> {
+        let Self { image, tag, calibration, min, max, window, noise } = *self;
+        let mut out = points.to_vec();
+        if !fits_a_block(window) {
+            return out;
+        }
+        let camera_from_base = calibration.base_from_camera.inverse();
+        let k = &calibration.intrinsics;
+        let w = f64::from(window);
+        // Each point in the box, in camera coordinates with its pixel, and the block it falls in,
+        // numbered as first met. A row of the frame crosses a block in `window` neighbouring
+        // points, so most points are in the block of the point before them and need no lookup.
+        let mut rays: Vec<RayPoint> = Vec::new();
+        let mut block_of: Vec<u32> = Vec::new();
+        // The keys are one frame's pixel blocks, chosen by nobody: SipHash's defence against chosen
+        // keys buys nothing here and cost the step about 8 % of its time.
+        let mut numbers: FxHashMap<(i64, i64, bool), u32> = FxHashMap::default();
+        let mut last: Option<((i64, i64, bool), u32)> = None;
+        for (i, p) in points.iter().enumerate() {
+            let p = p.cast::<f64>();
+            if !inside(&p, &min, &max) {
+                continue;
+            }
+            let q = camera_from_base * p;
+            if q.z <= 1e-6 {
+                continue;
+            }
+            let (u, v) = (k.fx * q.x / q.z + k.cx, k.fy * q.y / q.z + k.cy);
+            let in_image =
+                u >= 0.0 && v >= 0.0 && u < f64::from(image.width) && v < f64::from(image.height);
+            let tag_coloured = in_image && tag.contains(image.pixel(u as u32, v as u32));
+            let key = ((u / w).floor() as i64, (v / w).floor() as i64, tag_coloured);
+            let number = match last {
+                Some((last_key, number)) if last_key == key => number,
+                _ => {
+                    let next = numbers.len() as u32;
+                    let number = *numbers.entry(key).or_insert(next);
+                    last = Some((key, number));
+                    number
+                }
+            };
+            rays.push(RayPoint::new(i, u, v, q.z, noise));
+            block_of.push(number);
+        }
+        let camera = calibration.base_from_camera.translation.vector;
+        smooth_blocks(&rays, &block_of, numbers.len(), noise, |m, depth| {
+            out[m.index] = moved_along_ray(&points[m.index], &camera, depth / m.z);
+        });
+        out
     }
-    // The tiles the cloud's pixels fall in, a pair each: the tag's colour and the rest.
-    let pixels = cloud.window();
-    let (first_column, first_row) = (pixels.columns[0] / window, pixels.rows[0] / window);
-    let columns = (pixels.columns[1].div_ceil(window)).saturating_sub(first_column) as usize;
-    let rows = (pixels.rows[1].div_ceil(window)).saturating_sub(first_row) as usize;
-    let mut rays: Vec<RayPoint> = Vec::new();
-    let mut block_of: Vec<u32> = Vec::new();
-    let points = &cloud.cloud().points;
-    cloud.for_each_pixel(|i, u, v, z| {
-        if !inside(&points[i].cast::<f64>(), min, max) {
+
+    /// [`Self::of_points`] on a depth image's own cloud, in place: each point's pixel and depth
+    /// are the ones it was made from and the blocks are the image's `window × window` tiles. The
+    /// same points are smoothed onto the same fits, to within the rounding of a pixel found
+    /// again from a point of single precision.
+    pub fn of_organised(&self, cloud: &mut OrganisedCloud<'_>) {
+        let Self { image, tag, calibration, min, max, window, noise } = *self;
+        if !fits_a_block(window) {
             return;
         }
-        let tag_coloured = u < image.width && v < image.height && tag.contains(image.pixel(u, v));
-        let tile =
-            (v / window - first_row) as usize * columns + (u / window - first_column) as usize;
-        block_of.push((tile * 2 + usize::from(tag_coloured)) as u32);
-        // The ray through pixel u is the one through u + 0.5 (as the conversion made it).
-        rays.push(RayPoint::new(i, f64::from(u) + 0.5, f64::from(v) + 0.5, f64::from(z), noise));
-    });
-    let camera = calibration.base_from_camera.translation.vector;
-    let points = cloud.points_mut();
-    smooth_blocks(&rays, &block_of, rows * columns * 2, noise, |m, depth| {
-        points[m.index] = moved_along_ray(&points[m.index], &camera, depth / m.z);
-    });
+        // The tiles the cloud's pixels fall in, a pair each: the tag's colour and the rest.
+        let pixels = cloud.window();
+        let (first_column, first_row) = (pixels.columns[0] / window, pixels.rows[0] / window);
+        let columns = (pixels.columns[1].div_ceil(window)).saturating_sub(first_column) as usize;
+        let rows = (pixels.rows[1].div_ceil(window)).saturating_sub(first_row) as usize;
+        let mut rays: Vec<RayPoint> = Vec::new();
+        let mut block_of: Vec<u32> = Vec::new();
+        let points = &cloud.cloud().points;
+        cloud.for_each_pixel(|i, u, v, z| {
+            if !inside(&points[i].cast::<f64>(), &min, &max) {
+                return;
+            }
+            let tag_coloured =
+                u < image.width && v < image.height && tag.contains(image.pixel(u, v));
+            let tile =
+                (v / window - first_row) as usize * columns + (u / window - first_column) as usize;
+            block_of.push((tile * 2 + usize::from(tag_coloured)) as u32);
+            // The ray through pixel u is the one through u + 0.5 (as the conversion made it).
+            rays.push(RayPoint::new(
+                i,
+                f64::from(u) + 0.5,
+                f64::from(v) + 0.5,
+                f64::from(z),
+                noise,
+            ));
+        });
+        let camera = calibration.base_from_camera.translation.vector;
+        let points = cloud.points_mut();
+        smooth_blocks(&rays, &block_of, rows * columns * 2, noise, |m, depth| {
+            points[m.index] = moved_along_ray(&points[m.index], &camera, depth / m.z);
+        });
+    }
 }
 
 /// A depth camera gives one point a pixel, so a block holds at most `window²` points: below the
@@ -333,6 +339,17 @@ mod tests {
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
+    fn smoothing<'a>(
+        image: &'a ColorImage,
+        tag: &'a HsvThresholds,
+        calibration: &'a CameraCalibration,
+        (min, max): (Point3<f64>, Point3<f64>),
+        window: u32,
+        noise: &'a DepthNoise,
+    ) -> RaySmoothing<'a> {
+        RaySmoothing { image, tag, calibration, min, max, window, noise }
+    }
+
     fn camera() -> CameraCalibration {
         CameraCalibration {
             intrinsics: CameraIntrinsics {
@@ -377,7 +394,8 @@ mod tests {
         let (min, max) = (Point3::new(-10.0, -10.0, 0.0), Point3::new(10.0, 10.0, 10.0));
         let image = ColorImage::new(200, 200);
         let tag = HsvThresholds::default();
-        let smoothed = smooth_along_rays(&points, &image, &tag, &camera(), &min, &max, 12, &noise);
+        let smoothed =
+            smoothing(&image, &tag, &camera(), (min, max), 12, &noise).of_points(&points);
         let wall_error = |p: &Point3<f32>| {
             let p = p.cast::<f64>();
             (p.z - 4.0 - 0.5 * p.x).abs()
@@ -478,19 +496,10 @@ mod tests {
         let outside = points.iter().filter(|p| !inside(&p.cast(), &min, &max)).count();
         assert!(outside > 1000, "{outside} points outside the box");
         for window in [3, 6, 10] {
-            let projected =
-                smooth_along_rays(&points, &image, &tag, &calibration, &min, &max, window, &noise);
+            let smoothing = smoothing(&image, &tag, &calibration, (min, max), window, &noise);
+            let projected = smoothing.of_points(&points);
             let mut organised = cloud.clone();
-            smooth_organised_along_rays(
-                &mut organised,
-                &image,
-                &tag,
-                &calibration,
-                &min,
-                &max,
-                window,
-                &noise,
-            );
+            smoothing.of_organised(&mut organised);
             let mut moved = 0;
             for (i, ((a, b), raw)) in
                 projected.iter().zip(&organised.cloud().points).zip(&points).enumerate()
@@ -537,7 +546,7 @@ mod tests {
         let points = noisy_wall_and_post(&noise, &mut rng);
         let (min, max) = (Point3::new(-10.0, -10.0, 0.0), Point3::new(10.0, 10.0, 10.0));
         let (image, tag) = (ColorImage::new(200, 200), HsvThresholds::default());
-        let smoothed = smooth_along_rays(&points, &image, &tag, &camera(), &min, &max, 1, &noise);
+        let smoothed = smoothing(&image, &tag, &camera(), (min, max), 1, &noise).of_points(&points);
         assert_eq!(smoothed, points);
     }
 
@@ -548,7 +557,7 @@ mod tests {
         let (min, max) = (Point3::new(-10.0, -10.0, 0.0), Point3::new(10.0, 10.0, 10.0));
         let (image, tag) = (ColorImage::new(200, 200), HsvThresholds::default());
         let smoothed = |window| {
-            smooth_along_rays(&points, &image, &tag, &camera(), &min, &max, window, &noise)
+            smoothing(&image, &tag, &camera(), (min, max), window, &noise).of_points(&points)
         };
         // Two pixels a side hold 4 of the frame's points, fewer than a fit needs; three hold 9.
         assert_eq!(smoothed(2), points);
