@@ -19,7 +19,7 @@
 //! wide as the home's widest tag registered.
 
 use nalgebra::{Matrix3, Point3, Vector3};
-use rustc_hash::FxHashSet;
+use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::mask::Mask;
 use super::occupancy::{Component, OccupancyGrid};
@@ -27,6 +27,7 @@ use super::tag::{TagDetection, TagSearchParams};
 use super::tag_shape::out_of_reach_of_a_disc;
 use super::two_clusters::of_the_core_cluster;
 use super::two_colours::{colours_around, colours_of};
+use super::voxel_coords::cube_of;
 use crate::hal::{CameraCalibration, ColorImage};
 
 /// How far a point's colour may lie from the tag's, in standard deviations of the tag's own
@@ -90,7 +91,12 @@ pub(super) fn bound_tags(
         let region = component.members.clone();
         let mut members = component.members;
         let colours = colours_around(&members, image, calibration, PIXEL_NOISE_REACH);
-        match tag_coloured(&members, &colours, &core_of(&members, target, params)) {
+        match tag_coloured(
+            &members,
+            &colours,
+            &core_of(&members, target, params),
+            params.voxel_size,
+        ) {
             Some(split) => {
                 notes.push(format!(
                     "the red region near the target is {across:.0} cm across, larger than any \
@@ -159,7 +165,8 @@ pub(super) fn bound_tags(
             // tag and `too_large_nearest` can say why; beside it, the rest of the region's
             // tag-sized parts, one of which may be the tag the person pointed at.
             Some(part) if part.radius > params.max_tag_radius => {
-                let beside = tag_sized_beside(&region, part, target, params, join);
+                let beside =
+                    tag_sized_beside(&region, part, image, calibration, target, params, join);
                 bounded.push(part.clone());
                 bounded.extend(beside);
             }
@@ -171,9 +178,19 @@ pub(super) fn bound_tags(
 
 /// The parts of `region` no larger than a tag once `part`, a red thing too large to be one,
 /// is taken out of it: one of them may be the tag the person pointed at beside it.
+///
+/// A person's pointing is centimetres off, so a red thing lying against the tag is often
+/// nearer the pointed location than the tag is, and the division, anchored there, cut the red
+/// thing out and left the tag aside. Taken with it are the rest's points of its colour (its
+/// edges, its faces on other surfaces), which would otherwise join into a fringe around the
+/// tag; a tag of the red thing's own colour goes with them, so nothing is made of the fringe.
+/// What is left is divided as the region was, by the colour of its part nearest the target.
+#[allow(clippy::too_many_arguments)]
 fn tag_sized_beside(
     region: &[Point3<f32>],
     part: &Component,
+    image: &ColorImage,
+    calibration: &CameraCalibration,
     target: &Point3<f64>,
     params: &TagSearchParams,
     join: &dyn Fn(Vec<Component>) -> Vec<Component>,
@@ -182,10 +199,36 @@ fn tag_sized_beside(
     let taken: FxHashSet<[u32; 3]> = part.members.iter().map(bits).collect();
     let rest: Vec<Point3<f32>> =
         region.iter().filter(|p| !taken.contains(&bits(p))).copied().collect();
+    let colours = colours_around(&rest, image, calibration, PIXEL_NOISE_REACH);
+    let (rest, colours): (Vec<Point3<f32>>, Vec<Option<[f32; 2]>>) =
+        match colour_of_the_whole(part, image, calibration) {
+            Some(its) => rest
+                .into_iter()
+                .zip(colours)
+                .filter(|(_, c)| c.is_some_and(|c| !its.holds(c)))
+                .unzip(),
+            None => (rest, colours),
+        };
+    let rest =
+        match tag_coloured(&rest, &colours, &core_of(&rest, target, params), params.voxel_size) {
+            Some(split) => split.kept,
+            None => rest,
+        };
     join(components_of(&rest, target, params))
         .into_iter()
         .filter(|c| c.radius <= params.max_tag_radius)
         .collect()
+}
+
+/// The colour of all of `part`'s points.
+fn colour_of_the_whole(
+    part: &Component,
+    image: &ColorImage,
+    calibration: &CameraCalibration,
+) -> Option<ColourOf> {
+    let colours = colours_around(&part.members, image, calibration, PIXEL_NOISE_REACH);
+    let all: Vec<usize> = (0..colours.len()).collect();
+    ColourOf::of(&colours, &all)
 }
 
 /// The part of `parts` nearest the target that is large enough to be a tag.
@@ -341,7 +384,7 @@ pub(crate) fn of_the_colour_at(
     params: &TagSearchParams,
 ) -> Vec<Point3<f32>> {
     let colours = colours_of(points, image, calibration);
-    match tag_coloured(points, &colours, &core_of(points, anchor, params)) {
+    match tag_coloured(points, &colours, &core_of(points, anchor, params), params.voxel_size) {
         Some(split) => split.kept,
         None => points.to_vec(),
     }
@@ -416,29 +459,67 @@ struct ColourSplit {
     spread: f32,
 }
 
-/// The points whose colour in the image is the colour of the `core` points: within
-/// `COLOUR_SPREAD_SIGMAS` robust standard deviations of the core's median on the chroma disc.
-/// `None` when that keeps them all, or too few of the core are in the picture.
+/// The colour of some points: the median of theirs on the chroma disc, and its spread.
+struct ColourOf {
+    middle: [f32; 2],
+    /// A robust standard deviation, a distance on the chroma disc.
+    spread: f32,
+}
+
+impl ColourOf {
+    /// The colour of the points `which`; `None` when fewer than half of them are in the
+    /// picture.
+    fn of(colours: &[Option<[f32; 2]>], which: &[usize]) -> Option<Self> {
+        let theirs: Vec<[f32; 2]> = which.iter().filter_map(|&i| colours[i]).collect();
+        if theirs.len() < which.len() / 2 || theirs.is_empty() {
+            return None;
+        }
+        let middle = [median(theirs.iter().map(|c| c[0])), median(theirs.iter().map(|c| c[1]))];
+        let distance = |c: &[f32; 2]| (c[0] - middle[0]).hypot(c[1] - middle[1]);
+        let spread = median(theirs.iter().map(distance)) / MEDIAN_DISTANCE_PER_SIGMA;
+        Some(Self { middle, spread })
+    }
+
+    /// Whether `colour` is this colour: within `COLOUR_SPREAD_SIGMAS` of its spreads.
+    fn holds(&self, colour: [f32; 2]) -> bool {
+        let distance = (colour[0] - self.middle[0]).hypot(colour[1] - self.middle[1]);
+        distance <= COLOUR_SPREAD_SIGMAS * self.spread
+    }
+}
+
+/// The points whose colour in the image is the colour of the `core` points (within
+/// `COLOUR_SPREAD_SIGMAS` robust standard deviations of the core's median on the chroma disc)
+/// and that lie in a voxel (of edge `voxel_size`) most of whose points have it. A red thing of
+/// nearly the tag's colour has pixels of it scattered all over, as the camera's noise takes a
+/// few of its pixels across the line; kept, they would join the tag to the whole red thing,
+/// while the tag's own voxels are all of its colour. `None` when that keeps them all, or too
+/// few of the core are in the picture.
 fn tag_coloured(
     points: &[Point3<f32>],
     colours: &[Option<[f32; 2]>],
     core: &[usize],
+    voxel_size: f32,
 ) -> Option<ColourSplit> {
-    let core_size = core.len();
-    let core: Vec<[f32; 2]> = core.iter().filter_map(|&i| colours[i]).collect();
-    if core.len() < core_size / 2 || core.is_empty() {
-        return None;
+    let colour = ColourOf::of(colours, core)?;
+    let of_colour: Vec<bool> = colours.iter().map(|c| c.is_some_and(|c| colour.holds(c))).collect();
+    // Per voxel: its points, and those of the colour.
+    let mut voxels: FxHashMap<[i64; 3], (u32, u32)> = FxHashMap::default();
+    for (p, &is) in points.iter().zip(&of_colour) {
+        let voxel = voxels.entry(cube_of(p, voxel_size)).or_default();
+        voxel.0 += 1;
+        voxel.1 += u32::from(is);
     }
-    let middle = [median(core.iter().map(|c| c[0])), median(core.iter().map(|c| c[1]))];
-    let distance = |c: &[f32; 2]| (c[0] - middle[0]).hypot(c[1] - middle[1]);
-    let spread = median(core.iter().map(distance)) / MEDIAN_DISTANCE_PER_SIGMA;
+    let mostly_of_colour = |p: &Point3<f32>| {
+        let (all, of) = voxels[&cube_of(p, voxel_size)];
+        2 * of > all
+    };
     let kept: Vec<Point3<f32>> = points
         .iter()
-        .zip(colours)
-        .filter(|(_, c)| c.is_some_and(|c| distance(&c) <= COLOUR_SPREAD_SIGMAS * spread))
+        .zip(&of_colour)
+        .filter(|(p, is)| **is && mostly_of_colour(p))
         .map(|(p, _)| *p)
         .collect();
-    (kept.len() < points.len()).then_some(ColourSplit { kept, spread })
+    (kept.len() < points.len()).then_some(ColourSplit { kept, spread: colour.spread })
 }
 
 /// Indices of the `n` points nearest `target` (all of them when there are fewer).
@@ -490,7 +571,9 @@ fn on_the_nearest_surface(
         .copied()
         .collect();
     let kept = without_crossing_strips(&in_band, &centre.into(), &normal, band, params);
-    (kept.len() < part.members.len()).then_some(SurfaceCut { kept, band })
+    // A surface that keeps nothing of the part is not the one its core lies on: a core too
+    // thin for the opening (a tube seen from its side) is no surface to cut to.
+    (!kept.is_empty() && kept.len() < part.members.len()).then_some(SurfaceCut { kept, band })
 }
 
 /// The band of a surface cuts any surface crossing it (the side of a bin standing on it) to a
@@ -548,6 +631,7 @@ fn without_crossing_strips(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::perception::tag::{TagSighting, choose_tag};
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
@@ -756,5 +840,94 @@ mod tests {
         assert_eq!(plastic, 0, "{notes:?}");
         assert!(nearest.points >= 20 * 30 * 9 / 10, "{} points", nearest.points);
         assert!(notes.iter().any(|n| n.contains("two colours")), "{notes:?}");
+    }
+
+    /// A 6 × 6 cm tag (base y < 0, the picture's right) against the side of a red box 20 cm
+    /// wide and 40 cm tall on the plane x = 1 (y ≥ 0, the picture's left), the tag `step`
+    /// metres behind the box's front; 16 points a 1 cm voxel. The box's side, facing the tag,
+    /// is seen too (2 mm on the box's side of the tag's edge: its own pixels).
+    fn tag_against_a_box(step: f32) -> (Vec<Point3<f32>>, Vec<Point3<f32>>) {
+        let (mut tag, mut red_box) = (Vec::new(), Vec::new());
+        let at = |k: i32| k as f32 * 0.0025 + 0.00125;
+        for i in -24..80 {
+            for j in -80..80 {
+                let (y, z) = (at(i), at(j));
+                if y < 0.0 && z.abs() < 0.03 {
+                    tag.push(Point3::new(1.0 + step, y, z));
+                } else if y >= 0.0 {
+                    red_box.push(Point3::new(1.0, y, z));
+                }
+            }
+            let side = (0..(step / 0.0025) as i32).map(|k| Point3::new(1.0 + at(k), 0.002, at(i)));
+            red_box.extend(side);
+        }
+        (tag, red_box)
+    }
+
+    /// As [`picture`], each pixel's channels scattered at random by up to 8 either way.
+    fn noisy_picture(left: [u8; 3]) -> ColorImage {
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        let mut image = picture(left);
+        for v in &mut image.rgb {
+            *v = (i16::from(*v) + rng.random_range(-8i16..=8)).clamp(0, 255) as u8;
+        }
+        image
+    }
+
+    #[test]
+    fn a_tag_beside_a_red_box_nearer_the_pointed_spot_is_found_beside_it() {
+        // Pointed 4 cm into the box, 3 cm prouder than the tag and 8 cm from its middle: the
+        // division anchored there keeps the box's front, too large to be a tag, and its side
+        // and the tag are left beside it.
+        let params = TagSearchParams { max_tag_radius: 0.08, ..TagSearchParams::default() };
+        let target = Point3::new(1.0, 0.04, 0.0);
+        let (tag, red_box) = tag_against_a_box(0.03);
+        let all: Vec<Point3<f32>> = tag.iter().chain(&red_box).copied().collect();
+        let bounded = bound_tags(
+            vec![region_of(&all, &target)],
+            &noisy_picture([185, 50, 45]),
+            &looking_along_x(),
+            &target,
+            &params,
+            &|parts| parts,
+            &mut Vec::new(),
+        );
+        let found = choose_tag(bounded, &params).expect("the tag beside the box");
+        let TagSighting::Found(found) = found else { panic!("{found:?}") };
+        assert!((found.centroid - Point3::new(1.03, -0.03, 0.0)).norm() < 0.005, "{found:?}");
+        assert!(found.points >= tag.len() * 9 / 10, "{} of {}", found.points, tag.len());
+    }
+
+    #[test]
+    fn a_red_things_pixels_of_the_tags_colour_scattered_over_it_are_not_the_tags() {
+        // The tag's colour at 0.77 on the disc's red axis; a red box beside it 0.06 away, and
+        // one pixel in four of the box of the tag's colour, as a camera's noise takes some.
+        let (tag, red_box) = tag_against_a_box(0.0);
+        let mut colours: Vec<Option<[f32; 2]>> = tag.iter().map(|_| Some([0.77, 0.0])).collect();
+        for (k, _) in red_box.iter().enumerate() {
+            colours.push(Some(if k % 4 == 0 { [0.77, 0.0] } else { [0.71, 0.0] }));
+        }
+        let all: Vec<Point3<f32>> = tag.iter().chain(&red_box).copied().collect();
+        let core: Vec<usize> = (0..tag.len()).filter(|&i| tag[i].y < -0.04).collect();
+        let split = tag_coloured(&all, &colours, &core, 0.01).expect("divided");
+        let of_the_box = split.kept.iter().filter(|p| p.y >= 0.0).count();
+        assert_eq!(of_the_box, 0, "scattered pixels of the box were kept");
+        assert_eq!(split.kept.len(), tag.len());
+    }
+
+    #[test]
+    fn a_surface_that_keeps_nothing_of_the_part_is_not_cut_to() {
+        // A strip 5 mm wide and 40 cm long (a tube's edge seen from its side), on the plane
+        // x = 1, and a line of points 5 cm toward the robot from its middle: the opening that
+        // cuts crossing strips to the band would remove the strip itself.
+        let params = TagSearchParams::default();
+        let target = Point3::new(1.0, 0.0, 0.0);
+        let mut points: Vec<Point3<f32>> = (0..160)
+            .flat_map(|j| (0..2).map(move |i| (i, j)))
+            .map(|(i, j)| Point3::new(1.0, i as f32 * 0.0025, j as f32 * 0.0025 - 0.2))
+            .collect();
+        points.extend((1..20).map(|k| Point3::new(1.0 - k as f32 * 0.0025, 0.0, 0.0)));
+        let part = region_of(&points, &target);
+        assert!(on_the_nearest_surface(&part, &target, &params).is_none());
     }
 }
