@@ -19,20 +19,17 @@
 //! wide as the home's widest tag registered.
 
 use nalgebra::{Matrix3, Point3, Vector3};
-use rustc_hash::{FxHashMap, FxHashSet};
+use rustc_hash::FxHashSet;
 
+use super::core_colour::{ColourOf, tag_coloured};
 use super::mask::Mask;
 use super::occupancy::{Component, OccupancyGrid};
-use super::tag::{TagDetection, TagSearchParams};
+use super::tag_search_params::TagSearchParams;
 use super::tag_shape::out_of_reach_of_a_disc;
+use super::tag_sighting::TagDetection;
 use super::two_clusters::of_the_core_cluster;
 use super::two_colours::{colours_around, colours_of};
-use super::voxel_coords::cube_of;
 use crate::hal::{CameraCalibration, ColorImage};
-
-/// How far a point's colour may lie from the tag's, in standard deviations of the tag's own
-/// colour: three hold all but 0.3 % of its pixels.
-const COLOUR_SPREAD_SIGMAS: f32 = 3.0;
 
 /// Half the width of a surface's band, in standard deviations of the tag's own points about
 /// it: three hold all but 0.3 % of a surface's noise.
@@ -50,11 +47,6 @@ const PIXEL_NOISE_REACH: u32 = 1;
 /// (0.56–0.60 under 0.6 in warm light), while a tag's pale folds and shadows lie ten spreads
 /// and more away (a towel's fold: saturation 0.38).
 const RED_REACH_SPREADS: f32 = 2.0;
-
-/// The median distance of two-dimensional normal noise from its middle, over its standard
-/// deviation along each axis (the Rayleigh distribution's median, √(2 ln 2)): a spread that the
-/// few odd points a core may hold do not inflate.
-const MEDIAN_DISTANCE_PER_SIGMA: f32 = 1.1774;
 
 /// The components with each one near the target that is larger than any tag, or of two
 /// colours, divided into the parts a tag could be; `notes` says what was divided and why.
@@ -452,76 +444,6 @@ fn components_of(
     OccupancyGrid::new(points, params.voxel_size).connected_components(target)
 }
 
-/// The points of the tag's colour, and that colour's spread.
-struct ColourSplit {
-    kept: Vec<Point3<f32>>,
-    /// The core's standard deviation of colour, a distance on the chroma disc.
-    spread: f32,
-}
-
-/// The colour of some points: the median of theirs on the chroma disc, and its spread.
-struct ColourOf {
-    middle: [f32; 2],
-    /// A robust standard deviation, a distance on the chroma disc.
-    spread: f32,
-}
-
-impl ColourOf {
-    /// The colour of the points `which`; `None` when fewer than half of them are in the
-    /// picture.
-    fn of(colours: &[Option<[f32; 2]>], which: &[usize]) -> Option<Self> {
-        let theirs: Vec<[f32; 2]> = which.iter().filter_map(|&i| colours[i]).collect();
-        if theirs.len() < which.len() / 2 || theirs.is_empty() {
-            return None;
-        }
-        let middle = [median(theirs.iter().map(|c| c[0])), median(theirs.iter().map(|c| c[1]))];
-        let distance = |c: &[f32; 2]| (c[0] - middle[0]).hypot(c[1] - middle[1]);
-        let spread = median(theirs.iter().map(distance)) / MEDIAN_DISTANCE_PER_SIGMA;
-        Some(Self { middle, spread })
-    }
-
-    /// Whether `colour` is this colour: within `COLOUR_SPREAD_SIGMAS` of its spreads.
-    fn holds(&self, colour: [f32; 2]) -> bool {
-        let distance = (colour[0] - self.middle[0]).hypot(colour[1] - self.middle[1]);
-        distance <= COLOUR_SPREAD_SIGMAS * self.spread
-    }
-}
-
-/// The points whose colour in the image is the colour of the `core` points (within
-/// `COLOUR_SPREAD_SIGMAS` robust standard deviations of the core's median on the chroma disc)
-/// and that lie in a voxel (of edge `voxel_size`) most of whose points have it. A red thing of
-/// nearly the tag's colour has pixels of it scattered all over, as the camera's noise takes a
-/// few of its pixels across the line; kept, they would join the tag to the whole red thing,
-/// while the tag's own voxels are all of its colour. `None` when that keeps them all, or too
-/// few of the core are in the picture.
-fn tag_coloured(
-    points: &[Point3<f32>],
-    colours: &[Option<[f32; 2]>],
-    core: &[usize],
-    voxel_size: f32,
-) -> Option<ColourSplit> {
-    let colour = ColourOf::of(colours, core)?;
-    let of_colour: Vec<bool> = colours.iter().map(|c| c.is_some_and(|c| colour.holds(c))).collect();
-    // Per voxel: its points, and those of the colour.
-    let mut voxels: FxHashMap<[i64; 3], (u32, u32)> = FxHashMap::default();
-    for (p, &is) in points.iter().zip(&of_colour) {
-        let voxel = voxels.entry(cube_of(p, voxel_size)).or_default();
-        voxel.0 += 1;
-        voxel.1 += u32::from(is);
-    }
-    let mostly_of_colour = |p: &Point3<f32>| {
-        let (all, of) = voxels[&cube_of(p, voxel_size)];
-        2 * of > all
-    };
-    let kept: Vec<Point3<f32>> = points
-        .iter()
-        .zip(&of_colour)
-        .filter(|(p, is)| **is && mostly_of_colour(p))
-        .map(|(p, _)| *p)
-        .collect();
-    (kept.len() < points.len()).then_some(ColourSplit { kept, spread: colour.spread })
-}
-
 /// Indices of the `n` points nearest `target` (all of them when there are fewer).
 fn nearest(points: &[Point3<f32>], target: &Point3<f64>, n: usize) -> Vec<usize> {
     let mut by_distance: Vec<(f64, usize)> = points
@@ -534,12 +456,6 @@ fn nearest(points: &[Point3<f32>], target: &Point3<f64>, n: usize) -> Vec<usize>
         by_distance.truncate(n);
     }
     by_distance.into_iter().map(|(_, i)| i).collect()
-}
-
-fn median(values: impl Iterator<Item = f32>) -> f32 {
-    let mut values: Vec<f32> = values.collect();
-    values.sort_by(f32::total_cmp);
-    values.get(values.len() / 2).copied().unwrap_or(f32::NAN)
 }
 
 /// The points of a part on the surface the part's points nearest the target lie on.
@@ -631,7 +547,8 @@ fn without_crossing_strips(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::perception::tag::{TagSighting, choose_tag};
+    use crate::perception::tag::choose_tag;
+    use crate::perception::tag_sighting::TagSighting;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
@@ -896,23 +813,6 @@ mod tests {
         let TagSighting::Found(found) = found else { panic!("{found:?}") };
         assert!((found.centroid - Point3::new(1.03, -0.03, 0.0)).norm() < 0.005, "{found:?}");
         assert!(found.points >= tag.len() * 9 / 10, "{} of {}", found.points, tag.len());
-    }
-
-    #[test]
-    fn a_red_things_pixels_of_the_tags_colour_scattered_over_it_are_not_the_tags() {
-        // The tag's colour at 0.77 on the disc's red axis; a red box beside it 0.06 away, and
-        // one pixel in four of the box of the tag's colour, as a camera's noise takes some.
-        let (tag, red_box) = tag_against_a_box(0.0);
-        let mut colours: Vec<Option<[f32; 2]>> = tag.iter().map(|_| Some([0.77, 0.0])).collect();
-        for (k, _) in red_box.iter().enumerate() {
-            colours.push(Some(if k % 4 == 0 { [0.77, 0.0] } else { [0.71, 0.0] }));
-        }
-        let all: Vec<Point3<f32>> = tag.iter().chain(&red_box).copied().collect();
-        let core: Vec<usize> = (0..tag.len()).filter(|&i| tag[i].y < -0.04).collect();
-        let split = tag_coloured(&all, &colours, &core, 0.01).expect("divided");
-        let of_the_box = split.kept.iter().filter(|p| p.y >= 0.0).count();
-        assert_eq!(of_the_box, 0, "scattered pixels of the box were kept");
-        assert_eq!(split.kept.len(), tag.len());
     }
 
     #[test]

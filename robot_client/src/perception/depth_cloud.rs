@@ -11,7 +11,6 @@
 
 use nalgebra::{Point3, Vector3};
 
-use super::organised_cloud::OrganisedCloud;
 use crate::hal::{CameraCalibration, PointCloud};
 
 /// How the depth samples are stored.
@@ -216,21 +215,6 @@ pub fn cloud_from_depth_in(
     Ok(PointCloud { points })
 }
 
-/// [`cloud_from_depth_in`], its points knowing their pixels: the steps after it read a point's
-/// pixel and depth from the image instead of projecting the point back into it.
-pub fn organised_cloud_from_depth_in<'a>(
-    depth: &'a DepthImage,
-    calibration: &CameraCalibration,
-    range: &DepthRange,
-    window: &PixelWindow,
-) -> Result<OrganisedCloud<'a>, DepthSizeMismatch> {
-    let cloud = cloud_from_depth_in(depth, calibration, range, window)?;
-    let k = &calibration.intrinsics;
-    let [u0, v0, u1, v1] = window.clamped(k.width, k.height);
-    let window = PixelWindow { columns: [u0, u1], rows: [v0, v1] };
-    Ok(OrganisedCloud::new(cloud, depth, *range, window))
-}
-
 /// The pixels of `window` that [`cloud_from_depth_in`] makes points of, in the order it makes
 /// them, each handed to `each(u, v, z)` with its depth in metres.
 pub(crate) fn for_each_depth_in(
@@ -303,7 +287,9 @@ impl PixelWindow {
             * u64::from(self.rows[1].saturating_sub(self.rows[0]))
     }
 
-    fn clamped(&self, width: u32, height: u32) -> [u32; 4] {
+    /// The window cut to an image `width` × `height` pixels: first column, first row, and one
+    /// past the last of each.
+    pub(super) fn clamped(&self, width: u32, height: u32) -> [u32; 4] {
         let u1 = self.columns[1].min(width);
         let v1 = self.rows[1].min(height);
         [self.columns[0].min(u1), self.rows[0].min(v1), u1, v1]

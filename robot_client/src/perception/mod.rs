@@ -16,6 +16,7 @@
 mod blobs;
 mod bounded_tag;
 mod brightness;
+mod core_colour;
 mod depth_cloud;
 mod depth_noise;
 pub(crate) mod flood_fill;
@@ -30,7 +31,9 @@ mod tag;
 mod tag_colour_stats;
 mod tag_colours;
 mod tag_extent;
+mod tag_search_params;
 mod tag_shape;
+mod tag_sighting;
 mod two_clusters;
 mod two_colours;
 pub(crate) mod voxel_coords;
@@ -39,20 +42,19 @@ pub use blobs::Blobs;
 pub use brightness::{BrightnessChange, LightChange, brightness_change};
 pub use depth_cloud::{
     DepthEncoding, DepthImage, DepthRange, DepthSizeMismatch, PixelWindow, cloud_from_depth,
-    cloud_from_depth_in, organised_cloud_from_depth_in,
+    cloud_from_depth_in,
 };
 pub use depth_noise::{DepthNoise, NotADepthNoise};
 pub use hsv::{HsvThresholds, ThresholdError, chroma_point, hsv_of, segment_color};
 pub use mask::Mask;
 pub use occupancy::{Component, OccupancyGrid};
-pub use organised_cloud::OrganisedCloud;
+pub use organised_cloud::{OrganisedCloud, organised_cloud_from_depth_in};
 pub use projection::{OcclusionTest, ProjectedCloud, Reach, points_on_mask};
 pub use ray_smoothing::RaySmoothing;
 pub use seeded_segmentation::segment_seeded;
-pub use tag::{
-    PerceptionError, TagDetection, TagSearch, TagSearchParams, TagSighting, choose_tag, locate_tag,
-    search_tag,
-};
+pub use tag::{PerceptionError, TagSearch, choose_tag, locate_tag, search_tag};
 pub use tag_colour_stats::tag_color;
 pub use tag_colours::{covering_colour, describe_colour};
 pub use tag_extent::tag_size;
+pub use tag_search_params::TagSearchParams;
+pub use tag_sighting::{TagDetection, TagSighting};

@@ -6,8 +6,25 @@
 
 use nalgebra::Point3;
 
-use super::depth_cloud::{DepthImage, DepthRange, PixelWindow, for_each_depth_in};
-use crate::hal::PointCloud;
+use super::depth_cloud::{
+    DepthImage, DepthRange, DepthSizeMismatch, PixelWindow, cloud_from_depth_in, for_each_depth_in,
+};
+use crate::hal::{CameraCalibration, PointCloud};
+
+/// [`cloud_from_depth_in`], its points knowing their pixels: the steps after it read a point's
+/// pixel and depth from the image instead of projecting the point back into it.
+pub fn organised_cloud_from_depth_in<'a>(
+    depth: &'a DepthImage,
+    calibration: &CameraCalibration,
+    range: &DepthRange,
+    window: &PixelWindow,
+) -> Result<OrganisedCloud<'a>, DepthSizeMismatch> {
+    let cloud = cloud_from_depth_in(depth, calibration, range, window)?;
+    let k = &calibration.intrinsics;
+    let [u0, v0, u1, v1] = window.clamped(k.width, k.height);
+    let window = PixelWindow { columns: [u0, u1], rows: [v0, v1] };
+    Ok(OrganisedCloud::new(cloud, depth, *range, window))
+}
 
 /// A base-frame cloud whose every point came from one pixel of `depth`, aligned to the colour
 /// image: the pixels of `window` whose depth `range` keeps, in pixel order, rows top to bottom.

@@ -11,7 +11,8 @@ use pps_schema::TagColor;
 
 use super::bounded_tag::of_the_colour_at;
 use super::hsv::hsv_of;
-use super::tag::{TagDetection, TagSearchParams};
+use super::tag_search_params::TagSearchParams;
+use super::tag_sighting::TagDetection;
 use crate::hal::{CameraCalibration, ColorImage};
 
 /// Every this many pixels of the picture, in both directions, tell its light level: a

@@ -19,7 +19,8 @@ use nalgebra::{Point3, Vector3};
 use pps_schema::TagSize;
 
 use super::bounded_tag::of_the_colour_at;
-use super::tag::{TagDetection, TagSearchParams};
+use super::tag_search_params::TagSearchParams;
+use super::tag_sighting::TagDetection;
 use crate::hal::{CameraCalibration, ColorImage};
 
 /// Share of points trimmed off each end of the tag's extent, for stray points.
