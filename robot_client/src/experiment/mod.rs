@@ -26,11 +26,13 @@ mod sampling;
 mod scoring;
 mod start_up;
 mod table;
+mod table_report;
 mod trial;
 
 pub use person::achieved;
 pub use runner::{flush_until_stored, run_trials};
 pub use scoring::TableRow;
 pub use start_up::start_up;
-pub use table::{Protocol, TABLE_ONE, render_table, rows_json};
+pub use table::{Protocol, TABLE_ONE};
+pub use table_report::{render_table, rows_json};
 pub use trial::{Fault, SimulatedResult, SimulatedTrial, run_simulated, run_simulated_reading};

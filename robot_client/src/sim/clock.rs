@@ -1,13 +1,9 @@
 //! Virtual time: devices advance it by how long their motion would take; nothing sleeps.
-//! [`SimClock`] turns it into trial timestamps.
+//! [`super::SimClock`] turns it into trial timestamps.
 
 use std::time::Duration;
 
-use time::OffsetDateTime;
-
-use super::robot::SimRobot;
-use crate::hal::Clock;
-
+/// The simulator's time since it started, advanced by what happens in it.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, PartialOrd, Ord)]
 pub struct VirtualClock {
     now: Duration,
@@ -27,27 +23,5 @@ impl VirtualClock {
         if speed > 0.0 && distance.is_finite() {
             self.advance(Duration::from_secs_f64(distance.abs() / speed));
         }
-    }
-}
-
-/// Trial times in the simulator: the real time the run started plus the virtual time elapsed,
-/// so trials carry plausible timestamps and durations that do not depend on the host's speed.
-#[derive(Debug, Clone)]
-pub struct SimClock {
-    robot: SimRobot,
-    epoch: OffsetDateTime,
-}
-
-impl SimClock {
-    /// A clock for `robot` whose virtual zero is `epoch`.
-    pub fn new(robot: SimRobot, epoch: OffsetDateTime) -> Self {
-        let elapsed = robot.state().clock.now();
-        Self { robot, epoch: epoch - elapsed }
-    }
-}
-
-impl Clock for SimClock {
-    fn now(&self) -> OffsetDateTime {
-        self.epoch + self.robot.state().clock.now()
     }
 }

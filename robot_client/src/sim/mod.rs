@@ -31,13 +31,14 @@ mod room;
 mod scenario;
 mod scene;
 mod sim_body;
+mod trial_clock;
 
 pub use body::{BodyGeometry, BodyState, head_camera};
 pub use camera::{Exposure, Lighting, render_color, render_gray};
 pub use capture::{
     CaptureSettings, SceneCapture, StartDirection, capture_scene, start_pose, start_pose_at_angle,
 };
-pub use clock::{SimClock, VirtualClock};
+pub use clock::VirtualClock;
 pub use depth_camera::AlignedDepth;
 pub use laser::{LaserModel, sweep_scan};
 #[cfg(test)]
@@ -49,3 +50,4 @@ pub use room::{Device, DeviceKind, Room, RoomOptions};
 pub use scenario::{DeviceTruth, Scenario};
 pub use scene::{Hit, LightSource, Part, Scene, Surface, WallFrame, hsv_to_srgb};
 pub use sim_body::SimBody;
+pub use trial_clock::SimClock;

@@ -12,7 +12,9 @@ pub mod params;
 pub mod reader;
 pub mod round_reads;
 pub mod session;
+pub mod settings;
 pub mod wire;
 
 pub use connection::LLRP_PORT;
-pub use reader::{LlrpReader, LlrpSettings, RoundStop, tag_read};
+pub use reader::{LlrpReader, tag_read};
+pub use settings::{LlrpSettings, RoundStop};

@@ -24,8 +24,8 @@ use super::params::rospec::{
     InventoryParameterSpec, RfTransmitter, RoBoundarySpec, RoReportSpec, RoReportTrigger, RoSpec,
     RoSpecStartTrigger, RoSpecState, RoSpecStopTrigger, TagReportContentSelector,
 };
-use super::reader::{LlrpSettings, RoundStop};
 use super::round_reads::{MAX_KEPT, RoundReads};
+use super::settings::{LlrpSettings, RoundStop};
 use super::wire::{FieldReader, MESSAGE_HEADER_LEN};
 
 /// Our ROSpec's id ("PP" for PPS-tags); any stale one is deleted at connection.
