@@ -20,9 +20,11 @@ use serde::{Deserialize, Serialize};
 use crate::camera::CameraModel;
 use crate::clutter::{Clutter, Distractor, Room};
 use crate::devices::{self, Device, DeviceKind, DeviceParameters};
+use crate::draw::Draw;
 use crate::furnishing::draw_clutter;
 use crate::home_materials::Illuminant;
 use crate::laser::LaserModel;
+use crate::lighting::Lighting;
 use crate::materials;
 use crate::rgbd::{self, RgbdParameters, RgbdVariants};
 use crate::rig::{draw_laser, draw_lights, optical_pose};
@@ -33,14 +35,6 @@ use crate::truth::Truth;
 const IMAGE_SIZES: [[u32; 2]; 5] = [[640, 480], [800, 600], [960, 720], [1024, 768], [1280, 960]];
 /// The tag's centre stays within this fraction of the half field of view from the image centre.
 const TAG_IN_VIEW: f64 = 0.7;
-
-/// Bright daytime light, or a dim evening lit mostly by the flash and one warm lamp.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Lighting {
-    Bright,
-    Dim,
-}
 
 /// Everything a scene was drawn with, for reproducing and printing a miss.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -143,26 +137,6 @@ pub struct DrawnScene {
     pub truth: Truth,
     /// The person's designated point, base frame, metres.
     pub target: [f64; 3],
-}
-
-/// The random draws of one scene.
-pub(crate) struct Draw {
-    pub(crate) rng: ChaCha8Rng,
-}
-
-impl Draw {
-    /// Uniform in [lo, hi).
-    pub(crate) fn u(&mut self, lo: f64, hi: f64) -> f64 {
-        if hi <= lo { lo } else { self.rng.random_range(lo..hi) }
-    }
-
-    pub(crate) fn chance(&mut self, p: f64) -> bool {
-        self.rng.random_bool(p.clamp(0.0, 1.0))
-    }
-
-    pub(crate) fn sign(&mut self) -> f64 {
-        if self.chance(0.5) { 1.0 } else { -1.0 }
-    }
 }
 
 /// The kind a seed gives when none is asked for.

@@ -6,8 +6,8 @@ use nalgebra::{Point3, Vector2};
 use rand::Rng;
 
 use crate::clutter::{Clutter, Distractor, DistractorKind};
-use crate::corpus::Draw;
 use crate::devices::{self, Device, DeviceKind, DeviceParameters, Extent};
+use crate::draw::Draw;
 use crate::materials;
 
 /// Distance in the floor plane from `p` to the segment `a`–`b`.

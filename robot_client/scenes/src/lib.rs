@@ -20,6 +20,7 @@ pub mod clutter;
 pub mod corpus;
 pub mod depth_sensor;
 pub mod devices;
+mod draw;
 pub mod furnishing;
 pub mod geometry;
 pub mod home_materials;

@@ -10,6 +10,14 @@ use serde::{Deserialize, Serialize};
 
 use crate::materials::Material;
 
+/// Bright daytime light, or a dim evening lit mostly by the flash and one warm lamp.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Lighting {
+    Bright,
+    Dim,
+}
+
 /// A point source: where it is (base frame, metres) and its linear RGB irradiance on a surface
 /// facing it 1 m away.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

@@ -10,9 +10,9 @@ use nalgebra::{Isometry3, Translation3, Vector3};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 
-use crate::corpus::Draw;
 use crate::depth_sensor::{DepthSensorModel, DepthTechnique};
 use crate::devices::Device;
+use crate::draw::Draw;
 use crate::geometry::Shape;
 use crate::home_materials::{HOME_MATERIALS, Illuminant, MaterialGroup};
 use crate::lighting::{Lights, PointLight};

@@ -5,9 +5,9 @@ use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, Translation3, UnitQuaterni
 use rand::Rng;
 
 use crate::clutter::Room;
-use crate::corpus::{Draw, Lighting};
+use crate::draw::Draw;
 use crate::laser::LaserModel;
-use crate::lighting::{Lights, PointLight};
+use crate::lighting::{Lighting, Lights, PointLight};
 use crate::scene::Pose;
 
 /// The base frame from the optical frame of a camera at `eye` with the given yaw, pitch down and

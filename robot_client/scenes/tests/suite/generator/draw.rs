@@ -3,9 +3,9 @@
 
 use nalgebra::{Point3, Vector3};
 use pps_scenes::caster::RayCaster;
-use pps_scenes::corpus::Lighting;
 use pps_scenes::devices::{DeviceKind, DeviceParameters};
 use pps_scenes::geometry::Ray;
+use pps_scenes::lighting::Lighting;
 use pps_scenes::{draw, generate};
 
 #[test]
