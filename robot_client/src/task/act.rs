@@ -4,7 +4,7 @@
 
 use pps_schema::{BehaviorParams, Properties, StateChange, TagEntry};
 
-use super::run::TaskRobot;
+use super::task_robot::TaskRobot;
 use crate::behaviors::{
     BehaviorReport, DropGeometry, ForceRecorder, WantedLight, drop_object, operate_light_switch,
     pull_back, pull_lamp, push,

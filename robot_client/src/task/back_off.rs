@@ -25,7 +25,7 @@ use super::as_made::as_made;
 use super::drive::{camera_origin, odom_from_base};
 use super::outline::{Outline, Stance, Swept};
 use super::report::PhaseReport;
-use super::run::TaskRobot;
+use super::task_robot::TaskRobot;
 use super::trail::{Move, Trail, between};
 use crate::hal::{CameraCalibration, HalError, PlanarPose};
 

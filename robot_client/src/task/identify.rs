@@ -7,9 +7,9 @@ use nalgebra::Point3;
 use pps_schema::{TagColor, TagSize};
 
 use super::approach::{Look, look};
+use super::config::TaskConfig;
 use super::drive::{in_base, in_odom, in_view};
 use super::report::PhaseReport;
-use super::run::TaskConfig;
 use crate::behaviors::Hand;
 use crate::hal::{ColorCamera, Finger, HalError, MobileBase, RfidReader, TiltSweep, TiltingLaser};
 use crate::navigation::{ApproachParams, RfidIdentity, identify_tag};

@@ -12,12 +12,13 @@ use uuid::Uuid;
 
 use super::act::{ActionChoice, choose_action, run_behavior};
 use super::back_off::{Backing, back_off, come_back};
+use super::config::TaskConfig;
 use super::drive::{in_base, in_odom};
 use super::identify::{SecondLook, look_from_here, reach_toward};
 use super::known_tags::{ColourSource, search_for_this_tag};
 use super::outline::Outline;
 use super::report::{PhaseReport, TaskReport};
-use super::run::{TaskConfig, TaskRobot};
+use super::task_robot::TaskRobot;
 use super::trail::Trail;
 use crate::behaviors::{DropGeometry, ForceRecorder};
 use crate::hal::{Clock, HalError, Operator};

@@ -1,83 +1,18 @@
 //! The four phases in order, ending in a trial recorded through the registry client.
 
-use pps_schema::{Purpose, StartPose};
-use uuid::Uuid;
-
 use super::approach::{Look, drive_to_waypoint, look_for_tag_and_surface};
+use super::config::TaskConfig;
 use super::drive::{camera_origin, drive_toward, in_base, in_odom};
 use super::identify::servo_and_read;
 use super::known_tags::{ColourSource, search_for_known_tags};
 use super::perform::{Acting, FoundTag, act, settle_epc};
 use super::report::{PhaseReport, TaskReport};
+use super::task_robot::TaskRobot;
 use super::trailing::Trailing;
-use crate::behaviors::{Hand, RobotBody};
-use crate::hal::{
-    BrightnessCamera, Clock, ColorCamera, MobileBase, Operator, RfidReader, TiltSweep, TiltingLaser,
-};
-use crate::navigation::{ApproachParams, RfidIdentity};
+use crate::hal::{Clock, ColorCamera, Operator};
+use crate::navigation::RfidIdentity;
 use crate::perception::{tag_color, tag_size};
 use crate::registry::RegistryClient;
-
-/// Everything the task needs of a robot.
-pub trait TaskRobot:
-    Hand + MobileBase + ColorCamera + TiltingLaser + RfidReader + BrightnessCamera
-{
-}
-
-impl<T: Hand + MobileBase + ColorCamera + TiltingLaser + RfidReader + BrightnessCamera> TaskRobot
-    for T
-{
-}
-
-/// The task's settings: the paper's numbers, and this robot's body and sensors.
-#[derive(Debug, Clone, PartialEq)]
-pub struct TaskConfig {
-    pub body: RobotBody,
-    /// Phase 1 drives until the base's front is this near the pointed location (paper: 1.0 m).
-    pub near_enough: f64,
-    /// Phase 2's perception and waypoint (50 cm out).
-    pub approach: ApproachParams,
-    /// The laser sweep for finding the tag, and the steeper one for a container's top.
-    pub sweep: TiltSweep,
-    pub drop_sweep: TiltSweep,
-    /// Phase 3 brings the fingertips this near the tag (paper: 10 cm).
-    pub servo_distance: f64,
-    /// Inventory rounds per RFID read, and the margin by which the strongest tag must win, dB.
-    pub rfid_rounds: usize,
-    pub rfid_margin_db: f64,
-    /// Where the experiment put the robot, for the trial record (the robot has no map).
-    pub start_pose: Option<StartPose>,
-    /// The registry task this run does, recorded in the trial's `measurements.task`.
-    pub task: Option<Uuid>,
-    /// Why the task is done: an experiment's trials are kept out of the registry's success
-    /// rates, reliability and learning.
-    pub purpose: Purpose,
-    /// Send the trial with a picture of what the camera saw around the tag (DESIGN §10).
-    pub picture: bool,
-}
-
-impl Default for TaskConfig {
-    fn default() -> Self {
-        Self {
-            body: RobotBody::default(),
-            near_enough: 1.0,
-            approach: ApproachParams::default(),
-            sweep: TiltSweep {
-                from: -20f64.to_radians(),
-                to: 35f64.to_radians(),
-                step: 0.25f64.to_radians(),
-            },
-            drop_sweep: TiltSweep { from: 0.0, to: 65f64.to_radians(), step: 0.5f64.to_radians() },
-            servo_distance: 0.10,
-            rfid_rounds: 5,
-            rfid_margin_db: 3.0,
-            start_pose: None,
-            task: None,
-            purpose: Purpose::Use,
-            picture: true,
-        }
-    }
-}
 
 /// Runs the task once: the operator points, the robot acts, and the trial goes to the registry
 /// (through the outbox, so it is kept while the registry is unreachable).

@@ -12,7 +12,7 @@ use std::sync::Mutex;
 
 use super::as_made::as_made;
 use super::outline::Stance;
-use super::run::TaskRobot;
+use super::task_robot::TaskRobot;
 use super::trail::{Move, Trail};
 use crate::hal::{Arm, Carriage, HalError, MobileBase, PlanarPose, forward_to};
 
