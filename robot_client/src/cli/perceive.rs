@@ -37,7 +37,7 @@ pub struct PerceiveArgs {
     /// The depth camera's noise (σ) at 1 m, metres, that made --depth or --cloud; it grows with
     /// the square of the range. Default with --depth 0.0036 (a RealSense D435 at 848 pixels);
     /// with --cloud, a laser's few millimetres at any range.
-    #[arg(long, value_name = "METRES", value_parser = parse_depth_noise)]
+    #[arg(long, value_name = "METRES", allow_hyphen_values = true, value_parser = parse_depth_noise)]
     pub depth_noise_at_1m: Option<DepthNoise>,
     /// Camera calibration JSON: width, height, fx, fy, cx, cy, base_from_camera.
     #[arg(long)]
@@ -53,7 +53,7 @@ pub struct PerceiveArgs {
     /// reaching further than its half diagonal and 3 cm is never taken as a tag, though a piece
     /// of it a disc a little wider than the tag cannot reach may be. Default: a towel over a
     /// wide drawer's handle (60 × 35 cm), and no such piece.
-    #[arg(long, value_name = "WIDTH,HEIGHT", value_parser = parse_largest_tag)]
+    #[arg(long, value_name = "WIDTH,HEIGHT", allow_hyphen_values = true, value_parser = parse_largest_tag)]
     pub largest_tag: Option<TagSize>,
     /// Print one JSON document on stdout and nothing else.
     #[arg(long)]

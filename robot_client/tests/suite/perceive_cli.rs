@@ -136,6 +136,15 @@ fn bad_input_is_a_clear_error_and_a_failing_exit() {
         perceive(dir.path(), &target, &["--largest-tag", "5,8"]),
         "not a tag's width and height",
     );
+    // A negative number is a value the person gave, answered as one, not taken for a flag.
+    fails_saying(
+        perceive(dir.path(), &target, &["--largest-tag", "-0.05,0.08"]),
+        "not a tag's width and height",
+    );
+    fails_saying(
+        perceive(dir.path(), &target, &["--depth-noise-at-1m", "-0.002"]),
+        "not a depth camera's noise at 1 m",
+    );
 
     // The files are read camera, image, cloud: break them last to first.
     std::fs::write(dir.path().join("cloud.ply"), "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nend_header\n1 2 3\n").unwrap();
