@@ -2,11 +2,11 @@
 
 use std::sync::Arc;
 
-use crate::auth::TokenCache;
+use crate::auth::cache::TokenCache;
 use crate::auth::login_throttle::LoginThrottle;
 use crate::clock::Clock;
 use crate::feed::ChangeFeed;
-use crate::home_assistant::BridgeStatus;
+use crate::ops::bridge_status::BridgeStatus;
 use crate::ops::metrics::Metrics;
 use crate::robots::presence::Presence;
 use crate::robots::sightings::Sightings;

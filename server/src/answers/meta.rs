@@ -4,7 +4,7 @@
 use schemars::{JsonSchema, json_schema};
 use serde::Serialize;
 
-use crate::home_assistant::Status;
+use crate::ops::bridge_status::Status;
 
 /// The registry answers (or, for readiness, can take writes now).
 #[derive(Debug, Serialize, JsonSchema)]

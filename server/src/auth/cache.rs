@@ -9,7 +9,7 @@ use std::time::Duration;
 
 use time::OffsetDateTime;
 
-use crate::auth::Principal;
+use super::principal::Principal;
 
 /// How long a cached positive look-up is trusted.
 pub const RECHECK_AFTER: Duration = Duration::from_secs(2);

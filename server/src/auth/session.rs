@@ -11,7 +11,7 @@ use base64::Engine;
 use base64::engine::general_purpose::URL_SAFE_NO_PAD;
 use sha2::{Digest, Sha256};
 
-use crate::auth::Principal;
+use super::principal::Principal;
 use crate::error::ApiError;
 use crate::identity::{Role, secret};
 use crate::state::AppState;

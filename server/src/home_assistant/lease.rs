@@ -3,8 +3,9 @@
 
 use std::time::Duration;
 
+use super::Config;
 use super::bridge::{self, Ended};
-use super::{Config, Status};
+use crate::ops::bridge_status::Status;
 use crate::state::AppState;
 use crate::store::db::Db;
 use crate::store::home_assistant;

@@ -13,7 +13,6 @@ mod device;
 mod discovery;
 mod lease;
 mod press;
-mod status;
 mod task_words;
 mod tls_relay;
 mod trust;
@@ -23,9 +22,9 @@ use std::path::Path;
 use std::time::Duration;
 
 pub use broker::Broker;
-pub use status::{BridgeStatus, Status};
 pub use trust::BrokerTrust;
 
+use crate::ops::bridge_status::Status;
 use crate::state::AppState;
 
 /// The name of the caretaker credential presses are asked with; revoking it refuses them.

@@ -1,4 +1,4 @@
-//! Whether this process's bridge is connected, and if not why, for the admin page.
+//! Whether this process's Home Assistant bridge is connected, and if not why, for the admin page.
 
 use std::sync::atomic::{AtomicU8, Ordering};
 use std::sync::{Mutex, OnceLock};
