@@ -16,7 +16,7 @@ use sha2::{Digest, Sha256};
 use crate::error::ApiError;
 use crate::http::extract::Caller;
 use crate::http::ids::InPath;
-use crate::http::openapi::{Doc, Header, Param, Reply};
+use crate::http::openapi::doc::{Doc, Header, Param, Reply};
 use crate::http::precondition;
 use crate::state::AppState;
 use crate::store::{learned_colours, learned_sizes, learning, retired, robots, tags};

@@ -18,7 +18,7 @@ use crate::auth::{self, Principal};
 use crate::error::ApiError;
 use crate::feed::FeedPlace;
 use crate::http::extract::Caller;
-use crate::http::openapi::{Doc, Param, Reply};
+use crate::http::openapi::doc::{Doc, Param, Reply};
 use crate::state::AppState;
 use crate::store::events::{self, Event, EventKind};
 

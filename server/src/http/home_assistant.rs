@@ -6,7 +6,7 @@ use axum::extract::State;
 
 use crate::answers::meta::HomeAssistantBridge;
 
-use crate::http::openapi::{Doc, Reply};
+use crate::http::openapi::doc::{Doc, Reply};
 use crate::state::AppState;
 
 pub const GET: Doc =

@@ -6,7 +6,7 @@ use axum::extract::State;
 use crate::answers::inbox::InboxAnswer;
 use crate::error::ApiError;
 use crate::http::extract::ApiQuery;
-use crate::http::openapi::{Doc, Param, Reply};
+use crate::http::openapi::doc::{Doc, Param, Reply};
 use crate::http::page::{self, Page, PageParams};
 use crate::state::AppState;
 use crate::store::inbox;

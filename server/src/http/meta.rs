@@ -6,7 +6,7 @@ use serde_json::Value;
 
 use crate::answers::meta::Health;
 use crate::error::ApiError;
-use crate::http::openapi::{Doc, Param, ParamType, Reply};
+use crate::http::openapi::doc::{Doc, Param, ParamType, Reply};
 
 pub const HEALTHZ: Doc = Doc::new("healthz", "Liveness: the registry answers")
     .replies(&[Reply::json(200, "Alive", "health")]);

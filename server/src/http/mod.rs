@@ -34,7 +34,8 @@ use axum::http::Method;
 use axum::routing::{MethodFilter, on};
 
 pub use access::Access;
-use openapi::{Doc, accounts};
+use openapi::accounts;
+use openapi::doc::Doc;
 
 use crate::state::AppState;
 

@@ -8,7 +8,7 @@
 
 pub(super) mod accounts;
 mod components;
-mod doc;
+pub mod doc;
 
 use std::sync::{Arc, OnceLock};
 
@@ -18,7 +18,7 @@ use axum::response::{IntoResponse, Response};
 use bytes::Bytes;
 use serde_json::{Map, Value, json};
 
-pub use doc::{Body, Content, Doc, Header, Param, ParamType, Place, Reply};
+use doc::{Body, Content, Doc, Param, ParamType, Reply};
 
 use crate::error::ApiError;
 use crate::http::{Access, RouteSpec};

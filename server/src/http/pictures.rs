@@ -14,7 +14,7 @@ use crate::answers::trials::StoredTrialAnswer;
 use crate::error::ApiError;
 use crate::http::extract::{Caller, body_error};
 use crate::http::ids::{InPath, TrialId};
-use crate::http::openapi::{Body, Doc, Header, Param, Reply};
+use crate::http::openapi::doc::{Body, Doc, Header, Param, Reply};
 use crate::http::precondition::IfNoneMatch;
 use crate::state::AppState;
 use crate::store::events::{self, EventKind};

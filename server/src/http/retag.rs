@@ -14,7 +14,7 @@ use crate::answers::tags::StoredTagAnswer;
 use crate::error::ApiError;
 use crate::http::extract::{Caller, JsonBody};
 use crate::http::ids::{InPath, Segment};
-use crate::http::openapi::{Body, Doc, Header, Param, Reply};
+use crate::http::openapi::doc::{Body, Doc, Header, Param, Reply};
 use crate::http::precondition;
 use crate::state::AppState;
 use crate::store::WriteCondition;

@@ -12,7 +12,7 @@ use crate::answers::robots::StoredRobotAnswer;
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, JsonBody};
 use crate::http::ids::InPath;
-use crate::http::openapi::{Body, Doc, Param, Reply};
+use crate::http::openapi::doc::{Body, Doc, Param, Reply};
 use crate::http::page::{self, Page, PageParams};
 use crate::state::AppState;
 use crate::store::robots::{self, RobotWrite, StoredRobot};

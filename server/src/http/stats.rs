@@ -14,7 +14,7 @@ use crate::answers::stats::{ActionStats, LearnedSizeAnswer, LearnedValue, TagSta
 use crate::error::ApiError;
 use crate::http::extract::ApiQuery;
 use crate::http::ids::InPath;
-use crate::http::openapi::{Doc, Param, ParamType, Reply};
+use crate::http::openapi::doc::{Doc, Param, ParamType, Reply};
 use crate::learning::{RELIABILITY_WINDOW, is_reliable};
 use crate::state::AppState;
 use crate::store::trial_counts::{self, GroupKey};

@@ -5,7 +5,7 @@ use crate::answers::tags::{StoredTagAnswer, TagRevisionAnswer, ValidationResult}
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, JsonBody};
 use crate::http::ids::InPath;
-use crate::http::openapi::{Body, Doc, Header, Param, ParamType, Reply};
+use crate::http::openapi::doc::{Body, Doc, Header, Param, ParamType, Reply};
 use crate::http::page::{self, Page, PageParams};
 use crate::http::precondition;
 use crate::state::AppState;

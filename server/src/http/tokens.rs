@@ -10,7 +10,7 @@ use serde::Deserialize;
 use crate::answers::accounts::{MintedTokenAnswer, RevokedToken, RoleName, TokenAnswer};
 use crate::error::ApiError;
 use crate::http::extract::JsonBody;
-use crate::http::openapi::{Body, Doc, Param, ParamType, Reply};
+use crate::http::openapi::doc::{Body, Doc, Param, ParamType, Reply};
 use crate::http::page::Page;
 use crate::identity::Role;
 use crate::state::AppState;

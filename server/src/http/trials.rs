@@ -18,7 +18,7 @@ use crate::auth::Principal;
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, JsonBody};
 use crate::http::ids::{InPath, TrialId};
-use crate::http::openapi::{Body, Doc, Param, ParamType, Reply};
+use crate::http::openapi::doc::{Body, Doc, Param, ParamType, Reply};
 use crate::http::page::{self, Page};
 use crate::identity::Role;
 use crate::learning::{self, TrialGroup};

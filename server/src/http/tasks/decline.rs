@@ -17,7 +17,7 @@ use crate::answers::tasks::TaskAnswer;
 use crate::error::ApiError;
 use crate::http::extract::{Caller, JsonBody};
 use crate::http::ids::{InPath, TaskId};
-use crate::http::openapi::{Body, Doc, Reply};
+use crate::http::openapi::doc::{Body, Doc, Reply};
 use crate::state::AppState;
 use crate::store::robots;
 use crate::store::tasks::{self, TaskRow};

@@ -25,7 +25,7 @@ use crate::clock;
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, JsonBody};
 use crate::http::ids::{InPath, TaskId};
-use crate::http::openapi::{Body, Doc, Param, ParamType, Reply};
+use crate::http::openapi::doc::{Body, Doc, Param, ParamType, Reply};
 use crate::robots::waiting_line::MAX_WAITING_PER_ROBOT;
 use crate::state::AppState;
 use crate::store::tasks::{self, TaskRow};

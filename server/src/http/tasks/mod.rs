@@ -22,7 +22,7 @@ use crate::auth::Principal;
 use crate::error::ApiError;
 use crate::http::extract::{ApiQuery, Caller, JsonBody};
 use crate::http::ids::{InPath, Segment, TaskId};
-use crate::http::openapi::{Body, Doc, Header, Param, ParamType, Reply};
+use crate::http::openapi::doc::{Body, Doc, Header, Param, ParamType, Reply};
 use crate::http::page;
 use crate::identity::Role;
 use crate::state::AppState;
