@@ -13,6 +13,7 @@ mod device;
 mod discovery;
 mod lease;
 mod press;
+mod replicas;
 mod task_words;
 mod tls_relay;
 mod trust;
@@ -22,10 +23,8 @@ use std::path::Path;
 use std::time::Duration;
 
 pub use broker::Broker;
+pub use replicas::start;
 pub use trust::BrokerTrust;
-
-use crate::ops::bridge_status::Status;
-use crate::state::AppState;
 
 /// The name of the caretaker credential presses are asked with; revoking it refuses them.
 pub const CREDENTIAL: &str = "Home Assistant bridge";
@@ -94,14 +93,6 @@ pub fn parse_client_id(text: &str) -> Result<String, String> {
         ));
     }
     Ok(text.to_owned())
-}
-
-/// Starts the bridge; it runs until the feed closes (the server is shutting down), and the
-/// handle completes once it said goodbye to the broker.
-pub fn start(state: &AppState, config: Config) -> tokio::task::JoinHandle<()> {
-    state.home_assistant.configured(config.broker.to_string(), config.prefix.clone());
-    state.home_assistant.set(Status::Standby);
-    tokio::spawn(lease::run(state.clone(), config))
 }
 
 /// How long a stopping server waits for the bridge to mark its devices unavailable.
