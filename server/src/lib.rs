@@ -9,7 +9,9 @@
 //! - [`store`] is the only SQL, on the database it opens; [`identity`] are the people and
 //!   secrets below it.
 //! - [`tags`], [`trials`], [`learning`] and [`robots`] are the registry's domain between the
-//!   two; [`accept`] takes a client's document in.
+//!   two; [`accept`] takes a client's document in. [`effective_entry`] (a tag as one robot
+//!   should use it) and [`tasks`] (a task asked for) work on the whole [`state`], for the
+//!   routes and the Home Assistant bridge alike.
 //! - [`feed`] fans out changes, [`background`] does what the hot path only noted, [`clock`]
 //!   says what time it is and how times are written.
 //! - [`home_assistant`] is the smart-home bridge; [`ops`] and [`cli`] are the operator's side.
@@ -20,6 +22,7 @@ pub mod auth;
 pub mod background;
 pub mod cli;
 pub mod clock;
+pub mod effective_entry;
 pub mod error;
 pub mod feed;
 pub mod home_assistant;
@@ -31,6 +34,7 @@ pub mod robots;
 pub mod state;
 pub mod store;
 pub mod tags;
+pub mod tasks;
 pub mod transport;
 pub mod trials;
 

@@ -18,13 +18,13 @@ use super::discovery::{self, ButtonConfig, StateConfig, TaskConfig, Topics};
 use super::lease::{Lease, RENEW_EVERY};
 use super::press::Presses;
 use super::{Config, task_words};
-use crate::http::tasks::availability;
 use crate::ops::bridge_status::Status;
 use crate::state::AppState;
 use crate::store::events::{Event as Change, EventKind};
 use crate::store::tags::{self, StoredTag};
 use crate::store::tasks::{self, TaskFilter};
 use crate::store::{home_assistant, retired, robots};
+use crate::tasks::availability;
 
 /// How often availability is looked at again: robots come online and go quiet without events.
 const AVAILABILITY_EVERY: Duration = Duration::from_secs(5);

@@ -9,11 +9,12 @@ use super::device::TagDevice;
 use super::discovery::{self, PRESS};
 use super::lease::Lease;
 use crate::error::ApiError;
-use crate::http::tasks::{self, TaskRequest};
 use crate::identity::Role;
 use crate::state::AppState;
 use crate::store::home_assistant::{self, Credential};
 use crate::store::tokens;
+use crate::tasks::ask::ask;
+use crate::tasks::request::TaskRequest;
 
 /// A press is one word; a bigger payload is not read.
 const MAX_PRESS_BYTES: usize = 64;
@@ -92,7 +93,7 @@ impl<'a> Presses<'a> {
             Some("pressed in Home Assistant".into()),
             self.state.clock.now(),
         );
-        match tasks::ask(self.state, asked, CREDENTIAL, Some(self.lease.holder())).await {
+        match ask(self.state, asked, CREDENTIAL, Some(self.lease.holder())).await {
             Ok(task) => tracing::info!(
                 task = %task.id, epc = %task.epc, action, "a press in Home Assistant became a task"
             ),

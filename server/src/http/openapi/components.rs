@@ -76,7 +76,7 @@ fn answers() -> Map<String, Value> {
 fn request_bodies() -> Map<String, Value> {
     let mut generator = generator(SchemaSettings::draft2020_12().for_deserialize());
     add::<http::retag::RetagBody>(&mut generator);
-    add::<http::tasks::request::NewTask>(&mut generator);
+    add::<crate::tasks::request::NewTask>(&mut generator);
     add::<http::tasks::lease::Finish>(&mut generator);
     add::<http::tasks::decline::DeclineBody>(&mut generator);
     add::<http::trials::VerdictPatch>(&mut generator);

@@ -1,12 +1,10 @@
 //! `/api/v1/tasks`: a caretaker asks for an action on a tag; robots that can run it claim it
 //! under a lease ([`lease`]) and finish it with the trial it ended in (DESIGN §8).
 
-pub(crate) mod availability;
 pub mod decline;
 pub mod lease;
 mod offer;
 mod outlook;
-pub(crate) mod request;
 
 use axum::Json;
 use axum::extract::State;
@@ -26,9 +24,11 @@ use crate::http::openapi::doc::{Body, Doc, Header, Param, ParamType, Reply};
 use crate::http::page;
 use crate::identity::Role;
 use crate::state::AppState;
-use crate::store::tasks::{self, NewTask, TaskFilter, TaskRow};
-use crate::store::{home_assistant, robots};
-pub(crate) use request::TaskRequest;
+use crate::store::robots;
+use crate::store::tasks::{self, TaskFilter, TaskRow};
+use crate::tasks::ask::ask;
+use crate::tasks::availability;
+use crate::tasks::request::TaskRequest;
 
 pub const TASK_ID: Param = Param::path("id", ParamType::Uuid, "The task's id")
     .example("3f0c5a8e-9b1d-4e2f-8a7c-6d5e4f3a2b10");
@@ -61,45 +61,6 @@ pub async fn create(
     let location = format!("/api/v1/tasks/{}", row.id);
     let shown = outlook::shown(&state, &row).await?;
     Ok((StatusCode::CREATED, [(LOCATION, location)], Json(shown)).into_response())
-}
-
-/// Queues the task `asker` asked for: checked as every request is, stored with its event,
-/// and the robots waiting for work woken. The web UI's "Ask a robot" and the Home Assistant
-/// bridge's buttons both come here. With `bridge_lease`, the task is stored only while that
-/// holder still holds the bridge's lease, checked in the same write transaction: a replica
-/// that lost the lease never turns a press into a second task.
-pub(crate) async fn ask(
-    state: &AppState,
-    asked: TaskRequest,
-    asker: &str,
-    bridge_lease: Option<&str>,
-) -> Result<TaskRow, ApiError> {
-    asked.check(state).await?;
-    let task = NewTask {
-        id: Uuid::new_v4(),
-        epc: asked.epc,
-        action: asked.action,
-        robot: asked.robot,
-        class: asked.class,
-        note: asked.note,
-        created_by: asker.to_owned(),
-        expires_at: asked.expires_at,
-    };
-    let now = state.clock.now();
-    let mut tx = state.db.begin_write().await?;
-    if let Some(holder) = bridge_lease
-        && !home_assistant::holds_lease(&mut tx, holder, now).await?
-    {
-        return Err(ApiError::Conflict(
-            "this replica no longer runs the Home Assistant bridge; another one took it over"
-                .into(),
-        ));
-    }
-    let row = tasks::create(&mut tx, &task, now).await?;
-    tx.commit().await?;
-    // The feed's pump wakes the robots waiting for a task.
-    state.feed.committed();
-    Ok(row)
 }
 
 #[derive(Debug, Deserialize)]

@@ -13,13 +13,13 @@ use std::collections::HashMap;
 
 use pps_schema::{Epc, RobotId};
 
-use super::availability::why_not;
 use super::targets;
 use crate::error::ApiError;
 use crate::robots::waiting_line::{Place, Waiter};
 use crate::state::AppState;
 use crate::store::learning;
 use crate::store::tasks::{self, TaskRow};
+use crate::tasks::availability::why_not;
 
 /// Tasks looked at per attempt: the oldest ones this robot can do. It passes over one only
 /// for a robot waiting in line, so more than there are robots waiting is never needed.

@@ -12,7 +12,6 @@ use std::time::Duration;
 
 use pps_schema::{Epc, RobotId, TaskState};
 
-use super::availability::why_not;
 use super::targets;
 use crate::answers::tasks::TaskAnswer;
 use crate::error::ApiError;
@@ -20,6 +19,7 @@ use crate::robots::presence::ONLINE_WITHIN;
 use crate::state::AppState;
 use crate::store::robots::{self, StoredRobot};
 use crate::store::tasks::TaskRow;
+use crate::tasks::availability::why_not;
 
 /// More robots than any home has: the outlook looks at every one.
 const MAX_ROBOTS: u32 = 10_000;

@@ -7,8 +7,8 @@ use pps_schema::{Epc, RobotId};
 use serde::Deserialize;
 use serde_json::Value;
 
+use crate::effective_entry::entry_for;
 use crate::error::ApiError;
-use crate::http::effective::entry_for;
 use crate::state::AppState;
 use crate::store::robots;
 

@@ -70,7 +70,7 @@ impl TaskRequest {
     }
 
     /// Parses a request made at `now` (its expiry must lie ahead of it).
-    pub(super) fn parse(body: &Value, now: time::OffsetDateTime) -> Result<Self, ApiError> {
+    pub(crate) fn parse(body: &Value, now: time::OffsetDateTime) -> Result<Self, ApiError> {
         let Some(object) = body.as_object() else {
             return Err(ApiError::invalid_at(
                 "",
