@@ -9,7 +9,13 @@ use crate::store::db::Dialect;
 use crate::store::trial_counts::{GroupKey, groups_parameter};
 
 use crate::clock;
-use crate::tags::effective::Learned;
+
+/// A value learned from trials, addressed by its JSON pointer in the entry.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Learned {
+    pub pointer: String,
+    pub value: f64,
+}
 
 /// How the learned tables key a robot class: `""` for robots without one (a key column cannot
 /// be null).

@@ -15,14 +15,8 @@ use pps_schema::{
 use serde_json::{Map, Value, json};
 
 use crate::answers::effective::{EffectiveEntry, UnavailableAction};
+use crate::store::learning::Learned;
 use crate::store::robots::StoredRobot;
-
-/// A value learned from trials, addressed by its JSON pointer in the entry.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Learned {
-    pub pointer: String,
-    pub value: f64,
-}
 
 /// What the confirmed reads taught of the tag itself: the colour models learned from the robot
 /// class's (the tag's own and its household's) and the size learned from every robot's.
