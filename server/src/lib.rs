@@ -14,7 +14,8 @@
 //!   routes and the Home Assistant bridge alike.
 //! - [`feed`] fans out changes, [`background`] does what the hot path only noted, [`clock`]
 //!   says what time it is and how times are written.
-//! - [`home_assistant`] is the smart-home bridge; [`ops`] and [`cli`] are the operator's side.
+//! - [`home_assistant`] is the smart-home bridge; [`ops`] and [`cli`] are the operator's side,
+//!   and every file written for the operator is a [`private_file`].
 
 pub mod accept;
 pub mod answers;
@@ -30,6 +31,7 @@ pub mod http;
 pub mod identity;
 pub mod learning;
 pub mod ops;
+pub mod private_file;
 pub mod robots;
 pub mod state;
 pub mod store;

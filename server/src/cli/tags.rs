@@ -28,7 +28,7 @@ pub(super) async fn export(db: &Db, out: Option<PathBuf>) -> anyhow::Result<()> 
     let text = serde_json::to_string_pretty(&tags)?;
     match out {
         Some(path) => {
-            crate::ops::private_file::options()
+            crate::private_file::options()
                 .create(true)
                 .truncate(true)
                 .open(&path)

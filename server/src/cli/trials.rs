@@ -24,7 +24,7 @@ pub(super) async fn export_trials(db: &Db, args: ExportTrialsArgs) -> anyhow::Re
     let pictures = args.pictures.as_deref();
     let written = match &args.out {
         Some(path) => {
-            let file = crate::ops::private_file::options()
+            let file = crate::private_file::options()
                 .create(true)
                 .truncate(true)
                 .open(path)

@@ -51,7 +51,7 @@ pub async fn backup(db: &Db, to: &Path, replace: bool) -> anyhow::Result<BackupR
     let partial = partial_path(to)?;
     let _ = std::fs::remove_file(&partial);
     // SQLite writes into an empty file it is given, keeping its owner-only mode.
-    crate::ops::private_file::options()
+    crate::private_file::options()
         .create_new(true)
         .open(&partial)
         .with_context(|| format!("cannot create the backup {}", partial.display()))?;

@@ -1,8 +1,7 @@
-//! Running the registry as an operator sees it: backups, private files, metrics and logs, and
-//! whether the Home Assistant bridge is connected.
+//! Running the registry as an operator sees it: backups, metrics and logs, and whether the
+//! Home Assistant bridge is connected.
 
 pub mod backup;
 pub mod bridge_status;
 pub mod metrics;
-pub mod private_file;
 pub mod telemetry;

@@ -131,7 +131,7 @@ async fn write_picture(
         _ => "png",
     };
     let path: PathBuf = dir.join(format!("{}.{extension}", row.id));
-    let mut file = crate::ops::private_file::options()
+    let mut file = crate::private_file::options()
         .create(true)
         .truncate(true)
         .open(&path)

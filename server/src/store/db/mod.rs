@@ -279,7 +279,7 @@ async fn outside_transaction(conn: &mut AnyConnection) -> sqlx::Result<bool> {
 /// Creates a missing database file readable by its owner alone: it holds password and token
 /// hashes. SQLite gives its `-wal` and `-shm` files the same permissions.
 fn create_private(path: &Path) -> anyhow::Result<()> {
-    match crate::ops::private_file::options().create_new(true).open(path) {
+    match crate::private_file::options().create_new(true).open(path) {
         Ok(_) => Ok(()),
         Err(error) if error.kind() == std::io::ErrorKind::AlreadyExists => Ok(()),
         Err(error) => {
