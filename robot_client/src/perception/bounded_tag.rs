@@ -22,13 +22,14 @@ use nalgebra::{Matrix3, Point3, Vector3};
 use rustc_hash::FxHashSet;
 
 use super::core_colour::{ColourOf, tag_coloured};
+use super::edge_strips::{dense_in_the_picture, off_the_strips};
 use super::mask::Mask;
 use super::occupancy::{Component, OccupancyGrid};
 use super::tag_search_params::TagSearchParams;
 use super::tag_shape::out_of_reach_of_a_disc;
 use super::tag_sighting::TagDetection;
 use super::two_clusters::of_the_core_cluster;
-use super::two_colours::{colours_around, colours_of};
+use super::two_colours::{colours_around, colours_at, colours_of, pixels_of};
 use crate::hal::{CameraCalibration, ColorImage};
 
 /// Half the width of a surface's band, in standard deviations of the tag's own points about
@@ -189,18 +190,26 @@ fn tag_sized_beside(
 ) -> Vec<Component> {
     let bits = |p: &Point3<f32>| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
     let taken: FxHashSet<[u32; 3]> = part.members.iter().map(bits).collect();
-    let rest: Vec<Point3<f32>> =
-        region.iter().filter(|p| !taken.contains(&bits(p))).copied().collect();
-    let colours = colours_around(&rest, image, calibration, PIXEL_NOISE_REACH);
-    let (rest, colours): (Vec<Point3<f32>>, Vec<Option<[f32; 2]>>) =
-        match colour_of_the_whole(part, image, calibration) {
-            Some(its) => rest
-                .into_iter()
-                .zip(colours)
-                .filter(|(_, c)| c.is_some_and(|c| !its.holds(c)))
-                .unzip(),
-            None => (rest, colours),
-        };
+    let pixels = pixels_of(region, image, calibration);
+    let dense = dense_in_the_picture(&pixels, image.width, image.height);
+    let (rest, pixels): (Vec<Point3<f32>>, Vec<_>) =
+        region.iter().copied().zip(pixels).filter(|(p, _)| !taken.contains(&bits(p))).unzip();
+    let colours = colours_at(&pixels, image, PIXEL_NOISE_REACH);
+    let its = colour_of_the_whole(part, image, calibration);
+    let not_its =
+        |c: &Option<[f32; 2]>| its.as_ref().is_none_or(|its| c.is_some_and(|c| !its.holds(c)));
+    let (rest, (pixels, colours)): (Vec<Point3<f32>>, (Vec<_>, Vec<_>)) = rest
+        .into_iter()
+        .zip(pixels.into_iter().zip(colours))
+        .filter(|(_, (_, c))| not_its(c))
+        .unzip();
+    // What stays of its outline is a strip of the picture narrower than any tag seen there.
+    let (rest, colours) = if dense {
+        let off = off_the_strips(&pixels, image.width, image.height, PIXEL_NOISE_REACH);
+        rest.into_iter().zip(colours).zip(off).filter(|(_, off)| *off).map(|(pc, _)| pc).unzip()
+    } else {
+        (rest, colours)
+    };
     let rest =
         match tag_coloured(&rest, &colours, &core_of(&rest, target, params), params.voxel_size) {
             Some(split) => split.kept,
@@ -796,22 +805,83 @@ mod tests {
         // Pointed 4 cm into the box, 3 cm prouder than the tag and 8 cm from its middle: the
         // division anchored there keeps the box's front, too large to be a tag, and its side
         // and the tag are left beside it.
+        let (tag, red_box) = tag_against_a_box(0.03);
+        let found = found_beside_a_box(&tag, &red_box, &noisy_picture([185, 50, 45]));
+        assert!((found.centroid - Point3::new(1.03, -0.03, 0.0)).norm() < 0.005, "{found:?}");
+        assert!(found.points >= tag.len() * 9 / 10, "{} of {}", found.points, tag.len());
+    }
+
+    /// The tag found among `tag` and `red_box`, seen in `image` and pointed at 4 cm into the
+    /// box, with no tag reaching more than 8 cm from its middle.
+    fn found_beside_a_box(
+        tag: &[Point3<f32>],
+        red_box: &[Point3<f32>],
+        image: &ColorImage,
+    ) -> TagDetection {
         let params = TagSearchParams { max_tag_radius: 0.08, ..TagSearchParams::default() };
         let target = Point3::new(1.0, 0.04, 0.0);
-        let (tag, red_box) = tag_against_a_box(0.03);
-        let all: Vec<Point3<f32>> = tag.iter().chain(&red_box).copied().collect();
+        let all: Vec<Point3<f32>> = tag.iter().chain(red_box).copied().collect();
         let bounded = bound_tags(
             vec![region_of(&all, &target)],
-            &noisy_picture([185, 50, 45]),
+            image,
             &looking_along_x(),
             &target,
             &params,
             &|parts| parts,
             &mut Vec::new(),
         );
-        let found = choose_tag(bounded, &params).expect("the tag beside the box");
-        let TagSighting::Found(found) = found else { panic!("{found:?}") };
-        assert!((found.centroid - Point3::new(1.03, -0.03, 0.0)).norm() < 0.005, "{found:?}");
+        match choose_tag(bounded, &params) {
+            Some(TagSighting::Found(found)) => found,
+            other => panic!("the tag beside the box: {other:?}"),
+        }
+    }
+
+    /// A 6 × 6 cm tag (base y < 0) flush with the front of a red box 15 cm wide and 30 cm tall
+    /// (y ≥ 0) on the plane x = 1, as a depth camera samples them: a point a pixel. The box's
+    /// outline, a pixel wide, is of neither colour, as the camera mixes an edge with what lies
+    /// behind it; the wall around is grey. The points, and the picture with each pixel's
+    /// channels scattered by up to 8 either way.
+    fn tag_flush_with_an_outlined_box() -> (Vec<Point3<f32>>, Vec<Point3<f32>>, ColorImage) {
+        let mut rng = ChaCha8Rng::seed_from_u64(13);
+        let (mut tag, mut red_box) = (Vec::new(), Vec::new());
+        let mut image = ColorImage::new(400, 400);
+        for v in 0..400u32 {
+            for u in 0..400u32 {
+                // The pixel's middle on the plane x = 1 (`looking_along_x`).
+                let y = (200.0 - (f64::from(u) + 0.5)) / 1000.0;
+                let z = (200.0 - (f64::from(v) + 0.5)) / 1000.0;
+                let point = Point3::new(1.0, y as f32, z as f32);
+                let on_box = (0.0..0.15).contains(&y) && z.abs() < 0.15;
+                let outline = on_box && (!(0.001..=0.149).contains(&y) || z.abs() > 0.149);
+                let colour: [u8; 3] = if (-0.06..0.0).contains(&y) && z.abs() < 0.03 {
+                    tag.push(point);
+                    [200, 30, 20]
+                } else if outline {
+                    red_box.push(point);
+                    [150, 70, 60]
+                } else if on_box {
+                    red_box.push(point);
+                    [185, 50, 45]
+                } else {
+                    [120, 110, 100]
+                };
+                let i = (v as usize * 400 + u as usize) * 3;
+                for (c, value) in colour.into_iter().enumerate() {
+                    image.rgb[i + c] = (i16::from(value) + rng.random_range(-8i16..=8)) as u8;
+                }
+            }
+        }
+        (tag, red_box, image)
+    }
+
+    #[test]
+    fn a_red_things_outline_left_beside_it_does_not_join_the_tag() {
+        // Pointed 4 cm into the box: its front is taken out with its colour, and what stays of
+        // its outline, a ring a pixel or two wide of neither colour, touches the tag; joined,
+        // the two would be far too large to be a tag, and nothing would be found.
+        let (tag, red_box, image) = tag_flush_with_an_outlined_box();
+        let found = found_beside_a_box(&tag, &red_box, &image);
+        assert!((found.centroid - Point3::new(1.0, -0.03, 0.0)).norm() < 0.005, "{found:?}");
         assert!(found.points >= tag.len() * 9 / 10, "{} of {}", found.points, tag.len());
     }
 

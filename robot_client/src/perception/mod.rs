@@ -19,6 +19,7 @@ mod brightness;
 mod core_colour;
 mod depth_cloud;
 mod depth_noise;
+mod edge_strips;
 pub(crate) mod flood_fill;
 mod hsv;
 mod mask;

@@ -27,6 +27,24 @@ pub(super) fn colours_around(
     calibration: &CameraCalibration,
     reach: u32,
 ) -> Vec<Option<[f32; 2]>> {
+    colours_at(&pixels_of(points, image, calibration), image, reach)
+}
+
+/// [`colours_around`] the pixels `pixels` (`None`: outside the picture).
+pub(super) fn colours_at(
+    pixels: &[Option<(u32, u32)>],
+    image: &ColorImage,
+    reach: u32,
+) -> Vec<Option<[f32; 2]>> {
+    pixels.iter().map(|px| px.map(|(x, y)| mean_colour_around(image, x, y, reach))).collect()
+}
+
+/// The pixel each point lands on, or `None` when it lands outside the picture.
+pub(super) fn pixels_of(
+    points: &[Point3<f32>],
+    image: &ColorImage,
+    calibration: &CameraCalibration,
+) -> Vec<Option<(u32, u32)>> {
     let camera_from_base = calibration.base_from_camera.inverse();
     let k = &calibration.intrinsics;
     points
@@ -37,7 +55,7 @@ pub(super) fn colours_around(
                 && uv.y >= 0.0
                 && uv.x < f64::from(image.width)
                 && uv.y < f64::from(image.height);
-            inside.then(|| mean_colour_around(image, uv.x as u32, uv.y as u32, reach))
+            inside.then_some((uv.x as u32, uv.y as u32))
         })
         .collect()
 }
