@@ -215,9 +215,11 @@ fn tag_sized_beside(
             Some(split) => split.kept,
             None => rest,
         };
+    // A part is taken beside the red thing for a colour of its own, which takes a core's
+    // points to tell through the noise; fewer are a scrap of the red thing's outline.
     join(components_of(&rest, target, params))
         .into_iter()
-        .filter(|c| c.radius <= params.max_tag_radius)
+        .filter(|c| c.radius <= params.max_tag_radius && c.points >= core_points(params))
         .collect()
 }
 
@@ -438,11 +440,16 @@ pub(super) fn too_large_nearest(
 fn core_of(points: &[Point3<f32>], target: &Point3<f64>, params: &TagSearchParams) -> Vec<usize> {
     let Some(&seed) = nearest(points, target, 1).first() else { return Vec::new() };
     let seed = points[seed].cast::<f64>();
-    let least = 3 * params.min_points.max(3);
+    let least = core_points(params);
     let within: Vec<usize> = (0..points.len())
         .filter(|&i| (points[i].cast::<f64>() - seed).norm() <= params.fragment_gap)
         .collect();
     if within.len() >= least { within } else { nearest(points, &seed, least) }
+}
+
+/// The fewest points a core holds: as many as a tag has at the least, three times over.
+fn core_points(params: &TagSearchParams) -> usize {
+    3 * params.min_points.max(3)
 }
 
 fn components_of(
