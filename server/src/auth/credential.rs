@@ -6,19 +6,24 @@ use std::sync::Arc;
 use axum::http::HeaderMap;
 use axum::http::header::AUTHORIZATION;
 
+use super::cache::TokenCache;
 use super::principal::Principal;
 use super::session;
+use crate::clock::Clock;
 use crate::error::ApiError;
 use crate::identity::{Role, secret};
-use crate::state::AppState;
 use crate::store;
+use crate::store::db::Db;
 
-/// Checks the request's credential.
+/// Checks the request's credential against the recently confirmed `tokens`, then `db`, at the
+/// time `clock` says.
 pub async fn authenticate(
-    state: &AppState,
+    tokens: &TokenCache,
+    db: &Db,
+    clock: &Clock,
     headers: &HeaderMap,
 ) -> Result<Arc<Principal>, ApiError> {
-    check_in_memory(state, headers).finish(state).await
+    check_in_memory(tokens, clock, headers).finish(tokens, db, clock).await
 }
 
 /// How far a credential could be checked without the database.
@@ -33,18 +38,24 @@ pub enum Check {
 }
 
 impl Check {
-    /// Decides, reading the database if memory could not.
-    pub async fn finish(self, state: &AppState) -> Result<Arc<Principal>, ApiError> {
+    /// Decides, reading the database if memory could not; a token confirmed there joins
+    /// `tokens`.
+    pub async fn finish(
+        self,
+        tokens: &TokenCache,
+        db: &Db,
+        clock: &Clock,
+    ) -> Result<Arc<Principal>, ApiError> {
         match self {
             Self::Done(decided) => decided,
-            Self::Token(digest) => look_up_token(state, digest).await,
-            Self::Session(secret) => session::authenticate(state, &secret).await.map(Arc::new),
+            Self::Token(digest) => look_up_token(tokens, db, clock, digest).await,
+            Self::Session(secret) => session::authenticate(db, clock, &secret).await.map(Arc::new),
         }
     }
 }
 
 /// Checks the credential as far as memory can: on the robots' hot path, all the way.
-pub fn check_in_memory(state: &AppState, headers: &HeaderMap) -> Check {
+pub fn check_in_memory(tokens: &TokenCache, clock: &Clock, headers: &HeaderMap) -> Check {
     let Some(value) = headers.get(AUTHORIZATION) else {
         // A browser authenticates with its session cookie; unsafe methods are additionally
         // checked for forgery by `http::csrf` before any handler runs.
@@ -71,16 +82,21 @@ pub fn check_in_memory(state: &AppState, headers: &HeaderMap) -> Check {
         return Check::Done(Err(invalid_token()));
     }
     let digest = secret::digest(token);
-    match state.tokens.get(&digest, state.clock.now()) {
+    match tokens.get(&digest, clock.now()) {
         Some(principal) => Check::Done(Ok(principal)),
         None => Check::Token(digest),
     }
 }
 
 /// Confirms a token with the database and remembers it for a while.
-async fn look_up_token(state: &AppState, digest: [u8; 32]) -> Result<Arc<Principal>, ApiError> {
-    let now = state.clock.now();
-    let record = store::tokens::find_live(state.db.reader(), &hex::encode(digest), now)
+async fn look_up_token(
+    tokens: &TokenCache,
+    db: &Db,
+    clock: &Clock,
+    digest: [u8; 32],
+) -> Result<Arc<Principal>, ApiError> {
+    let now = clock.now();
+    let record = store::tokens::find_live(db.reader(), &hex::encode(digest), now)
         .await?
         .ok_or_else(invalid_token)?;
     let role = Role::parse(&record.role).ok_or_else(|| {
@@ -89,7 +105,7 @@ async fn look_up_token(state: &AppState, digest: [u8; 32]) -> Result<Arc<Princip
     // A robot token's name passed as a robot id when it was minted (`tokens::name_problem`).
     let robot = record.robot_id.as_deref().and_then(|id| pps_schema::RobotId::parse(id).ok());
     let principal = Arc::new(Principal { role, name: record.name, robot });
-    state.tokens.insert(digest, principal.clone(), now, record.expires_at);
+    tokens.insert(digest, principal.clone(), now, record.expires_at);
     Ok(principal)
 }
 

@@ -2,6 +2,8 @@
 //! [`Principal`], and the role rules of DESIGN §4.
 //!
 //! Nothing here writes to the database on a successful check: the hot path stays read-only.
+//! A check takes what it reads (the token cache, the database, the clock), never the whole
+//! state: the state holds this folder's cache and login throttle, so it stands above it.
 
 pub(crate) mod cache;
 mod credential;

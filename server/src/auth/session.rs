@@ -12,10 +12,11 @@ use base64::engine::general_purpose::URL_SAFE_NO_PAD;
 use sha2::{Digest, Sha256};
 
 use super::principal::Principal;
+use crate::clock::Clock;
 use crate::error::ApiError;
 use crate::identity::{Role, secret};
-use crate::state::AppState;
 use crate::store;
+use crate::store::db::Db;
 
 /// The session cookie's name.
 pub const COOKIE_NAME: &str = "pps_session";
@@ -82,12 +83,15 @@ pub fn clear_cookie() -> HeaderValue {
     HeaderValue::from_static("pps_session=; Path=/; Max-Age=0; HttpOnly; SameSite=Strict")
 }
 
-/// The user of a live session.
-pub async fn authenticate(state: &AppState, session_secret: &str) -> Result<Principal, ApiError> {
+/// The user of a live session in `db`, at the time `clock` says.
+pub async fn authenticate(
+    db: &Db,
+    clock: &Clock,
+    session_secret: &str,
+) -> Result<Principal, ApiError> {
     let hash = secret::hash(session_secret);
-    let user = store::sessions::find_live(state.db.reader(), &hash, state.clock.now())
-        .await?
-        .ok_or_else(|| {
+    let user =
+        store::sessions::find_live(db.reader(), &hash, clock.now()).await?.ok_or_else(|| {
             ApiError::Unauthorized(
                 "your session has ended (it expired or you logged out); log in again".into(),
             )

@@ -92,7 +92,9 @@ where
         if self.access == Access::Open {
             return Either::Left(self.inner.call(request));
         }
-        let pending = match auth::check_in_memory(&self.state, request.headers()) {
+        let checked =
+            auth::check_in_memory(&self.state.tokens, &self.state.clock, request.headers());
+        let pending = match checked {
             Check::Done(decided) => {
                 return match admit(&self.state, self.access, decided, &mut request) {
                     Ok(()) => Either::Left(self.inner.call(request)),
@@ -108,7 +110,7 @@ where
         let mut inner = std::mem::replace(&mut self.inner, clone);
         let (state, access) = (self.state.clone(), self.access);
         Either::Right(Box::pin(async move {
-            let decided = pending.finish(&state).await;
+            let decided = pending.finish(&state.tokens, &state.db, &state.clock).await;
             match admit(&state, access, decided, &mut request) {
                 Ok(()) => inner.call(request).await,
                 Err(refusal) => Ok(refusal.into_response()),

@@ -122,11 +122,15 @@ async fn forward(
         let received = tokio::select! {
             () = sender.closed() => return,
             () = state.feed.closed() => return,
-            _ = recheck.tick() => match auth::authenticate(&state, &credential.0).await {
-                Err(ApiError::Unauthorized(_)) => return,
-                // Keep serving while the check itself cannot be made (a busy database).
-                Ok(_) | Err(_) => continue,
-            },
+            _ = recheck.tick() => {
+                let checked =
+                    auth::authenticate(&state.tokens, &state.db, &state.clock, &credential.0).await;
+                match checked {
+                    Err(ApiError::Unauthorized(_)) => return,
+                    // Keep serving while the check itself cannot be made (a busy database).
+                    Ok(_) | Err(_) => continue,
+                }
+            }
             received = live.recv() => received,
         };
         let sent = match received {
