@@ -178,7 +178,7 @@ impl From<anyhow::Error> for ApiError {
     /// Internal, unless the cause is one to retry after: a busy password hasher, or a database
     /// that cannot take writes just now.
     fn from(error: anyhow::Error) -> Self {
-        if let Some(busy) = error.downcast_ref::<crate::auth::password::HashingBusy>() {
+        if let Some(busy) = error.downcast_ref::<crate::identity::password::HashingBusy>() {
             return Self::Unavailable(busy.to_string());
         }
         if let Some(unwritable) = error.downcast_ref::<sqlx::Error>().and_then(Self::unwritable) {

@@ -6,8 +6,8 @@
 //! By what they are for:
 //! - [`http`] answers requests and [`auth`] says who asks; [`transport`] holds the
 //!   connections; [`error`] is the one error they answer with.
-//! - [`store`] is the only SQL, on the database it opens; [`identity`] are the people and
-//!   secrets below it.
+//! - [`store`] is the only SQL, on the database it opens; [`identity`] are the people,
+//!   passwords and secrets below it.
 //! - [`tags`], [`trials`], [`learning`] and [`robots`] are the registry's domain between the
 //!   two; [`accept`] takes a client's document in. [`effective_entry`] (a tag as one robot
 //!   should use it) and [`tasks`] (a task asked for) work on the whole [`state`], for the

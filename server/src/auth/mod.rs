@@ -8,7 +8,6 @@
 pub(crate) mod cache;
 mod credential;
 pub mod login_throttle;
-pub mod password;
 mod principal;
 pub mod session;
 

@@ -3,7 +3,7 @@
 use anyhow::{Context, bail};
 
 use super::UserCommand;
-use crate::auth::password;
+use crate::identity::password;
 use crate::identity::{Role, UserName};
 use crate::store::db::Db;
 use crate::store::users;

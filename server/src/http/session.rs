@@ -13,11 +13,11 @@ use axum::response::{IntoResponse, Response};
 use serde::Deserialize;
 
 use crate::answers::accounts::{Credential, SessionAnswer};
-use crate::auth::{login_throttle, password, session};
+use crate::auth::{login_throttle, session};
 use crate::error::ApiError;
 use crate::http::extract::Caller;
 use crate::http::typed_json::TypedJson;
-use crate::identity::{UserName, secret};
+use crate::identity::{UserName, password, secret};
 use crate::state::AppState;
 use crate::store;
 

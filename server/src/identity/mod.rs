@@ -1,7 +1,8 @@
-//! Who a caller is, below every layer that checks it: the roles of DESIGN §4, login names and
-//! bearer secrets. The store keeps them and `auth` checks them over HTTP; neither is needed to
-//! say what they are.
+//! Who a caller is, below every layer that checks it: the roles of DESIGN §4, login names,
+//! passwords and bearer secrets. The store keeps them and `auth` checks them over HTTP; neither
+//! is needed to say what they are.
 
+pub mod password;
 mod role;
 pub mod secret;
 pub mod user_name;

@@ -8,7 +8,8 @@ use std::io::{BufRead, BufReader, Write};
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use pps_server::auth::{password, session};
+use pps_server::auth::session;
+use pps_server::identity::password;
 use pps_server::identity::{Role, UserName, secret};
 use pps_server::store::{sessions, users};
 use pps_test_kit::*;
