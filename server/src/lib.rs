@@ -7,9 +7,11 @@
 //! - [`http`] answers requests and [`auth`] says who asks; [`transport`] holds the
 //!   connections; [`error`] is the one error they answer with.
 //! - [`store`] is the only SQL, on the database it opens; [`identity`] are the people,
-//!   passwords and secrets below it.
-//! - [`tags`], [`trials`], [`learning`] and [`robots`] are the registry's domain between the
-//!   two; [`accept`] takes a client's document in. [`effective_entry`] (a tag as one robot
+//!   passwords and secrets below it, and [`trials`] the values it takes about trials (a list's
+//!   filter, the purposes a rate counts, a picture).
+//! - [`tags`], [`learning`], [`robots`] and the [`trial_history`] (trials written, aged out,
+//!   exported) are the registry's domain between the store and HTTP; [`accept`] takes a
+//!   client's document in. [`effective_entry`] (a tag as one robot
 //!   should use it) and [`tasks`] (a task asked for) work on the whole [`state`], for the
 //!   routes and the Home Assistant bridge alike.
 //! - [`feed`] fans out changes, [`background`] does what the hot path only noted, [`clock`]
@@ -38,6 +40,7 @@ pub mod store;
 pub mod tags;
 pub mod tasks;
 pub mod transport;
+pub mod trial_history;
 pub mod trials;
 
 use std::future::Future;
@@ -62,7 +65,7 @@ pub struct ServeOptions {
     /// Connection limits and TLS.
     pub transport: transport::Transport,
     /// Thin the force samples of trials received longer ago than this, once a day.
-    pub thin_forces_after: Option<trials::retention::Age>,
+    pub thin_forces_after: Option<trial_history::retention::Age>,
     /// Show the tags in Home Assistant through this MQTT broker.
     pub home_assistant: Option<home_assistant::Config>,
 }
@@ -75,13 +78,13 @@ pub async fn serve_with(
     shutdown: impl Future<Output = ()> + Send + 'static,
 ) -> std::io::Result<()> {
     background::start(&state).await.map_err(std::io::Error::other)?;
-    trials::retention::start_daily_pictures(
+    trial_history::retention::start_daily_pictures(
         state.db.clone(),
         state.clock.clone(),
         state.pictures_per_tag,
     );
     if let Some(age) = options.thin_forces_after {
-        trials::retention::start_daily(state.db.clone(), state.clock.clone(), age);
+        trial_history::retention::start_daily(state.db.clone(), state.clock.clone(), age);
     }
     let bridge = options.home_assistant.clone().map(|config| home_assistant::start(&state, config));
     let feed = state.feed.clone();

@@ -14,7 +14,7 @@ use crate::robots::waiting_line::WaitingLine;
 use crate::store::db::Db;
 use crate::tags::effective_cache::EffectiveCache;
 use crate::transport::AnswerTurns;
-use crate::trials::writer::TrialWriter;
+use crate::trial_history::writer::TrialWriter;
 
 /// The shared state, behind one `Arc`: every request clones it (the router hands each handler
 /// and middleware its own copy), and one reference count bumped per clone is far cheaper on

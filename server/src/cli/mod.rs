@@ -17,7 +17,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::identity::Role;
 use crate::store::db::{Db, Location};
-use crate::{transport, trials::retention};
+use crate::{transport, trial_history::retention};
 
 #[derive(Debug, Parser)]
 #[command(name = "pps-server", version, about = "The PPS-tag registry for mobile robots")]

@@ -8,7 +8,7 @@ use crate::state::AppState;
 use crate::store::db::{Db, Location};
 use crate::store::tokens;
 use crate::transport::{TlsIdentity, Transport};
-use crate::trials::retention::Age;
+use crate::trial_history::retention::Age;
 use crate::{ServeOptions, home_assistant, tags::seed};
 
 /// Connection limits and TLS as the serve flags say; TLS files are checked before anything.

@@ -4,9 +4,9 @@ use anyhow::Context;
 
 use super::{ExportTrialsArgs, FormatArg};
 use crate::store::db::Db;
-use crate::trials::export::{self, TrialFormat};
+use crate::trial_history::export::{self, TrialFormat};
+use crate::trial_history::retention::{self, Age};
 use crate::trials::filter::{FilterText, TrialFilter};
-use crate::trials::retention::{self, Age};
 
 pub(super) async fn export_trials(db: &Db, args: ExportTrialsArgs) -> anyhow::Result<()> {
     let filter = TrialFilter::parse(FilterText {

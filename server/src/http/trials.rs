@@ -25,8 +25,8 @@ use crate::learning::{self, TrialGroup};
 use crate::state::AppState;
 use crate::store::events::{self, EventKind};
 use crate::store::trials::{self, TrialRow};
+use crate::trial_history::writer::{CheckedTrial, Recorded, TrialRejection};
 use crate::trials::filter::{FilterText, TrialFilter};
-use crate::trials::writer::{CheckedTrial, Recorded, TrialRejection};
 
 /// A trial of robot `el-e-1` on the seeded ADA switch, under the id of [`Param::TRIAL_ID`]'s
 /// example.

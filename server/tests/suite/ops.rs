@@ -14,8 +14,8 @@ use time::OffsetDateTime;
 use time::format_description::well_known::Rfc3339;
 
 use pps_server::identity::Role;
-use pps_server::trials::export::CSV_COLUMNS;
-use pps_server::trials::retention::{Age, THINNED_KEY};
+use pps_server::trial_history::export::CSV_COLUMNS;
+use pps_server::trial_history::retention::{Age, THINNED_KEY};
 use pps_server::{AppState, Db, ServeOptions};
 use pps_test_kit::{ADA_SWITCH, DRAWER, TestServer, register_robot, trial, wait_until};
 use reqwest::StatusCode;

@@ -169,7 +169,7 @@ async fn a_tag_keeps_its_newest_pictures_and_every_trial() {
 
     // A lower limit, as after a restart with fewer pictures per tag, is applied by the pass.
     assert_eq!(
-        pps_server::trials::retention::keep_newest_pictures(&server.db, 1, server.now())
+        pps_server::trial_history::retention::keep_newest_pictures(&server.db, 1, server.now())
             .await
             .unwrap(),
         1

@@ -19,11 +19,12 @@ use crate::clock::Clock;
 use crate::feed::ChangeFeed;
 use crate::learning::{self, TrialGroup};
 use crate::learning::{colour, size};
+use crate::store;
 use crate::store::db::{Db, Unwritable};
 use crate::store::events::{self, EventKind};
 use crate::store::trials::{self, NewTrial, TrialRow};
 use crate::tags::effective_cache::EffectiveCache;
-use crate::{store, trials::retention};
+use crate::trial_history::retention;
 
 /// Trials committed together at most.
 const MAX_BATCH: usize = 512;

@@ -18,9 +18,9 @@ use sqlx::AnyPool;
 use crate::answers::trials::StoredTrialAnswer;
 use crate::store::pictures;
 use crate::store::trials::{self, TrialRow};
+use crate::trial_history::retention::ForceSummary;
 use crate::trials::filter::TrialFilter;
 use crate::trials::picture::PictureType;
-use crate::trials::retention::ForceSummary;
 
 /// Trials read per query.
 const PAGE: u32 = 500;
