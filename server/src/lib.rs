@@ -11,9 +11,9 @@
 //!   filter, the purposes a rate counts, a picture).
 //! - [`tags`], [`learning`], [`robots`] and the [`trial_history`] (trials written, aged out,
 //!   exported) are the registry's domain between the store and HTTP; [`accept`] takes a
-//!   client's document in. [`effective_entry`] (a tag as one robot
-//!   should use it) and [`tasks`] (a task asked for) work on the whole [`state`], for the
-//!   routes and the Home Assistant bridge alike.
+//!   client's document in. [`effective_entry`] (a tag as one robot should use it) and
+//!   [`tasks`] (a task asked for) work on the whole [`state`], for the routes and the Home
+//!   Assistant bridge alike.
 //! - [`feed`] fans out changes, [`background`] does what the hot path only noted, [`clock`]
 //!   says what time it is and how times are written.
 //! - [`home_assistant`] is the smart-home bridge; [`ops`] and [`cli`] are the operator's side,
