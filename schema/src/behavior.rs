@@ -171,7 +171,7 @@ mod tests {
 
     #[test]
     fn names_match_the_schema_enum() {
-        let tag = crate::schema_document("tag").unwrap();
+        let tag = crate::schemas::schema_document("tag").unwrap();
         let names: Vec<&str> = BehaviorKind::ALL.iter().map(|k| k.as_str()).collect();
         let choices = tag["$defs"]["behavior_name"]["oneOf"].as_array().unwrap();
         let consts: Vec<&Value> = choices.iter().map(|choice| &choice["const"]).collect();
@@ -181,7 +181,7 @@ mod tests {
             "every behaviour has a title"
         );
         for kind in BehaviorKind::ALL {
-            assert!(crate::schema_document(kind.schema_name()).is_some());
+            assert!(crate::schemas::schema_document(kind.schema_name()).is_some());
         }
     }
 

@@ -5,7 +5,9 @@ use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
-use crate::{Epc, RobotId, TagEntry};
+use crate::entry::TagEntry;
+use crate::epc::Epc;
+use crate::robot_id::RobotId;
 
 /// The entry as `robot` should use it: base ← learned ← class override ← robot override.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -8,7 +8,9 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 
-use crate::{BehaviorSpec, Epc, Link};
+use crate::behavior::BehaviorSpec;
+use crate::epc::Epc;
+use crate::link::Link;
 
 /// One tag entry, as PUT by a caretaker and stored by the registry (read-only fields aside).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

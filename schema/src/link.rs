@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::Epc;
+use crate::epc::Epc;
 
 /// A relation from the entry holding it to another tag.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]

@@ -56,7 +56,7 @@ mod tests {
                 "behaviors": {"pull_chain": {"behavior": "pull_lamp"}}
             })
         );
-        crate::validate_tag(&fetched).unwrap();
+        crate::validate::validate_tag(&fetched).unwrap();
     }
 
     #[test]
@@ -66,7 +66,7 @@ mod tests {
             ("trial", READ_ONLY_TRIAL_FIELDS),
             ("robot", READ_ONLY_ROBOT_FIELDS),
         ] {
-            let document = crate::schema_document(schema).unwrap();
+            let document = crate::schemas::schema_document(schema).unwrap();
             for field in fields {
                 assert_eq!(
                     document["properties"][field]["readOnly"],

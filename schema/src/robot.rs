@@ -3,7 +3,8 @@
 use serde::{Deserialize, Serialize};
 use time::OffsetDateTime;
 
-use crate::{BehaviorKind, RobotId};
+use crate::behavior::BehaviorKind;
+use crate::robot_id::RobotId;
 
 /// A robot, as an admin PUTs it; `last_seen` is the registry's.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

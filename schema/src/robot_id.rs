@@ -140,7 +140,7 @@ mod tests {
         #[test]
         fn agrees_with_the_schema_grammar(id in "[a-zA-Z0-9._ /-]{0,66}") {
             let robot = serde_json::json!({"id": id, "name": "robot", "capabilities": []});
-            let schema_accepts = crate::validate_robot(&robot).is_ok();
+            let schema_accepts = crate::validate::validate_robot(&robot).is_ok();
             proptest::prop_assert_eq!(schema_accepts, RobotId::parse(&id).is_ok());
         }
     }

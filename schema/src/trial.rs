@@ -5,7 +5,9 @@ use serde_json::{Map, Value};
 use time::OffsetDateTime;
 use uuid::Uuid;
 
-use crate::{Epc, RobotId, TagSize};
+use crate::entry::TagSize;
+use crate::epc::Epc;
+use crate::robot_id::RobotId;
 
 /// The most force-torque samples one trial may carry (the schema's `maxItems`): 5 000 is
 /// 50 s of both fingers at 50 Hz, longer than any behaviour runs, and fits the API's 1 MiB

@@ -9,8 +9,9 @@ use time::OffsetDateTime;
 use time::format_description::well_known::Rfc3339;
 
 use super::FieldError;
+use crate::epc::Epc;
 use crate::pointer::join;
-use crate::{Epc, RobotId};
+use crate::robot_id::RobotId;
 
 pub(super) fn tag(entry: &Value) -> Vec<FieldError> {
     let mut errors = Vec::new();
