@@ -4,7 +4,7 @@
 use reqwest::{Response, StatusCode};
 use serde_json::Value;
 
-use crate::TestServer;
+use crate::in_process::TestServer;
 
 /// The seeded ADA light switch.
 pub const ADA_SWITCH: &str = "355AB1C60000002000000001";

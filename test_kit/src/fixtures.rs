@@ -3,8 +3,9 @@
 use reqwest::{Method, StatusCode};
 use serde_json::{Value, json};
 
+use crate::api::ALL;
 pub use crate::api::{ADA_SWITCH, DRAWER};
-use crate::{ALL, Registry};
+use crate::process::Registry;
 
 /// Registers `id` of `class` as an admin and mints its token.
 pub async fn robot(registry: &Registry, id: &str, class: &str) -> String {

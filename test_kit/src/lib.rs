@@ -18,6 +18,7 @@ pub mod sse;
 pub mod tasks;
 pub mod wait;
 pub mod working_robot;
+pub mod workspace;
 
 pub use api::{
     ADA_SWITCH, ALL, DRAWER, FLIP_SWITCH, LAMP, new_entry, pointers, problem, register_robot,
@@ -32,24 +33,4 @@ pub use sse::{SseClient, SseEvent};
 pub use tasks::{ask, asked, claim};
 pub use wait::{wait_for, wait_until, wait_until_blocking};
 pub use working_robot::WorkingRobot;
-
-use std::path::PathBuf;
-
-/// The Cargo target directory this test binary was built into (`target/`).
-pub fn target_dir() -> PathBuf {
-    let exe = std::env::current_exe().expect("the test binary knows its path");
-    // target/<profile>/deps/<test binary>
-    exe.ancestors().nth(3).expect("the test binary lives in target/<profile>/deps").to_path_buf()
-}
-
-/// A binary of the workspace, built next to this test binary (`tests/run` builds them first).
-pub fn workspace_bin(name: &str) -> PathBuf {
-    let exe = std::env::current_exe().expect("the test binary knows its path");
-    let path = exe.ancestors().nth(2).expect("target/<profile>").join(name);
-    assert!(
-        path.is_file(),
-        "{} is missing: build the binaries first (`cargo build --workspace --bins`, as tests/run does)",
-        path.display()
-    );
-    path
-}
+pub use workspace::{target_dir, workspace_bin};

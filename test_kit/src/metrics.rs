@@ -3,8 +3,9 @@
 
 use std::time::Duration;
 
+use crate::in_process::TestServer;
+use crate::process::Registry;
 use crate::wait::wait_until;
-use crate::{Registry, TestServer};
 
 /// A registry a test can reach: in-process, a process, or a replica by its URL.
 pub trait Served {

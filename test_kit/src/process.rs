@@ -12,7 +12,7 @@ use serde_json::Value;
 use tempfile::TempDir;
 
 use crate::wait::{self, wait_for};
-use crate::workspace_bin;
+use crate::workspace::workspace_bin;
 
 /// What replicas log: where they serve and which of them runs the Home Assistant bridge, at
 /// info; everything else only when it warns.

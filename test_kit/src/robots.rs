@@ -10,7 +10,8 @@ use pps_server::identity::Role;
 use pps_server::store::robots;
 use serde_json::json;
 
-use crate::{ALL, Config, TestServer};
+use crate::api::ALL;
+use crate::in_process::{Config, TestServer};
 
 /// The robot the robot-side tests drive: an EL-E that can run every behaviour.
 pub const EL_E: &str = "el-e-1";

@@ -3,7 +3,7 @@
 use reqwest::{Response, StatusCode};
 use serde_json::Value;
 
-use crate::TestServer;
+use crate::in_process::TestServer;
 
 /// A Server-Sent Events client reading one response.
 #[derive(Debug)]

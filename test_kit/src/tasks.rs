@@ -4,7 +4,7 @@
 use reqwest::{Method, Response, StatusCode};
 use serde_json::Value;
 
-use crate::TestServer;
+use crate::in_process::TestServer;
 
 /// Asks for a task with `body`, as the test's admin; the answer as it came.
 pub async fn ask(server: &TestServer, body: Value) -> Response {

@@ -4,7 +4,8 @@ use std::process::{Child, Command, Stdio};
 
 use tempfile::TempDir;
 
-use crate::{Registry, workspace_bin};
+use crate::process::Registry;
+use crate::workspace::workspace_bin;
 
 /// A `pps-robot work` process and its state directory, ended when dropped.
 #[derive(Debug)]
