@@ -110,14 +110,20 @@ impl Worker {
 }
 
 /// Why the robot gave a task back after trying it, as a decline's reason: what it could not do
-/// in a caretaker's words, then what the phase that stopped it said.
+/// in a caretaker's words, what they can do about it when the robot knows, then what the phase
+/// that stopped it said, for whoever looks further.
 fn stopped_before_acting(report: &TaskReport) -> String {
     let words = match report.phases.iter().find(|p| !p.ok) {
-        Some(phase) => format!(
-            "it tried and could not {}: {}",
-            phase.could_not(),
-            phase.lines.last().map_or("", String::as_str)
-        ),
+        Some(phase) => {
+            let said = phase.lines.last().map_or("", String::as_str);
+            match &phase.advice {
+                Some(advice) => format!(
+                    "it tried and could not {}: {advice} (the robot's own words: {said})",
+                    phase.could_not()
+                ),
+                None => format!("it tried and could not {}: {said}", phase.could_not()),
+            }
+        }
         None => "it tried and recorded no trial".to_owned(),
     };
     decline_reason(&words)

@@ -95,8 +95,16 @@ pub(crate) fn drive_to_waypoint(
         // The search's last word says why red it saw was not taken (a region larger than any
         // tag); without one, there was no red at all.
         match plan.tag_notes.last() {
-            Some(why) => report.fail(format!("no tag taken near the pointed location: {why}")),
-            None => report.fail("no red tag near the pointed location"),
+            Some(why) => report.fail_advising(
+                format!("no tag taken near the pointed location: {why}"),
+                "something red larger than any tag of this home is where you pointed, and the \
+                 tag could not be told apart from it: move the red thing away from the tag, or \
+                 give the tag's size in its form",
+            ),
+            None => report.fail_advising(
+                "no red tag near the pointed location",
+                "it saw nothing red where you pointed: point at the red tag itself",
+            ),
         }
         return Ok(None);
     };
@@ -108,11 +116,15 @@ pub(crate) fn drive_to_waypoint(
         if sighting.is_ambiguous() { " (another tag about as near)" } else { "" }
     ));
     let (Some(plane), Some(waypoint)) = (&plan.backing_plane, &plan.waypoint) else {
-        report.fail(format!(
-            "no surface behind the tag among {} planes ({})",
-            plan.planes.len(),
-            nearest_rejection(plan)
-        ));
+        report.fail_advising(
+            format!(
+                "no surface behind the tag among {} planes ({})",
+                plan.planes.len(),
+                nearest_rejection(plan)
+            ),
+            "it found the tag but could not make out the surface it is on: point at it again \
+             from where more of that surface shows",
+        );
         return Ok(None);
     };
     report.note(format!(
@@ -121,8 +133,11 @@ pub(crate) fn drive_to_waypoint(
         plan.planes.len()
     ));
     if let Some(Clearance::Blocked { points, .. }) = plan.clearance {
-        report
-            .fail(format!("the waypoint is blocked ({points} points inside the robot's outline)"));
+        report.fail_advising(
+            format!("the waypoint is blocked ({points} points inside the robot's outline)"),
+            "something stands on the floor in front of the tag, where the robot must be: clear \
+             it away",
+        );
         return Ok(None);
     }
     let tag_odom = in_odom(robot, &tag.centroid)?;

@@ -12,6 +12,9 @@ pub struct PhaseReport {
     pub name: &'static str,
     pub lines: Vec<String>,
     pub ok: bool,
+    /// What the person who asked for the task can do about what stopped this phase, in their
+    /// words, when the robot knows; its lines stay the robot's own.
+    pub advice: Option<String>,
 }
 
 /// The whole task.
@@ -34,7 +37,7 @@ pub struct TaskReport {
 
 impl TaskReport {
     pub(crate) fn phase(&mut self, phase: u8, name: &'static str) -> &mut PhaseReport {
-        self.phases.push(PhaseReport { phase, name, lines: Vec::new(), ok: true });
+        self.phases.push(PhaseReport { phase, name, lines: Vec::new(), ok: true, advice: None });
         self.phases.last_mut().expect("just pushed")
     }
 
@@ -52,6 +55,12 @@ impl PhaseReport {
     pub(crate) fn fail(&mut self, line: impl Into<String>) {
         self.lines.push(line.into());
         self.ok = false;
+    }
+
+    /// [`Self::fail`], with what the person can do about it.
+    pub(crate) fn fail_advising(&mut self, line: impl Into<String>, advice: impl Into<String>) {
+        self.fail(line);
+        self.advice = Some(advice.into());
     }
 
     /// What the robot could not do when this phase stopped it, in the words of the person who
@@ -73,6 +82,9 @@ impl fmt::Display for TaskReport {
             writeln!(f, "phase {}: {}{mark}", phase.phase, phase.name)?;
             for line in &phase.lines {
                 writeln!(f, "  - {line}")?;
+            }
+            if let Some(advice) = &phase.advice {
+                writeln!(f, "  what to do: {advice}")?;
             }
         }
         match (&self.outcome, &self.trial) {

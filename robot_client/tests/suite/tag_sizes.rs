@@ -32,6 +32,10 @@ async fn a_towel_larger_than_every_registered_tag_is_refused_in_words_and_found_
     assert!(said.contains("no red region reaching more than 6 cm from its middle"), "{report}");
     assert!(said.contains("no tag taken near the pointed location: the red region"), "{report}");
     assert!(said.contains("larger than any tag"), "{report}");
+    assert!(
+        said.contains("what to do: something red larger than any tag of this home"),
+        "{report}"
+    );
     assert!(result.after.drawer_open < 0.01, "the robot did not act");
 
     // The towel's own size registered: the largest tag of the home, found and pulled.

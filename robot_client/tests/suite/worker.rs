@@ -44,8 +44,12 @@ async fn a_task_tried_and_stopped_before_acting_is_given_back_with_what_stopped_
     let declined = &task["declined"][0];
     assert_eq!(declined["robot"], "el-e-1");
     let reason = declined["reason"].as_str().unwrap();
-    assert!(reason.starts_with("it tried and could not find the tag: "), "{reason}");
-    assert!(reason.contains("no red"), "what stopped it, in the robot's words: {reason}");
+    assert_eq!(
+        reason,
+        "it tried and could not find the tag: it saw nothing red where you pointed: point at \
+         the red tag itself (the robot's own words: no red tag near the pointed location)",
+        "what the caretaker can do, then what stopped it in the robot's words"
+    );
     assert_eq!(
         task["stuck"].as_str().unwrap(),
         format!("el-e-1 declined: {reason}; no other robot can do it"),
