@@ -98,12 +98,12 @@ pub(crate) fn drive_to_waypoint(
             Some(why) => report.fail_advising(
                 format!("no tag taken near the pointed location: {why}"),
                 "something red larger than any tag of this home is where you pointed, and the \
-                 tag could not be told apart from it: move the red thing away from the tag, or \
+                 tag could not be told apart from it; move the red thing away from the tag, or \
                  give the tag's size in its form",
             ),
             None => report.fail_advising(
                 "no red tag near the pointed location",
-                "it saw nothing red where you pointed: point at the red tag itself",
+                "it saw nothing red where you pointed; point at the red tag itself",
             ),
         }
         return Ok(None);
@@ -122,7 +122,7 @@ pub(crate) fn drive_to_waypoint(
                 plan.planes.len(),
                 nearest_rejection(plan)
             ),
-            "it found the tag but could not make out the surface it is on: point at it again \
+            "it found the tag but could not make out the surface it is on; point at it again \
              from where more of that surface shows",
         );
         return Ok(None);
@@ -135,7 +135,7 @@ pub(crate) fn drive_to_waypoint(
     if let Some(Clearance::Blocked { points, .. }) = plan.clearance {
         report.fail_advising(
             format!("the waypoint is blocked ({points} points inside the robot's outline)"),
-            "something stands on the floor in front of the tag, where the robot must be: clear \
+            "something stands on the floor in front of the tag, where the robot must be; clear \
              it away",
         );
         return Ok(None);

@@ -46,7 +46,7 @@ async fn a_task_tried_and_stopped_before_acting_is_given_back_with_what_stopped_
     let reason = declined["reason"].as_str().unwrap();
     assert_eq!(
         reason,
-        "it tried and could not find the tag: it saw nothing red where you pointed: point at \
+        "it tried and could not find the tag: it saw nothing red where you pointed; point at \
          the red tag itself (the robot's own words: no red tag near the pointed location)",
         "what the caretaker can do, then what stopped it in the robot's words"
     );
