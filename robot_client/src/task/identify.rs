@@ -172,7 +172,11 @@ fn read_until_clear(
             "RFID still ambiguous: {} at {:.1} dBm, {} at {:.1} dBm",
             strongest.epc, strongest.rssi_dbm, runner_up.epc, runner_up.rssi_dbm
         )),
-        None => report.fail("no RFID tag answered"),
+        None => report.fail_advising(
+            "no RFID tag answered",
+            "it reached the red it saw, but no tag answered there; if something red is beside \
+             the tag, move it away; if not, the tag may be worn: replace it on the tag's page",
+        ),
     }
     Ok(identity)
 }

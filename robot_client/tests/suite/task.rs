@@ -2,7 +2,8 @@
 //! robot records, the person's choice between two actions, the registry learning the drawer's
 //! pull distance from the trials, and trials kept while the registry is away.
 
-use pps_robot::experiment::{SimulatedTrial, run_simulated};
+use pps_robot::experiment::{SimulatedTrial, run_simulated, run_simulated_reading};
+use pps_robot::hal::{HalError, RfidReader, TagRead};
 use pps_robot::sim::{DeviceKind, RoomOptions};
 use pps_robot::task::TaskConfig;
 use pps_schema::Outcome;
@@ -161,4 +162,37 @@ async fn a_lower_rocker_switch_is_pressed_on_the_half_the_action_needs() {
         assert_eq!(result.report.outcome, Some(Outcome::Success), "{}", result.report);
         assert!(result.achieved, "{}", result.report);
     }
+}
+
+/// A reader whose antennas hear nothing: a worn tag, or red that is not a tag.
+struct NoTagAnswers;
+
+impl RfidReader for NoTagAnswers {
+    fn inventory(&self) -> Result<Vec<TagRead>, HalError> {
+        Ok(Vec::new())
+    }
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn a_read_no_tag_answers_says_what_the_person_can_do() {
+    let dir = tempfile::tempdir().unwrap();
+    let registry = pps_test_kit::RobotRegistry::start().await;
+    let client = registry.client(dir.path());
+    let trial = SimulatedTrial::new(DeviceKind::AdaLightSwitch, "on", None);
+    let result =
+        run_simulated_reading(&trial, &client, &TaskConfig::default(), Some(&NoTagAnswers))
+            .await
+            .unwrap();
+    let report = &result.report;
+    let read = &report.phases[2];
+    assert!(!read.ok, "{report}");
+    assert_eq!(read.lines.last().map(String::as_str), Some("no RFID tag answered"), "{report}");
+    assert!(
+        report.to_string().contains(
+            "what to do: it reached the red it saw, but no tag answered there; if something red \
+             is beside the tag, move it away"
+        ),
+        "{report}"
+    );
+    assert_eq!(report.outcome, None, "nothing was done: {report}");
 }
