@@ -248,9 +248,30 @@ pub fn run(args: &PerceiveArgs) -> anyhow::Result<()> {
     if args.json {
         println!("{}", serde_json::to_string(&report)?);
     } else {
-        print_summary(&report, &plan, &range_summary);
+        print_summary(&report, &plan, &range_summary, args.largest_tag.is_some());
     }
     Ok(())
+}
+
+/// What a person trying `perceive` on their own frames can change when no tag was found:
+/// `refused`, a red region near the target was seen and not taken; `sized`, the home's largest
+/// tag was given.
+fn no_tag_advice(refused: bool, sized: bool) -> &'static str {
+    match (refused, sized) {
+        (false, _) => {
+            "nothing red near the target: check that --target lies on the tag (base frame, \
+             metres) and that the tag's colour is within --hsv or its default"
+        }
+        (true, false) => {
+            "a red region larger than any tag is nearest the target: give the home's largest \
+             tag with --largest-tag WIDTH,HEIGHT (metres) to have it divided by the tag's size \
+             as well"
+        }
+        (true, true) => {
+            "the tag could not be told from the red thing nearest the target: a target on the \
+             tag's middle, or the red thing moved away, may let it be found"
+        }
+    }
 }
 
 /// What the robot measured the scene's geometry with.
@@ -259,7 +280,7 @@ enum RangeData {
     Depth(DepthImage),
 }
 
-fn print_summary(report: &PerceiveReport, plan: &ApproachPlan, range_summary: &str) {
+fn print_summary(report: &PerceiveReport, plan: &ApproachPlan, range_summary: &str, sized: bool) {
     let f3 = |v: [f64; 3]| format!("({:.3}, {:.3}, {:.3})", v[0], v[1], v[2]);
     let noise =
         report.laser_noise.map_or("unknown".to_string(), |sigma| format!("{:.1} mm", sigma * 1e3));
@@ -283,6 +304,9 @@ fn print_summary(report: &PerceiveReport, plan: &ApproachPlan, range_summary: &s
     }
     for note in &report.tag_notes {
         println!("  {note}");
+    }
+    if report.tag.is_none() {
+        println!("  what to do: {}", no_tag_advice(!report.tag_notes.is_empty(), sized));
     }
     match &report.backing_plane {
         Some(p) => println!(

@@ -115,6 +115,10 @@ fn perceive_reports_null_when_no_tag_is_near_the_target_and_prints_a_summary_wit
     let summary = perceive(dir.path(), "0.5,-1.0,2.0", &[]);
     let text = String::from_utf8(summary.stdout).unwrap();
     assert!(text.contains("tag: none found"), "{text}");
+    assert!(
+        text.contains("what to do: nothing red near the target: check that --target"),
+        "{text}"
+    );
 }
 
 #[test]
@@ -168,6 +172,12 @@ fn a_towel_is_not_taken_for_a_tag_in_a_home_whose_largest_tag_is_a_patch() {
     assert!(patches["tag"].is_null(), "{patches}");
     let notes = patches["tag_notes"].to_string();
     assert!(notes.contains("larger than any tag"), "{notes}");
+    let said = perceive(dir.path(), &target, &["--largest-tag", "0.05,0.05"]);
+    let text = String::from_utf8(said.stdout).unwrap();
+    assert!(
+        text.contains("what to do: the tag could not be told from the red thing nearest"),
+        "{text}"
+    );
 }
 
 #[test]
