@@ -11,8 +11,9 @@
 //! reads removes the ring and keeps the tag.
 //!
 //! Only a cloud dense in the picture has such rings: a depth camera's, one point a pixel. A
-//! laser's beams land pixels apart, so no pixel of its has a neighbour to keep it through an
-//! opening, and its points are left as they are.
+//! laser's beams mostly land pixels apart, or along scan lines, so that an opening would keep
+//! none of them, and such a cloud is left as it is. A fine scan seen by a coarse camera (the
+//! simulator's tilting laser, near) does fill the picture, and is treated as a depth camera's.
 
 use super::mask::Mask;
 
