@@ -7,7 +7,8 @@ Driven by one JSON command a line on stdin, one JSON answer a line on stdout:
   {"wait_matched": S}     until every topic here is matched with the node, S seconds at most
   {"click": [x, y, z], "timeout": S}   click (again every 3 s) until /pps/tag_pose and
                           /goal_pose answer
-  {"rfid": [[epc, rssi_dbm, antenna], ...], "timeout": S}   one round, the /pps/entry answer
+  {"rfid": [[epc, rssi_dbm, antenna], ...], "timeout": S}   one round (again every 3 s until
+                                                              answered), the /pps/entry answer
   {"trial": JSON}         publish a pps_msgs/Trial
 Images go out as bgr8 with padded rows, clouds with the fields in the order z, x, y,
 intensity and 16 bytes a point: layouts the node must read as well as the plain ones.
@@ -146,17 +147,24 @@ class Peer:
         return {"tag_pose": pose(tag), "goal_pose": pose(goal), "markers": markers}
 
     def round(self, reads, timeout):
+        # Like a click, the round is written again every 3 s until the node answers: a sample
+        # written while the two sides' discovery is still settling may reach no reader, and a
+        # round no answer came back to is one the node never saw.
         self.entry.take(100)
-        self.rfid.write(t.TagReads(reads=[t.TagRead(epc=e, rssi_dbm=r, antenna=a) for e, r, a in reads]))
+        message = t.TagReads(reads=[t.TagRead(epc=e, rssi_dbm=r, antenna=a) for e, r, a in reads])
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
-            for sample in self.entry.take(1):
-                return {"entry": {
-                    "epc": sample.epc, "ambiguous": sample.ambiguous, "revision": sample.revision,
-                    "entry_json": sample.entry_json,
-                    "unavailable_actions": list(sample.unavailable_actions), "error": sample.error,
-                }}
-            time.sleep(0.01)
+            self.rfid.write(message)
+            again = min(deadline, time.monotonic() + 3.0)
+            while time.monotonic() < again:
+                for sample in self.entry.take(1):
+                    return {"entry": {
+                        "epc": sample.epc, "ambiguous": sample.ambiguous,
+                        "revision": sample.revision, "entry_json": sample.entry_json,
+                        "unavailable_actions": list(sample.unavailable_actions),
+                        "error": sample.error,
+                    }}
+                time.sleep(0.01)
         return {"entry": None}
 
 
