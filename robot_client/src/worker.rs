@@ -109,24 +109,29 @@ impl Worker {
     }
 }
 
-/// Why the robot gave a task back after trying it, as a decline's reason: what it could not do
-/// in a caretaker's words, what they can do about it when the robot knows, then what the phase
-/// that stopped it said, for whoever looks further.
-fn stopped_before_acting(report: &TaskReport) -> String {
-    let words = match report.phases.iter().find(|p| !p.ok) {
-        Some(phase) => {
-            let said = phase.lines.last().map_or("", String::as_str);
-            match &phase.advice {
-                Some(advice) => format!(
-                    "it tried and could not {}: {advice} (the robot's own words: {said})",
-                    phase.could_not()
-                ),
-                None => format!("it tried and could not {}: {said}", phase.could_not()),
-            }
-        }
-        None => "it tried and recorded no trial".to_owned(),
+/// Why the robot gave a task back after trying it, as a decline: what it could not do in a
+/// caretaker's words, with what they can do about it when the robot knows; and, apart, what the
+/// phase that stopped it said, for whoever looks further.
+fn stopped_before_acting(report: &TaskReport) -> GivenBack {
+    let Some(phase) = report.phases.iter().find(|p| !p.ok) else {
+        return GivenBack { reason: "it tried and recorded no trial".to_owned(), detail: None };
     };
-    decline_reason(&words)
+    let said = phase.lines.last().map_or("", String::as_str);
+    // With advice, the robot's own words go apart; without, they are the reason.
+    let (words, detail) = match &phase.advice {
+        Some(advice) => (advice.as_str(), Some(said)),
+        None => (said, None),
+    };
+    GivenBack {
+        reason: decline_reason(&format!("it tried and could not {}: {words}", phase.could_not())),
+        detail: detail.map(decline_reason).filter(|said| !said.is_empty()),
+    }
+}
+
+/// A task given back: why, in a caretaker's words, and what the robot itself said.
+struct GivenBack {
+    reason: String,
+    detail: Option<String>,
 }
 
 /// Runs one claimed task in a fresh simulated room and ends it; returns a line saying how.
@@ -140,7 +145,7 @@ async fn work_on(
 ) -> anyhow::Result<String> {
     let said = format!("task {}: {} on {}", task.id, task.action, task.epc);
     let Some(device) = DeviceKind::ALL.into_iter().find(|d| d.epc() == task.epc) else {
-        return Ok(match registry.decline_task(task.id, NOT_IN_THE_ROOM).await {
+        return Ok(match registry.decline_task(task.id, NOT_IN_THE_ROOM, None).await {
             Ok(_) => format!("{said}: declined: {NOT_IN_THE_ROOM}"),
             Err(error) => format!(
                 "{said}: {NOT_IN_THE_ROOM}, but the decline did not reach the registry ({error}); \
@@ -158,9 +163,12 @@ async fn work_on(
     let (Some(trial), Some(outcome)) = (result.report.trial, result.report.outcome) else {
         // Said to the registry at once, not left for the lease to run out: the caretaker reads
         // why beside the task, and the task goes to the other robots or says none can do it.
-        let why = stopped_before_acting(&result.report);
-        return Ok(match registry.decline_task(task.id, &why).await {
-            Ok(_) => format!("{said}: declined after trying: {why}"),
+        let GivenBack { reason: why, detail } = stopped_before_acting(&result.report);
+        return Ok(match registry.decline_task(task.id, &why, detail.as_deref()).await {
+            Ok(_) => match &detail {
+                Some(detail) => format!("{said}: declined after trying: {why} (it said: {detail})"),
+                None => format!("{said}: declined after trying: {why}"),
+            },
             Err(error) => format!(
                 "{said}: stopped before acting ({why}), but the decline did not reach the \
                  registry ({error}); its lease will run out and the task go back to the queue"

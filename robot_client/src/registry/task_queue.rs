@@ -85,10 +85,16 @@ impl RegistryClient {
         self.post_task(&format!("/api/v1/tasks/{id}/finish"), Some(body)).await
     }
 
-    /// Says this robot cannot do the task, and why in words (at most 500 characters, one
-    /// line): the registry gives it to the other robots and never offers it to this one again.
-    pub async fn decline_task(&self, id: Uuid, reason: &str) -> Result<QueuedTask, RegistryError> {
-        let body = serde_json::json!({ "reason": reason });
+    /// Says this robot cannot do the task, why in a caretaker's words, and what the robot
+    /// itself said (`detail`, shown on request), each one line of at most 500 characters: the
+    /// registry gives it to the other robots and never offers it to this one again.
+    pub async fn decline_task(
+        &self,
+        id: Uuid,
+        reason: &str,
+        detail: Option<&str>,
+    ) -> Result<QueuedTask, RegistryError> {
+        let body = serde_json::json!({ "reason": reason, "detail": detail });
         self.post_task(&format!("/api/v1/tasks/{id}/decline"), Some(body)).await
     }
 

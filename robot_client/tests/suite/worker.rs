@@ -47,8 +47,12 @@ async fn a_task_tried_and_stopped_before_acting_is_given_back_with_what_stopped_
     assert_eq!(
         reason,
         "it tried and could not find the tag: it saw nothing red where you pointed; point at \
-         the red tag itself (the robot's own words: no red tag near the pointed location)",
-        "what the caretaker can do, then what stopped it in the robot's words"
+         the red tag itself",
+        "what the caretaker can do"
+    );
+    assert_eq!(
+        declined["detail"], "no red tag near the pointed location",
+        "what stopped it in the robot's own words, apart"
     );
     assert_eq!(
         task["stuck"].as_str().unwrap(),

@@ -73,7 +73,11 @@ pub struct TaskAnswer {
 pub struct Declined {
     #[schemars(with = "contract::RobotId")]
     pub robot: RobotId,
+    /// Why, in a caretaker's words, and what they can do about it when the robot knows.
     pub reason: String,
+    /// What the robot itself said when it stopped, for whoever looks further; null when it
+    /// said nothing more.
+    pub detail: Option<String>,
     #[serde(with = "stamp")]
     #[schemars(with = "stamp::DateTime")]
     pub at: OffsetDateTime,
@@ -81,7 +85,12 @@ pub struct Declined {
 
 impl From<Decline> for Declined {
     fn from(decline: Decline) -> Self {
-        Self { at: decline.at, robot: decline.robot, reason: decline.reason }
+        Self {
+            at: decline.at,
+            robot: decline.robot,
+            reason: decline.reason,
+            detail: decline.detail,
+        }
     }
 }
 
@@ -167,7 +176,12 @@ mod tests {
                 "reason": null,
                 "updated_at": "2026-03-04T05:06:08.000Z",
                 "declined": [
-                    { "robot": "pr2-1", "reason": "no arm", "at": "2026-03-04T05:06:07.500Z" }
+                    {
+                        "robot": "pr2-1",
+                        "reason": "no arm",
+                        "detail": null,
+                        "at": "2026-03-04T05:06:07.500Z"
+                    }
                 ],
                 "expires_at": null,
                 "expired": false,

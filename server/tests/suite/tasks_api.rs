@@ -644,6 +644,7 @@ async fn a_declined_task_goes_to_the_others_and_never_back_to_the_robot_that_dec
     assert_eq!(back["declined"].as_array().unwrap().len(), 1, "{back}");
     assert_eq!(back["declined"][0]["robot"], "stretch-1");
     assert_eq!(back["declined"][0]["reason"], NOT_IN_ITS_ROOM);
+    assert_eq!(back["declined"][0]["detail"], Value::Null, "it said nothing more: {back}");
     assert!(pps_server::clock::parse(back["declined"][0]["at"].as_str().unwrap()).is_some());
     let listed = server.get_json("/api/v1/tasks").await;
     assert_eq!(listed["items"][0]["declined"], back["declined"], "reads show the decline");
@@ -657,6 +658,41 @@ async fn a_declined_task_goes_to_the_others_and_never_back_to_the_robot_that_dec
     let got = claimed(&server, &el_e, "el-e-1").await;
     assert_eq!(got["id"], task["id"], "el-e-1 is");
     assert_eq!(got["attempts"], 1);
+}
+
+#[tokio::test]
+async fn a_decline_keeps_the_robots_own_words_apart_from_the_reason() {
+    let server = TestServer::start().await;
+    let stretch = robot(&server, "stretch-1", "stretch").await;
+    let task = asked(&server, json!({ "epc": LAMP, "action": "on" })).await;
+    let path = format!("/api/v1/tasks/{}/decline", id(&task));
+    let advice = "it tried and could not find the tag: move the red towel away from the tag";
+    let said = "no tag taken near the pointed location: the red region is 35 cm across";
+
+    for bad in
+        [json!({ "reason": advice, "detail": "a\nb" }), json!({ "reason": advice, "detail": 3 })]
+    {
+        let refused = problem(
+            post(&server, &path, &stretch, Some(bad)).await,
+            StatusCode::UNPROCESSABLE_ENTITY,
+        )
+        .await;
+        assert_eq!(refused["errors"][0]["pointer"], "/detail", "{refused}");
+    }
+    let unchanged = server.get_json(&format!("/api/v1/tasks/{}", id(&task))).await;
+    assert_eq!(unchanged["declined"], json!([]), "a refused decline changes nothing");
+
+    let body = json!({ "reason": advice, "detail": said });
+    let back: Value = post(&server, &path, &stretch, Some(body)).await.json().await.unwrap();
+    assert_eq!(back["declined"][0]["reason"], advice, "{back}");
+    assert_eq!(back["declined"][0]["detail"], said, "{back}");
+    assert_eq!(
+        back["stuck"],
+        format!("stretch-1 declined: {advice}; no other robot can do it"),
+        "why it waits is said in the caretaker's words only"
+    );
+    let listed = server.get_json("/api/v1/tasks").await;
+    assert_eq!(listed["items"][0]["declined"], back["declined"], "reads show it");
 }
 
 #[tokio::test]

@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 use pps_test_kit::fixtures::{self, ADA_SWITCH};
 use pps_test_kit::{Registry, WorkingRobot};
 use pps_tests::Browser;
-use pps_tests::browser::PHONE;
+use pps_tests::browser::{DESKTOP, PHONE};
 use reqwest::{Method, StatusCode};
 use serde_json::json;
 
@@ -95,16 +95,81 @@ async fn a_caretaker_sees_a_robots_decline_and_why_the_task_waits() {
     let asked_at = Instant::now();
 
     let row = format!("table.tasks tr[data-task='{}']", task["id"].as_str().unwrap());
-    let decline =
-        page.wait_for_text(&format!("{row} .declines li"), "no device in its simulated room").await;
+    let stuck =
+        page.wait_for_text(&format!("{row} .stuck"), "no device in its simulated room").await;
     assert_eq!(
-        decline.text().await.unwrap().split(" (").next().unwrap(),
-        "stretch-1 declined: no device in its simulated room has this tag"
+        stuck.text().await.unwrap(),
+        "Why it waits: stretch-1 declined: no device in its simulated room has this tag; no other \
+         robot can do it. It stays waiting until a robot can take it; cancel it if it is no \
+         longer wanted."
     );
-    let stuck = page.wait_for(&format!("{row} .stuck")).await.text().await.unwrap();
-    assert!(stuck.contains("no other robot can do it"), "{stuck}");
     assert!(asked_at.elapsed() < Duration::from_secs(10), "seen in {:?}", asked_at.elapsed());
+    // The red note gives the reason; the list under it says who declined and when, once.
+    let decline = page.wait_for(&format!("{row} .declines li")).await.text().await.unwrap();
+    assert!(decline.starts_with("stretch-1 declined ("), "{decline}");
     assert!(page.fits_width().await, "the tasks page fits a phone");
+    assert_eq!(page.accessibility_problems().await, Vec::<String>::new());
+    page.close().await;
+}
+
+#[tokio::test]
+async fn the_robots_own_words_open_on_request_and_a_long_reason_leaves_the_row_readable() {
+    let registry = Registry::start();
+    registry.add_user("anna", "caretaker", PASSWORD);
+    let token = fixtures::robot(&registry, "stretch-1", "stretch").await;
+    let body = json!({ "epc": ADA_SWITCH, "action": "off", "note": "before bed" });
+    let (status, task) =
+        registry.call(Method::POST, "/api/v1/tasks", &registry.admin_token, Some(&body), &[]).await;
+    assert_eq!(status, StatusCode::CREATED, "{task}");
+    let id = task["id"].as_str().unwrap();
+    let reason = "it tried and could not find the tag: something red larger than any tag of \
+                  this home is where you pointed, and the tag could not be told apart from it; \
+                  move the red thing away from the tag, or give the tag's size in its form";
+    let said = "no tag taken near the pointed location: the red region nearest the target \
+                (2137 points, 3 cm from it) is 35 cm across, larger than any tag (17 cm at \
+                most), and neither its colours, its surfaces nor its shape divide it";
+    let decline = json!({ "reason": reason, "detail": said });
+    let path = format!("/api/v1/tasks/{id}/decline");
+    let (status, declined) = registry.call(Method::POST, &path, &token, Some(&decline), &[]).await;
+    assert_eq!(status, StatusCode::OK, "{declined}");
+
+    let browser = Browser::start().await;
+    let page = browser.session(&registry.url, DESKTOP).await;
+    page.log_in("anna", PASSWORD).await;
+    page.open("/#/tasks").await;
+    let row = format!("table.tasks tr[data-task='{id}']");
+    let stuck = page.wait_for(&format!("{row} .stuck")).await.text().await.unwrap();
+    assert!(stuck.contains(reason), "{stuck}");
+    assert!(!stuck.contains("2137 points"), "the robot's own words wait to be asked for: {stuck}");
+
+    let words = format!("{row} details.robot-words");
+    let open = format!("return document.querySelector(\"{words}\").open");
+    assert_eq!(page.eval(&open).await, false, "the robot's own words wait to be asked for");
+    let row_text = page.wait_for(&row).await.text().await.unwrap();
+    assert!(!row_text.contains("2137 points"), "{row_text}");
+    page.click(&format!("{words} summary")).await;
+    assert_eq!(page.eval(&open).await, true);
+    let opened = page.wait_for(&format!("{words} p")).await.text().await.unwrap();
+    assert_eq!(opened, said);
+
+    // Beside a long reason the short columns keep every word whole: a column squeezed to a few
+    // letters breaks its words into more lines than it has words.
+    let broken = page
+        .eval(&format!(
+            "return [...document.querySelectorAll(\"{row} td:not([data-label=State]) .cell\")]
+               .flatMap((cell) => [...cell.querySelectorAll('a, strong, div, button')])
+               .filter((element) => element.children.length === 0 && element.textContent.trim())
+               .filter((element) => {{
+                 const range = document.createRange();
+                 range.selectNodeContents(element);
+                 const lines = new Set([...range.getClientRects()].map((r) => Math.round(r.top)));
+                 return lines.size > element.textContent.trim().split(/\\s+/).length;
+               }})
+               .map((element) => element.textContent)"
+        ))
+        .await;
+    assert_eq!(broken, json!([]), "words broken apart in the short columns");
+    assert!(page.fits_width().await, "the tasks page fits a desktop");
     assert_eq!(page.accessibility_problems().await, Vec::<String>::new());
     page.close().await;
 }

@@ -64,11 +64,13 @@ async fn a_caretakers_first_hour() {
     page.wait_for_text(".ask-control .status", "Asked").await;
     let asked_at = Instant::now();
     page.click("a[data-nav=tasks]").await;
-    let decline =
-        page.wait_for_text("table.tasks .declines li", "no device in its simulated room").await;
+    let stuck = page.wait_for_text("table.tasks .stuck", "no device in its simulated room").await;
     assert!(asked_at.elapsed() < Duration::from_secs(10), "seen after {:?}", asked_at.elapsed());
-    assert!(decline.text().await.unwrap().starts_with("stretch-1 declined: "));
-    page.wait_for_text("table.tasks .stuck", "no other robot can do it").await;
+    assert!(stuck.text().await.unwrap().contains(
+        "stretch-1 declined: no device in its simulated room has this tag; no other robot can do it"
+    ));
+    let decline = page.wait_for("table.tasks .declines li").await.text().await.unwrap();
+    assert!(decline.starts_with("stretch-1 declined ("), "{decline}");
 
     // A robot does something on a seeded lamp: its page shows what the robot saw.
     let body = json!({ "epc": SEEDED_LAMP, "action": "on" });

@@ -40,8 +40,7 @@ function taskRow(task, labels, refresh) {
     : null;
   const stuck = stuckReason(task);
   const declines = (task.declined ?? []).length
-    ? h('ul', { class: 'declines' }, task.declined.map((d) => h('li', { dataset: { robot: d.robot } },
-      h('strong', {}, `${d.robot} declined`), `: ${d.reason}`, h('span', { class: 'muted' }, ` (${ago(d.at)})`))))
+    ? h('ul', { class: 'declines' }, task.declined.map((d) => declineItem(d, { reasonShown: Boolean(stuck) })))
     : null;
   const expiry = expiryNote(task);
   return h('tr', { dataset: { task: task.id, state: task.state, stuck: stuck ? 'yes' : 'no', expired: task.expired ? 'yes' : 'no' } },
@@ -58,6 +57,21 @@ function taskRow(task, labels, refresh) {
       task.attempts > 1 ? h('div', { class: 'muted' }, `attempt ${task.attempts}`) : null),
     cell('Trial', task.trial ? h('a', { href: `#/tags/${seg(task.epc)}`, dataset: { trial: task.trial } }, `trial ${task.trial.slice(0, 8)}`) : '—'),
     cell('Cancel', stop, status));
+}
+
+/**
+ * One robot's decline: who, when and why, in a caretaker's words; what the robot itself said
+ * opens on request. A waiting task's red note already gives every reason, so there the line
+ * says only who declined and when.
+ */
+function declineItem(decline, { reasonShown }) {
+  return h('li', { dataset: { robot: decline.robot } },
+    h('strong', {}, `${decline.robot} declined`),
+    reasonShown ? null : `: ${decline.reason}`,
+    h('span', { class: 'muted' }, ` (${ago(decline.at)})`),
+    decline.detail
+      ? h('details', { class: 'robot-words' }, h('summary', {}, 'What the robot said'), h('p', { class: 'muted' }, decline.detail))
+      : null);
 }
 
 export async function render(main) {

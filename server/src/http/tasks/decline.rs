@@ -49,14 +49,15 @@ pub async fn decline(
     JsonBody(body): JsonBody,
 ) -> Result<Json<TaskAnswer>, ApiError> {
     let robot = caller.own_robot()?;
-    let DeclineBody { reason } = parse_reason(&body)?;
+    let DeclineBody { reason, detail } = parse_decline(&body)?;
     let class = robots::get(state.db.reader(), robot).await?.and_then(|r| r.class);
     let task = find(&state, &id).await?;
     if let Some(refused) = refusal(&task, robot, class.as_deref()) {
         return Err(refused);
     }
     let mut tx = state.db.begin_write().await?;
-    let declined = tasks::decline(&mut tx, &id, robot, &reason, state.clock.now()).await?;
+    let declined =
+        tasks::decline(&mut tx, &id, robot, &reason, detail.as_deref(), state.clock.now()).await?;
     tx.commit().await?;
     let task = match declined {
         Some(task) => {
@@ -105,22 +106,29 @@ fn refusal(task: &TaskRow, robot: &RobotId, class: Option<&str>) -> Option<ApiEr
 }
 
 /// Why a robot declines a task.
-// As `parse_reason` returns it.
+// As `parse_decline` returns it.
 #[derive(Debug, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 #[schemars(rename = "task_decline")]
 pub struct DeclineBody {
-    /// Why this robot cannot do the task: one line of plain words.
+    /// Why this robot cannot do the task, in words a caretaker knows, and what they can do
+    /// about it when the robot knows: one line.
     #[schemars(length(min = 1, max = MAX_DECLINE_REASON_CHARS))]
     #[schemars(regex(pattern = PLAIN_LINE))]
     pub reason: String,
+    /// What the robot itself said when it stopped, for whoever looks further: one line. The
+    /// web UI shows it on request, under the reason.
+    #[schemars(length(min = 1, max = MAX_DECLINE_REASON_CHARS))]
+    #[schemars(regex(pattern = PLAIN_LINE))]
+    pub detail: Option<String>,
 }
 
 /// One line of text with at least one character that is neither a space nor a control one.
 const PLAIN_LINE: &str = "^[^\\u0000-\\u001f\\u007f-\\u009f]*[^\\s\\u0000-\\u001f\\u007f-\\u009f][^\\u0000-\\u001f\\u007f-\\u009f]*$";
 
-/// The decline body: `{"reason": "..."}`, a line of plain words of 1 to 500 characters.
-fn parse_reason(body: &Value) -> Result<DeclineBody, ApiError> {
+/// The decline body: `{"reason": "...", "detail": "..."}`, each a line of plain words of 1 to
+/// 500 characters; `detail` may be left out.
+fn parse_decline(body: &Value) -> Result<DeclineBody, ApiError> {
     let Some(object) = body.as_object() else {
         return Err(ApiError::invalid_at(
             "",
@@ -129,40 +137,54 @@ fn parse_reason(body: &Value) -> Result<DeclineBody, ApiError> {
     };
     let mut errors: Vec<FieldError> = object
         .keys()
-        .filter(|key| key.as_str() != "reason")
+        .filter(|key| !matches!(key.as_str(), "reason" | "detail"))
         .map(|key| {
             FieldError::new(
                 pps_schema::pointer::join("", key),
-                format!("a decline has no field {key}; it takes only reason"),
+                format!("a decline has no field {key}; it takes reason and, if you like, detail"),
             )
         })
         .collect();
-    let reason = object.get("reason").and_then(Value::as_str).map(str::trim);
-    match reason {
-        None => errors.push(FieldError::new(
-            "/reason",
-            "reason says in words why this robot cannot do the task",
-        )),
-        Some("") => errors.push(FieldError::new("/reason", "reason is empty; say in words why")),
-        Some(reason) if reason.chars().count() > MAX_DECLINE_REASON_CHARS => {
+    let reason = match object.get("reason") {
+        None | Some(Value::Null) => {
             errors.push(FieldError::new(
                 "/reason",
-                format!(
-                    "reason has {} characters; say it in at most {MAX_DECLINE_REASON_CHARS}",
-                    reason.chars().count()
-                ),
-            ))
+                "reason says in words why this robot cannot do the task",
+            ));
+            None
         }
-        Some(reason) if reason.chars().any(char::is_control) => errors.push(FieldError::new(
-            "/reason",
-            "reason is one line of plain words, without line breaks or control characters",
-        )),
-        Some(_) => {}
-    }
+        Some(reason) => one_line("reason", reason, &mut errors),
+    };
+    let detail = match object.get("detail") {
+        None | Some(Value::Null) => None,
+        Some(detail) => one_line("detail", detail, &mut errors),
+    };
     match reason {
-        Some(reason) if errors.is_empty() => Ok(DeclineBody { reason: reason.to_owned() }),
+        Some(reason) if errors.is_empty() => Ok(DeclineBody { reason, detail }),
         _ => Err(ApiError::Invalid(errors)),
     }
+}
+
+/// `value` trimmed, when it is one line of plain words within bounds; otherwise why not, in
+/// `errors`.
+fn one_line(field: &str, value: &Value, errors: &mut Vec<FieldError>) -> Option<String> {
+    let pointer = format!("/{field}");
+    let Some(line) = value.as_str().map(str::trim) else {
+        errors.push(FieldError::new(pointer, format!("{field} is a string of plain words")));
+        return None;
+    };
+    let chars = line.chars().count();
+    let wrong = if line.is_empty() {
+        format!("{field} is empty; say it in words")
+    } else if chars > MAX_DECLINE_REASON_CHARS {
+        format!("{field} has {chars} characters; say it in at most {MAX_DECLINE_REASON_CHARS}")
+    } else if line.chars().any(char::is_control) {
+        format!("{field} is one line of plain words, without line breaks or control characters")
+    } else {
+        return Some(line.to_owned());
+    };
+    errors.push(FieldError::new(pointer, wrong));
+    None
 }
 
 #[cfg(test)]
@@ -174,7 +196,7 @@ mod tests {
     fn a_reason_is_one_line_of_words_within_bounds() {
         let words = "no device in its room has this tag";
         assert_eq!(
-            parse_reason(&json!({ "reason": format!("  {words} ") })).unwrap().reason,
+            parse_decline(&json!({ "reason": format!("  {words} ") })).unwrap().reason,
             words
         );
         for bad in [
@@ -185,10 +207,24 @@ mod tests {
             json!({ "reason": "two\nlines" }),
             json!({ "reason": "fine", "robot": "el-e-1" }),
             json!("fine"),
+            json!({ "reason": "fine", "detail": "" }),
+            json!({ "reason": "fine", "detail": ["no"] }),
+            json!({ "reason": "fine", "detail": "two\nlines" }),
+            json!({ "reason": null, "detail": "fine" }),
         ] {
-            assert!(matches!(parse_reason(&bad), Err(ApiError::Invalid(_))), "{bad} is refused");
+            assert!(matches!(parse_decline(&bad), Err(ApiError::Invalid(_))), "{bad} is refused");
         }
         let longest = "é".repeat(MAX_DECLINE_REASON_CHARS);
-        assert_eq!(parse_reason(&json!({ "reason": longest })).unwrap().reason, longest);
+        assert_eq!(parse_decline(&json!({ "reason": longest })).unwrap().reason, longest);
+    }
+
+    #[test]
+    fn the_robots_own_words_come_apart_from_the_reason_and_may_be_left_out() {
+        let with = json!({ "reason": "move the red towel away", "detail": " red region 35 cm " });
+        let body = parse_decline(&with).unwrap();
+        assert_eq!(body.reason, "move the red towel away");
+        assert_eq!(body.detail.as_deref(), Some("red region 35 cm"));
+        let without = parse_decline(&json!({ "reason": "not in its room", "detail": null }));
+        assert_eq!(without.unwrap().detail, None);
     }
 }

@@ -10,8 +10,9 @@ use super::{TaskRow, announced};
 use crate::store::columns::At;
 use crate::store::db::Dialect;
 
-/// Notes that `robot` declined the task for `reason` and puts it back in the queue, if it is
-/// queued or `robot` holds it and `robot` had not declined it yet; `None` otherwise.
+/// Notes that `robot` declined the task for `reason`, with what it said (`detail`), and puts it
+/// back in the queue, if it is queued or `robot` holds it and `robot` had not declined it yet;
+/// `None` otherwise.
 ///
 /// A claim ended by a decline does not count as an attempt: the robot gave the task back
 /// instead of letting its lease run out, and the third lease to run out fails the task.
@@ -21,6 +22,7 @@ pub async fn decline(
     id: &Uuid,
     robot: &RobotId,
     reason: &str,
+    detail: Option<&str>,
     now: OffsetDateTime,
 ) -> sqlx::Result<Option<TaskRow>> {
     macro_rules! decline_appending {
@@ -42,12 +44,12 @@ pub async fn decline(
     }
     let statement = Dialect::of(tx).pick(
         decline_appending!(
-            "json_insert(declines, '$[#]', json_object('robot', $1, 'reason', $2, 'at', $3))",
+            "json_insert(declines, '$[#]', json_object('robot', $1, 'reason', $2, 'at', $3, 'detail', $5))",
             "select 1 from json_each(declines) where json_extract(value, '$.robot') = $1"
         ),
         decline_appending!(
             "(declines::jsonb || jsonb_build_array(jsonb_build_object(\
-                 'robot', $1::text, 'reason', $2::text, 'at', $3::text)))::text",
+                 'robot', $1::text, 'reason', $2::text, 'at', $3::text, 'detail', $5::text)))::text",
             "select 1 from jsonb_array_elements(declines::jsonb) as declined(value) \
              where declined.value ->> 'robot' = $1"
         ),
@@ -57,6 +59,7 @@ pub async fn decline(
         .bind(reason)
         .bind(At(now))
         .bind(id.hyphenated().to_string())
+        .bind(detail)
         .fetch_optional(&mut *tx)
         .await?;
     announced(tx, row).await

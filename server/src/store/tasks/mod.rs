@@ -62,7 +62,11 @@ pub struct TaskRow {
 #[derive(Debug, Clone, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Decline {
     pub robot: RobotId,
+    /// Why, in a caretaker's words.
     pub reason: String,
+    /// What the robot itself said, for whoever looks further.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub detail: Option<String>,
     #[serde(with = "clock::stored")]
     pub at: OffsetDateTime,
 }
