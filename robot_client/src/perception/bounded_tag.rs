@@ -25,11 +25,12 @@ use super::core_colour::{ColourOf, tag_coloured};
 use super::edge_strips::{dense_in_the_picture, off_the_strips};
 use super::mask::Mask;
 use super::occupancy::{Component, OccupancyGrid};
+use super::tag_against_a_side::against_a_side;
 use super::tag_search_params::TagSearchParams;
 use super::tag_shape::out_of_reach_of_a_disc;
 use super::tag_sighting::TagDetection;
 use super::two_clusters::of_the_core_cluster;
-use super::two_colours::{colours_around, colours_at, colours_of, pixels_of};
+use super::two_colours::{colours_around, colours_at, colours_of, pixel_finder, pixels_of};
 use crate::hal::{CameraCalibration, ColorImage};
 
 /// Half the width of a surface's band, in standard deviations of the tag's own points about
@@ -150,6 +151,13 @@ pub(super) fn bound_tags(
         if let Some(part) = nearest_part(&divided, params)
             && part.radius > params.max_tag_radius
             && let Some(parts) = standing_out(part, &region, target, params, notes)
+        {
+            divided = join(parts);
+        }
+        if let Some(part) = nearest_part(&divided, params)
+            && part.radius > params.max_tag_radius
+            && let Some(parts) =
+                lying_against_it(part, &region, image, calibration, target, params, notes)
         {
             divided = join(parts);
         }
@@ -337,14 +345,7 @@ fn standing_out(
     notes: &mut Vec<String>,
 ) -> Option<Vec<Component>> {
     let half_width = params.widest_tag_half_width?;
-    let members: Vec<Point3<f64>> = part.members.iter().map(|p| p.cast::<f64>()).collect();
-    let (centre, normal, _) = plane_through(&members)?;
-    // The whole region on the part's surface, whatever its colour: the colour division keeps
-    // of a red plastic nearly the tag's colour only the pixels the noise moved toward it.
-    let offset = |p: &Point3<f64>| (p.coords - centre).dot(&normal);
-    let band = members.iter().map(|p| offset(p).abs()).fold(0.0, f64::max);
-    let on_surface: Vec<Point3<f32>> =
-        region.iter().filter(|p| offset(&p.cast::<f64>()).abs() <= band).copied().collect();
+    let Surface { centre, normal, points: on_surface } = region_on_the_surface_of(part, region)?;
     let piece = out_of_reach_of_a_disc(&on_surface, &centre, &normal, half_width, target)?;
     notes.push(format!(
         "a part {:.0} cm across has a piece no disc {:.0} cm wide reaches, no tag in the home \
@@ -357,6 +358,67 @@ fn standing_out(
     ));
     let kept: Vec<Point3<f32>> = piece.kept.iter().map(|&i| on_surface[i]).collect();
     Some(components_of(&kept, target, params))
+}
+
+/// The points of `part`'s surface in `region` in the rectangle of a registered tag's size that
+/// borders nothing red on three sides and the rest on the fourth, near the target: a tag lying
+/// against a red thing of nearly its colour by a side as long as the disc of
+/// [`standing_out`] is wide ([`super::tag_against_a_side`]).
+#[allow(clippy::too_many_arguments)]
+fn lying_against_it(
+    part: &Component,
+    region: &[Point3<f32>],
+    image: &ColorImage,
+    calibration: &CameraCalibration,
+    target: &Point3<f64>,
+    params: &TagSearchParams,
+    notes: &mut Vec<String>,
+) -> Option<Vec<Component>> {
+    if params.home_tags.is_empty() {
+        return None;
+    }
+    let Surface { centre, normal, points: on_surface } = region_on_the_surface_of(part, region)?;
+    // A side is free only where the picture shows no red either: a red thing nearer the
+    // camera (a lamp's tube before the fabric it touches) hides the surface without being on it.
+    let pixel_of = pixel_finder(image, calibration);
+    let seen_red = |p: &Point3<f64>| {
+        pixel_of(p).is_some_and(|(x, y)| params.thresholds.contains(image.pixel(x, y)))
+    };
+    let sizes = &params.home_tags;
+    let reach = params.max_tag_radius;
+    let found = against_a_side(&on_surface, &centre, &normal, sizes, target, reach, &seen_red)?;
+    notes.push(format!(
+        "a part {:.0} cm across has a tag's rectangle ({:.1} × {:.1} cm, as registered) \
+         against one side of it, nothing red past its other three: {} of the {} points of its \
+         region on its surface",
+        part.radius * 200.0,
+        found.size.width * 100.0,
+        found.size.height * 100.0,
+        found.kept.len(),
+        on_surface.len(),
+    ));
+    let kept: Vec<Point3<f32>> = found.kept.iter().map(|&i| on_surface[i]).collect();
+    Some(components_of(&kept, target, params))
+}
+
+/// A part's surface and the points of its region on it.
+struct Surface {
+    centre: Vector3<f64>,
+    normal: Vector3<f64>,
+    points: Vec<Point3<f32>>,
+}
+
+/// The plane through `part`, and the whole of `region` within the part's own reach of it,
+/// whatever its colour: the colour division keeps of a red plastic nearly the tag's colour only
+/// the pixels the noise moved toward it.
+fn region_on_the_surface_of(part: &Component, region: &[Point3<f32>]) -> Option<Surface> {
+    let members: Vec<Point3<f64>> = part.members.iter().map(|p| p.cast::<f64>()).collect();
+    let (centre, normal, _) = plane_through(&members)?;
+    let offset = |p: &Point3<f64>| (p.coords - centre).dot(&normal);
+    let band = members.iter().map(|p| offset(p).abs()).fold(0.0, f64::max);
+    let points: Vec<Point3<f32>> =
+        region.iter().filter(|p| offset(&p.cast::<f64>()).abs() <= band).copied().collect();
+    Some(Surface { centre, normal, points })
 }
 
 /// The plane through `points` (their centre and the normal of least scatter), and the standard
@@ -849,36 +911,44 @@ mod tests {
     /// behind it; the wall around is grey. The points, and the picture with each pixel's
     /// channels scattered by up to 8 either way.
     fn tag_flush_with_an_outlined_box() -> (Vec<Point3<f32>>, Vec<Point3<f32>>, ColorImage) {
-        let mut rng = ChaCha8Rng::seed_from_u64(13);
         let (mut tag, mut red_box) = (Vec::new(), Vec::new());
+        let image = the_plane_seen(13, |point| {
+            let (y, z) = (f64::from(point.y), f64::from(point.z));
+            let on_box = (0.0..0.15).contains(&y) && z.abs() < 0.15;
+            let outline = on_box && (!(0.001..=0.149).contains(&y) || z.abs() > 0.149);
+            if (-0.06..0.0).contains(&y) && z.abs() < 0.03 {
+                tag.push(point);
+                [200, 30, 20]
+            } else if outline {
+                red_box.push(point);
+                [150, 70, 60]
+            } else if on_box {
+                red_box.push(point);
+                [185, 50, 45]
+            } else {
+                [120, 110, 100]
+            }
+        });
+        (tag, red_box, image)
+    }
+
+    /// The plane x = 1 as `looking_along_x` sees it, 40 × 40 cm: each pixel the colour
+    /// `colour_of` gives its middle, with its channels scattered by up to 8 either way.
+    fn the_plane_seen(seed: u64, mut colour_of: impl FnMut(Point3<f32>) -> [u8; 3]) -> ColorImage {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let mut image = ColorImage::new(400, 400);
         for v in 0..400u32 {
             for u in 0..400u32 {
-                // The pixel's middle on the plane x = 1 (`looking_along_x`).
                 let y = (200.0 - (f64::from(u) + 0.5)) / 1000.0;
                 let z = (200.0 - (f64::from(v) + 0.5)) / 1000.0;
-                let point = Point3::new(1.0, y as f32, z as f32);
-                let on_box = (0.0..0.15).contains(&y) && z.abs() < 0.15;
-                let outline = on_box && (!(0.001..=0.149).contains(&y) || z.abs() > 0.149);
-                let colour: [u8; 3] = if (-0.06..0.0).contains(&y) && z.abs() < 0.03 {
-                    tag.push(point);
-                    [200, 30, 20]
-                } else if outline {
-                    red_box.push(point);
-                    [150, 70, 60]
-                } else if on_box {
-                    red_box.push(point);
-                    [185, 50, 45]
-                } else {
-                    [120, 110, 100]
-                };
+                let colour = colour_of(Point3::new(1.0, y as f32, z as f32));
                 let i = (v as usize * 400 + u as usize) * 3;
                 for (c, value) in colour.into_iter().enumerate() {
                     image.rgb[i + c] = (i16::from(value) + rng.random_range(-8i16..=8)) as u8;
                 }
             }
         }
-        (tag, red_box, image)
+        image
     }
 
     #[test]
@@ -906,5 +976,44 @@ mod tests {
         points.extend((1..20).map(|k| Point3::new(1.0 - k as f32 * 0.0025, 0.0, 0.0)));
         let part = region_of(&points, &target);
         assert!(on_the_nearest_surface(&part, &target, &params).is_none());
+    }
+
+    #[test]
+    fn a_tag_against_a_red_box_of_its_colour_by_its_long_side_is_the_registered_rectangle() {
+        // A rocker's 5.6 × 10 cm patch against the side of a red box 20 × 25 cm of its very
+        // colour, flush with it, a point a pixel: colour and surface leave them one part, and
+        // the disc of the tag's shape rolls over the patch too. Pointed 2 cm into the patch.
+        let mut red = Vec::new();
+        let image = the_plane_seen(5, |point| {
+            let (y, z) = (f64::from(point.y), f64::from(point.z));
+            let on_box = (0.0..0.20).contains(&y) && (-0.12..0.13).contains(&z);
+            let on_tag = (-0.056..0.0).contains(&y) && (-0.06..0.04).contains(&z);
+            if on_box || on_tag {
+                red.push(point);
+                [185, 50, 45]
+            } else {
+                [120, 110, 100]
+            }
+        });
+        let rocker = pps_schema::TagSize { width: 0.056, height: 0.10 };
+        let params = TagSearchParams::default().for_home_tags([rocker]);
+        let target = Point3::new(1.0, -0.02, -0.01);
+        let mut notes = Vec::new();
+        let bounded = bound_tags(
+            vec![region_of(&red, &target)],
+            &image,
+            &looking_along_x(),
+            &target,
+            &params,
+            &|parts| parts,
+            &mut notes,
+        );
+        let Some(TagSighting::Found(found)) = choose_tag(bounded, &params) else {
+            panic!("the patch against the box: {notes:?}");
+        };
+        assert!((found.centroid - Point3::new(1.0, -0.028, -0.01)).norm() < 0.005, "{found:?}");
+        let of_the_tag = found.members.iter().filter(|p| p.y < 0.0).count();
+        assert!(of_the_tag >= 56 * 100 * 9 / 10, "{of_the_tag} of the patch's 5600 points");
+        assert!(notes.iter().any(|n| n.contains("a tag's rectangle (5.6 × 10.0 cm")), "{notes:?}");
     }
 }

@@ -29,6 +29,7 @@ mod projection;
 mod ray_smoothing;
 mod seeded_segmentation;
 mod tag;
+mod tag_against_a_side;
 mod tag_colour_stats;
 mod tag_colours;
 mod tag_extent;

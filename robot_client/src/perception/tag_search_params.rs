@@ -40,6 +40,9 @@ pub struct TagSearchParams {
     /// sizes are known: a disc a little wider rolls over a red thing too large to be a tag and
     /// over none of a tag standing out of it ([`super::tag_shape`]).
     pub widest_tag_half_width: Option<f64>,
+    /// The sizes of the home's tags, when registered: a tag lying against a red thing by a
+    /// whole side is the rectangle of one of them ([`super::tag_against_a_side`]).
+    pub home_tags: Vec<TagSize>,
 }
 
 impl Default for TagSearchParams {
@@ -59,6 +62,7 @@ impl Default for TagSearchParams {
             // 60 × 35 cm and a fold 3 cm deep.
             max_tag_radius: 0.35,
             widest_tag_half_width: None,
+            home_tags: Vec::new(),
         }
     }
 }
@@ -80,6 +84,7 @@ impl TagSearchParams {
         }
         params.widest_tag_half_width =
             sizes.iter().map(|s| s.width.min(s.height) / 2.0).reduce(f64::max);
+        params.home_tags = sizes;
         params
     }
 
@@ -109,6 +114,7 @@ mod tests {
         let small = params.for_home_tags([patch, tube]);
         assert!((small.max_tag_radius - (patch.reach() + params.fragment_gap)).abs() < 1e-12);
         assert_eq!(small.widest_tag_half_width, Some(0.025));
+        assert_eq!(small.home_tags, vec![patch, tube]);
         assert_eq!(params.for_home_tags([]), params);
         assert_eq!(params.for_home_tags([TagSize { width: f64::NAN, height: 0.05 }]), params);
     }

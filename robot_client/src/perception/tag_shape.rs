@@ -15,7 +15,7 @@ use nalgebra::{Point3, Vector3};
 
 /// Edge of the grid's cells on the surface, metres: about a depth camera's pixel at 1.5 m, so a
 /// dense frame fills every cell, and a tenth of the narrowest tag (a 3 cm foam tube).
-const CELL: f64 = 0.005;
+pub(super) const CELL: f64 = 0.005;
 
 /// How far past the widest tag's half width the disc reaches, in cells: the mask's outline is
 /// ragged by a pixel or two and the grid rounds by one more.
@@ -28,7 +28,7 @@ const TAG_OF_DISC: f64 = 0.5;
 
 /// Cells a point's hole in the grid may be wide and still be filled: a depth image's holes on a
 /// surface are single pixels.
-const HOLE_CELLS: i64 = 1;
+pub(super) const HOLE_CELLS: i64 = 1;
 
 /// A piece of a red region no disc wider than a tag reaches.
 pub(super) struct StandingOut {
@@ -48,18 +48,9 @@ pub(super) fn out_of_reach_of_a_disc(
     half_width: f64,
     target: &Point3<f64>,
 ) -> Option<StandingOut> {
-    let (across, up) = axes_of(normal);
-    let flat: Vec<[f64; 2]> = points
-        .iter()
-        .map(|p| {
-            let d = p.cast::<f64>().coords - centre;
-            [d.dot(&across), d.dot(&up)]
-        })
-        .collect();
-    let to_target = target.coords - centre;
-    let target = [to_target.dot(&across), to_target.dot(&up)];
-    let grid = Grid::of(&flat)?;
-    let occupied = grid.closed(&grid.occupancy(&flat), HOLE_CELLS);
+    let surface = SurfaceGrid::of(points, centre, normal, HOLE_CELLS)?;
+    let target = surface.flat_of(target);
+    let SurfaceGrid { grid, flat, occupied, .. } = surface;
     let radius = half_width / CELL + OUTLINE_CELLS;
     // Rolling the disc: the cells it can be centred on lie further than its radius from every
     // empty cell, and it covers those within its radius of one of them.
@@ -93,6 +84,62 @@ pub(super) fn out_of_reach_of_a_disc(
     let kept: Vec<usize> =
         (0..points.len()).filter(|&i| grid.index(flat[i]).is_some_and(|c| in_piece[c])).collect();
     (!kept.is_empty()).then_some(StandingOut { kept, disc: 2.0 * radius * CELL })
+}
+
+/// A red region's points seen along its surface's normal: where each lies on the surface, and
+/// which of the grid's cells they fill, holes up to a few cells wide filled.
+pub(super) struct SurfaceGrid {
+    grid: Grid,
+    /// Each point's place on the surface, metres from the centre, along two axes across it.
+    pub flat: Vec<[f64; 2]>,
+    occupied: Vec<bool>,
+    centre: Vector3<f64>,
+    axes: (Vector3<f64>, Vector3<f64>),
+}
+
+impl SurfaceGrid {
+    /// `points` on the surface of `normal` through `centre`, their holes up to `holes` cells
+    /// wide filled; `None` when there are no points.
+    pub fn of(
+        points: &[Point3<f32>],
+        centre: &Vector3<f64>,
+        normal: &Vector3<f64>,
+        holes: i64,
+    ) -> Option<Self> {
+        let axes = axes_of(normal);
+        let on = |p: &Point3<f32>| {
+            let d = p.cast::<f64>().coords - centre;
+            [d.dot(&axes.0), d.dot(&axes.1)]
+        };
+        let flat: Vec<[f64; 2]> = points.iter().map(on).collect();
+        let grid = Grid::of(&flat)?;
+        let occupied = grid.closed(&grid.occupancy(&flat), holes);
+        Some(Self { grid, flat, occupied, centre: *centre, axes })
+    }
+
+    /// Where `p` lies on the surface.
+    pub fn flat_of(&self, p: &Point3<f64>) -> [f64; 2] {
+        let d = p.coords - self.centre;
+        [d.dot(&self.axes.0), d.dot(&self.axes.1)]
+    }
+
+    /// The point in space at `p` on the surface.
+    pub fn point_at(&self, p: [f64; 2]) -> Point3<f64> {
+        Point3::from(self.centre + self.axes.0 * p[0] + self.axes.1 * p[1])
+    }
+
+    /// How far each place on the surface lies from the nearest cell not filled, metres: naught
+    /// outside the grid.
+    pub fn distances_to_outline(&self) -> impl Fn([f64; 2]) -> f64 + '_ {
+        let empty: Vec<bool> = self.occupied.iter().map(|o| !o).collect();
+        let squared = self.grid.squared_distances_to(&empty);
+        move |p| self.grid.index(p).map_or(0.0, |c| squared[c].sqrt() * CELL)
+    }
+
+    /// Whether the cell at `p` on the surface is filled; outside the grid nothing is.
+    pub fn occupied(&self, p: [f64; 2]) -> bool {
+        self.grid.index(p).is_some_and(|c| self.occupied[c])
+    }
 }
 
 /// Two unit vectors across the surface, at right angles to each other and to `normal`.

@@ -45,19 +45,25 @@ pub(super) fn pixels_of(
     image: &ColorImage,
     calibration: &CameraCalibration,
 ) -> Vec<Option<(u32, u32)>> {
+    let pixel_of = pixel_finder(image, calibration);
+    points.iter().map(|p| pixel_of(&p.cast::<f64>())).collect()
+}
+
+/// The pixel of `image` a point in the base frame lands on, `None` off the picture or behind
+/// the camera.
+pub(super) fn pixel_finder<'a>(
+    image: &'a ColorImage,
+    calibration: &'a CameraCalibration,
+) -> impl Fn(&Point3<f64>) -> Option<(u32, u32)> + 'a {
     let camera_from_base = calibration.base_from_camera.inverse();
-    let k = &calibration.intrinsics;
-    points
-        .iter()
-        .map(|p| {
-            let uv = k.project(&(camera_from_base * p.cast::<f64>()))?;
-            let inside = uv.x >= 0.0
-                && uv.y >= 0.0
-                && uv.x < f64::from(image.width)
-                && uv.y < f64::from(image.height);
-            inside.then_some((uv.x as u32, uv.y as u32))
-        })
-        .collect()
+    move |p| {
+        let uv = calibration.intrinsics.project(&(camera_from_base * p))?;
+        let inside = uv.x >= 0.0
+            && uv.y >= 0.0
+            && uv.x < f64::from(image.width)
+            && uv.y < f64::from(image.height);
+        inside.then_some((uv.x as u32, uv.y as u32))
+    }
 }
 
 fn mean_colour_around(image: &ColorImage, x: u32, y: u32, reach: u32) -> [f32; 2] {
