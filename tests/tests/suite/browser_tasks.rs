@@ -107,6 +107,15 @@ async fn a_caretaker_sees_a_robots_decline_and_why_the_task_waits() {
     // The red note gives the reason; the list under it says who declined and when, once.
     let decline = page.wait_for(&format!("{row} .declines li")).await.text().await.unwrap();
     assert!(decline.starts_with("stretch-1 declined ("), "{decline}");
+    // On a phone the note takes the card's width under its label, not a column beside it.
+    let share = page
+        .eval(&format!(
+            "const note = document.querySelector(\"{row} .stuck\").getBoundingClientRect();
+             const card = document.querySelector(\"{row}\").getBoundingClientRect();
+             return note.width / card.width"
+        ))
+        .await;
+    assert!(share.as_f64().unwrap() > 0.85, "the note is {share} of the card's width");
     assert!(page.fits_width().await, "the tasks page fits a phone");
     assert_eq!(page.accessibility_problems().await, Vec::<String>::new());
     page.close().await;
