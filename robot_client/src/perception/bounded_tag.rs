@@ -378,19 +378,31 @@ fn lying_against_it(
         return None;
     }
     let Surface { centre, normal, points: on_surface } = region_on_the_surface_of(part, region)?;
-    // A side is free only where the picture shows no red either: a red thing nearer the
-    // camera (a lamp's tube before the fabric it touches) hides the surface without being on it.
+    // Red here is the part's own colour, which the tag and the thing against it share: a wood
+    // past the tag's free sides that the search's colours let in is not the thing.
+    let its = colour_of_the_whole(part, image, calibration)?;
+    let colours = colours_around(&on_surface, image, calibration, PIXEL_NOISE_REACH);
+    let on_surface: Vec<Point3<f32>> = on_surface
+        .into_iter()
+        .zip(colours)
+        .filter(|(_, c)| c.is_some_and(|c| its.holds(c)))
+        .map(|(p, _)| p)
+        .collect();
+    // A side is free only where the picture shows none of that colour either: a thing of it
+    // nearer the camera (a tube before the fabric it touches) hides the surface without lying
+    // on it.
     let pixel_of = pixel_finder(image, calibration);
     let seen_red = |p: &Point3<f64>| {
-        pixel_of(p).is_some_and(|(x, y)| params.thresholds.contains(image.pixel(x, y)))
+        let colour = colours_at(&[pixel_of(p)], image, PIXEL_NOISE_REACH)[0];
+        colour.is_some_and(|c| its.holds(c))
     };
     let sizes = &params.home_tags;
     let reach = params.max_tag_radius;
     let found = against_a_side(&on_surface, &centre, &normal, sizes, target, reach, &seen_red)?;
     notes.push(format!(
         "a part {:.0} cm across has a tag's rectangle ({:.1} × {:.1} cm, as registered) \
-         against one side of it, nothing red past its other three: {} of the {} points of its \
-         region on its surface",
+         against one side of it, nothing of their colour past its other three: {} of the {} \
+         points of its region on its surface",
         part.radius * 200.0,
         found.size.width * 100.0,
         found.size.height * 100.0,
@@ -625,6 +637,7 @@ fn without_crossing_strips(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::perception::hsv::HsvThresholds;
     use crate::perception::tag::choose_tag;
     use crate::perception::tag_sighting::TagSighting;
     use rand::{Rng, SeedableRng};
@@ -983,16 +996,45 @@ mod tests {
         // A rocker's 5.6 × 10 cm patch against the side of a red box 20 × 25 cm of its very
         // colour, flush with it, a point a pixel: colour and surface leave them one part, and
         // the disc of the tag's shape rolls over the patch too. Pointed 2 cm into the patch.
+        let (found, notes) = the_patch_against_the_box(None);
+        assert!((found.centroid - Point3::new(1.0, -0.028, -0.01)).norm() < 0.005, "{found:?}");
+        let of_the_tag = found.members.iter().filter(|p| p.y < 0.0).count();
+        assert!(of_the_tag >= 56 * 100 * 9 / 10, "{of_the_tag} of the patch's 5600 points");
+        assert!(notes.iter().any(|n| n.contains("a tag's rectangle (5.6 × 10.0 cm")), "{notes:?}");
+    }
+
+    #[test]
+    fn a_wood_the_search_lets_in_past_the_patchs_free_sides_is_not_the_box() {
+        // The same patch and box on an orange-brown wood that passes the search's colours, a
+        // band of it 3 cm wide all round: the wood is not the box's colour, so the patch's
+        // three sides against it are free.
+        let wood = [175, 80, 45];
+        assert!(HsvThresholds::default().contains(wood), "the wood passes the thresholds");
+        let (found, notes) = the_patch_against_the_box(Some(wood));
+        assert!((found.centroid - Point3::new(1.0, -0.028, -0.01)).norm() < 0.005, "{found:?}");
+        assert!(notes.iter().any(|n| n.contains("a tag's rectangle (5.6 × 10.0 cm")), "{notes:?}");
+    }
+
+    /// The tag found where a rocker's 5.6 × 10 cm patch lies against the side of a red box
+    /// 20 × 25 cm of its very colour on the plane x = 1, a point a pixel, with `wood` (red
+    /// enough for the search) 3 cm wide round both when given, sizes registered; and the notes.
+    fn the_patch_against_the_box(wood: Option<[u8; 3]>) -> (TagDetection, Vec<String>) {
         let mut red = Vec::new();
         let image = the_plane_seen(5, |point| {
             let (y, z) = (f64::from(point.y), f64::from(point.z));
             let on_box = (0.0..0.20).contains(&y) && (-0.12..0.13).contains(&z);
             let on_tag = (-0.056..0.0).contains(&y) && (-0.06..0.04).contains(&z);
-            if on_box || on_tag {
-                red.push(point);
-                [185, 50, 45]
-            } else {
-                [120, 110, 100]
+            let on_wood = (-0.086..0.23).contains(&y) && (-0.15..0.16).contains(&z);
+            match wood {
+                _ if on_box || on_tag => {
+                    red.push(point);
+                    [185, 50, 45]
+                }
+                Some(wood) if on_wood => {
+                    red.push(point);
+                    wood
+                }
+                _ => [120, 110, 100],
             }
         });
         let rocker = pps_schema::TagSize { width: 0.056, height: 0.10 };
@@ -1008,12 +1050,9 @@ mod tests {
             &|parts| parts,
             &mut notes,
         );
-        let Some(TagSighting::Found(found)) = choose_tag(bounded, &params) else {
-            panic!("the patch against the box: {notes:?}");
-        };
-        assert!((found.centroid - Point3::new(1.0, -0.028, -0.01)).norm() < 0.005, "{found:?}");
-        let of_the_tag = found.members.iter().filter(|p| p.y < 0.0).count();
-        assert!(of_the_tag >= 56 * 100 * 9 / 10, "{of_the_tag} of the patch's 5600 points");
-        assert!(notes.iter().any(|n| n.contains("a tag's rectangle (5.6 × 10.0 cm")), "{notes:?}");
+        match choose_tag(bounded, &params) {
+            Some(TagSighting::Found(found)) => (found, notes),
+            other => panic!("the patch against the box: {other:?}, {notes:?}"),
+        }
     }
 }
