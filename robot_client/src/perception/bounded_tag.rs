@@ -30,7 +30,9 @@ use super::tag_search_params::TagSearchParams;
 use super::tag_shape::out_of_reach_of_a_disc;
 use super::tag_sighting::TagDetection;
 use super::two_clusters::of_the_core_cluster;
-use super::two_colours::{colours_around, colours_at, colours_of, pixel_finder, pixels_of};
+use super::two_colours::{
+    colours_around, colours_at, colours_of, mean_colour_around, pixel_finder, pixels_of,
+};
 use crate::hal::{CameraCalibration, ColorImage};
 
 /// Half the width of a surface's band, in standard deviations of the tag's own points about
@@ -393,8 +395,8 @@ fn lying_against_it(
     // on it.
     let pixel_of = pixel_finder(image, calibration);
     let seen_red = |p: &Point3<f64>| {
-        let colour = colours_at(&[pixel_of(p)], image, PIXEL_NOISE_REACH)[0];
-        colour.is_some_and(|c| its.holds(c))
+        pixel_of(p)
+            .is_some_and(|(x, y)| its.holds(mean_colour_around(image, x, y, PIXEL_NOISE_REACH)))
     };
     let sizes = &params.home_tags;
     let reach = params.max_tag_radius;

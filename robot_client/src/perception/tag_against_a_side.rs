@@ -60,9 +60,9 @@ pub(super) struct AgainstASide {
 /// The points of `points` (a red region on one surface, `normal` its normal through `centre`)
 /// in the one rectangle of a size of `sizes` (no thinner than a patch) within `reach` of
 /// `target` that the region fills and that borders nothing red on three sides and the region
-/// on the fourth; `None` when no rectangle does, or two lie apart. Past a free side the picture shows no red either
-/// (`seen_red`, at a place on the surface): a red thing nearer the camera hides the surface
-/// there, and beside a hidden place nothing is known.
+/// on the fourth; `None` when no rectangle does, or two lie apart. Past a free side the
+/// picture shows no red either (`seen_red`, at a place on the surface): a red thing nearer the
+/// camera hides the surface there, and beside a hidden place nothing is known.
 pub(super) fn against_a_side(
     points: &[Point3<f32>],
     centre: &Vector3<f64>,

@@ -66,7 +66,8 @@ pub(super) fn pixel_finder<'a>(
     }
 }
 
-fn mean_colour_around(image: &ColorImage, x: u32, y: u32, reach: u32) -> [f32; 2] {
+/// The mean colour, on the chroma disc, of the pixels within `reach` of pixel (`x`, `y`).
+pub(super) fn mean_colour_around(image: &ColorImage, x: u32, y: u32, reach: u32) -> [f32; 2] {
     let (xs, ys) = (
         x.saturating_sub(reach)..=(x + reach).min(image.width - 1),
         y.saturating_sub(reach)..=(y + reach).min(image.height - 1),
