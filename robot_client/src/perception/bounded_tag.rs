@@ -26,6 +26,7 @@ use super::edge_strips::{dense_in_the_picture, off_the_strips};
 use super::mask::Mask;
 use super::occupancy::{Component, OccupancyGrid};
 use super::tag_against_a_side::against_a_side;
+use super::tag_bound::{TagBound, TooLarge};
 use super::tag_search_params::TagSearchParams;
 use super::tag_shape::out_of_reach_of_a_disc;
 use super::tag_sighting::TagDetection;
@@ -52,28 +53,29 @@ const PIXEL_NOISE_REACH: u32 = 1;
 /// and more away (a towel's fold: saturation 0.38).
 const RED_REACH_SPREADS: f32 = 2.0;
 
-/// The components with each one near the target that is larger than any tag, or of two
-/// colours, divided into the parts a tag could be; `notes` says what was divided and why.
+/// The components with each one near the target that is larger than any tag (`bound`), or of
+/// two colours, divided into the parts a tag could be; `notes` says what was divided and why.
 /// `join` joins the fragments of one tag that its voxels alone leave apart (a towel at a steep
 /// angle, sampled sparsely), as the search joined them before the division: a division must
 /// not break the tag it frees.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn bound_tags(
     components: Vec<Component>,
     image: &ColorImage,
     calibration: &CameraCalibration,
     target: &Point3<f64>,
     params: &TagSearchParams,
+    bound: &TagBound,
     join: &dyn Fn(Vec<Component>) -> Vec<Component>,
     notes: &mut Vec<String>,
 ) -> Vec<Component> {
-    let largest = params.max_tag_radius * 200.0;
     let mut bounded = Vec::with_capacity(components.len());
     for component in components {
         if component.distance_to_target > params.max_distance {
             bounded.push(component);
             continue;
         }
-        if component.radius <= params.max_tag_radius {
+        let Some(too_large) = bound.too_large(&component) else {
             // No larger than a tag, and still possibly two things: a rocker's small patch and
             // the red plastic against it make a region no larger than a towel.
             let red = OtherColour::Red;
@@ -82,8 +84,24 @@ pub(super) fn bound_tags(
                 None => bounded.push(component),
             }
             continue;
+        };
+        // Reaching no further than a tag but wider, it is first divided as a region that size
+        // is: a tube and the fabric hanging beside it are two colours more often than the
+        // colour of the part nearest the target leaves one of them out.
+        if let TooLarge::Wide { .. } = too_large {
+            let mut said = Vec::new();
+            let any = OtherColour::Any;
+            if let Some(parts) =
+                of_two_colours(&component, image, calibration, target, params, any, &mut said)
+            {
+                let parts = join(parts);
+                if nearest_part(&parts, params).is_some_and(|part| bound.holds(part)) {
+                    notes.extend(said);
+                    bounded.extend(parts);
+                    continue;
+                }
+            }
         }
-        let across = component.radius * 200.0;
         let region = component.members.clone();
         let mut members = component.members;
         let colours = colours_around(&members, image, calibration, PIXEL_NOISE_REACH);
@@ -95,10 +113,9 @@ pub(super) fn bound_tags(
         ) {
             Some(split) => {
                 notes.push(format!(
-                    "the red region near the target is {across:.0} cm across, larger than any \
-                     tag ({largest:.0} cm at most): {} of its {} points have the colour of its \
-                     part nearest the target (within three of that part's spreads, {:.3} on \
-                     the chroma disc), the rest another",
+                    "the red region near the target is {too_large}: {} of its {} points have \
+                     the colour of its part nearest the target (within three of that part's \
+                     spreads, {:.3} on the chroma disc), the rest another",
                     split.kept.len(),
                     members.len(),
                     split.spread,
@@ -106,15 +123,13 @@ pub(super) fn bound_tags(
                 members = split.kept;
             }
             None => notes.push(format!(
-                "the red region near the target is {across:.0} cm across, larger than any tag \
-                 ({largest:.0} cm at most), and all of it has the colour of its part nearest \
-                 the target"
+                "the red region near the target is {too_large}, and all of it has the colour of \
+                 its part nearest the target"
             )),
         }
         let mut divided = Vec::new();
         for part in join(components_of(&members, target, params)) {
-            if part.radius <= params.max_tag_radius || part.distance_to_target > params.max_distance
-            {
+            if part.distance_to_target > params.max_distance || bound.holds(&part) {
                 divided.push(part);
                 continue;
             }
@@ -138,26 +153,26 @@ pub(super) fn bound_tags(
         // still larger than any tag, the region's other parts are pieces of the same red thing
         // or of what touches it, and taking one of them would put the tag where it is not.
         if let Some(part) = nearest_part(&divided, params)
-            && part.radius > params.max_tag_radius
+            && !bound.holds(part)
             && let Some(parts) =
                 of_two_colours(part, image, calibration, target, params, OtherColour::Any, notes)
         {
             divided = join(parts);
         }
         if let Some(part) = nearest_part(&divided, params)
-            && part.radius > params.max_tag_radius
+            && !bound.holds(part)
             && let Some(parts) = of_two_surfaces(part, target, params, notes)
         {
             divided = join(parts);
         }
         if let Some(part) = nearest_part(&divided, params)
-            && part.radius > params.max_tag_radius
+            && !bound.holds(part)
             && let Some(parts) = standing_out(part, &region, target, params, notes)
         {
             divided = join(parts);
         }
         if let Some(part) = nearest_part(&divided, params)
-            && part.radius > params.max_tag_radius
+            && !bound.holds(part)
             && let Some(parts) =
                 lying_against_it(part, &region, image, calibration, target, params, notes)
         {
@@ -167,9 +182,17 @@ pub(super) fn bound_tags(
             // Kept whole, so that `choose_tag` knows the red thing nearest the target is not a
             // tag and `too_large_nearest` can say why; beside it, the rest of the region's
             // tag-sized parts, one of which may be the tag the person pointed at.
-            Some(part) if part.radius > params.max_tag_radius => {
-                let beside =
-                    tag_sized_beside(&region, part, image, calibration, target, params, join);
+            Some(part) if !bound.holds(part) => {
+                let beside = tag_sized_beside(
+                    &region,
+                    part,
+                    image,
+                    calibration,
+                    target,
+                    params,
+                    bound,
+                    join,
+                );
                 bounded.push(part.clone());
                 bounded.extend(beside);
             }
@@ -196,6 +219,7 @@ fn tag_sized_beside(
     calibration: &CameraCalibration,
     target: &Point3<f64>,
     params: &TagSearchParams,
+    bound: &TagBound,
     join: &dyn Fn(Vec<Component>) -> Vec<Component>,
 ) -> Vec<Component> {
     let bits = |p: &Point3<f32>| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
@@ -229,7 +253,7 @@ fn tag_sized_beside(
     // points to tell through the noise; fewer are a scrap of the red thing's outline.
     join(components_of(&rest, target, params))
         .into_iter()
-        .filter(|c| c.radius <= params.max_tag_radius && c.points >= core_points(params))
+        .filter(|c| c.points >= core_points(params) && bound.holds(c))
         .collect()
 }
 
@@ -476,21 +500,17 @@ pub(super) fn too_large_nearest(
     components: &[Component],
     taken: Option<&TagDetection>,
     params: &TagSearchParams,
+    bound: &TagBound,
 ) -> Option<String> {
     let nearest = components
         .iter()
         .filter(|c| c.points >= params.min_points && c.distance_to_target <= params.max_distance)
         .min_by(|a, b| a.distance_to_target.total_cmp(&b.distance_to_target))?;
-    if nearest.radius <= params.max_tag_radius {
-        return None;
-    }
+    let too_large = bound.too_large(nearest)?;
     let region = format!(
-        "the red region nearest the target ({} points, {:.0} cm from it) is {:.0} cm across, \
-         larger than any tag ({:.0} cm at most)",
+        "the red region nearest the target ({} points, {:.0} cm from it) is {too_large}",
         nearest.points,
         nearest.distance_to_target * 100.0,
-        nearest.radius * 200.0,
-        params.max_tag_radius * 200.0,
     );
     Some(match taken {
         None => {
@@ -812,6 +832,7 @@ mod tests {
             &calibration,
             target,
             &params,
+            &TagBound::new(&params, &calibration),
             &|parts| parts,
             &mut notes,
         );
@@ -895,6 +916,53 @@ mod tests {
         assert!(found.points >= tag.len() * 9 / 10, "{} of {}", found.points, tag.len());
     }
 
+    #[test]
+    fn a_fabric_beside_a_tube_reaching_no_further_than_it_is_not_taken_for_it() {
+        // A lamp's foam tube, 13 × 3 cm as registered, and a red fabric 8 cm square hanging
+        // against its side, pointed 3 cm into the fabric. Together they reach 8.6 cm from their
+        // middle and each part less, within the tube's 6.7 cm and a fragment's gap: only its
+        // width, 8 cm where the tube's is 3, tells the fabric from a tag.
+        let (mut tube, mut fabric) = (Vec::new(), Vec::new());
+        let image = the_plane_seen(17, |point| {
+            let (y, z) = (f64::from(point.y), f64::from(point.z));
+            if (-0.03..0.0).contains(&y) && z.abs() < 0.065 {
+                tube.push(point);
+                [200, 30, 20]
+            } else if (0.0..0.08).contains(&y) && (-0.02..0.06).contains(&z) {
+                fabric.push(point);
+                [185, 50, 45]
+            } else {
+                [120, 110, 100]
+            }
+        });
+        let tube_size = pps_schema::TagSize { width: 0.13, height: 0.03 };
+        let params = TagSearchParams::default().for_home_tags([tube_size]);
+        let target = Point3::new(1.0, 0.03, 0.02);
+        let all: Vec<Point3<f32>> = tube.iter().chain(&fabric).copied().collect();
+        let region = region_of(&all, &target);
+        assert!(region.radius <= params.max_tag_radius, "{} cm", region.radius * 100.0);
+        let bound = TagBound::new(&params, &looking_along_x());
+        let mut notes = Vec::new();
+        let bounded = bound_tags(
+            vec![region],
+            &image,
+            &looking_along_x(),
+            &target,
+            &params,
+            &bound,
+            &|parts| parts,
+            &mut notes,
+        );
+        let Some(TagSighting::Found(found)) = choose_tag(bounded, &params, &bound) else {
+            panic!("no tube: {notes:?}");
+        };
+        assert!((found.centroid - Point3::new(1.0, -0.015, 0.0)).norm() < 0.005, "{found:?}");
+        // Less the pixels along the fabric, whose colour the camera mixes with the tube's.
+        assert!(found.points >= tube.len() * 4 / 5, "{} of {}", found.points, tube.len());
+        let said = notes.join(" ");
+        assert!(said.contains("wide as the camera sees it, wider than any tag"), "{said}");
+    }
+
     /// The tag found among `tag` and `red_box`, seen in `image` and pointed at 4 cm into the
     /// box, with no tag reaching more than 8 cm from its middle.
     fn found_beside_a_box(
@@ -905,16 +973,18 @@ mod tests {
         let params = TagSearchParams { max_tag_radius: 0.08, ..TagSearchParams::default() };
         let target = Point3::new(1.0, 0.04, 0.0);
         let all: Vec<Point3<f32>> = tag.iter().chain(red_box).copied().collect();
+        let bound = TagBound::new(&params, &looking_along_x());
         let bounded = bound_tags(
             vec![region_of(&all, &target)],
             image,
             &looking_along_x(),
             &target,
             &params,
+            &bound,
             &|parts| parts,
             &mut Vec::new(),
         );
-        match choose_tag(bounded, &params) {
+        match choose_tag(bounded, &params, &bound) {
             Some(TagSighting::Found(found)) => found,
             other => panic!("the tag beside the box: {other:?}"),
         }
@@ -1043,16 +1113,18 @@ mod tests {
         let params = TagSearchParams::default().for_home_tags([rocker]);
         let target = Point3::new(1.0, -0.02, -0.01);
         let mut notes = Vec::new();
+        let bound = TagBound::new(&params, &looking_along_x());
         let bounded = bound_tags(
             vec![region_of(&red, &target)],
             &image,
             &looking_along_x(),
             &target,
             &params,
+            &bound,
             &|parts| parts,
             &mut notes,
         );
-        match choose_tag(bounded, &params) {
+        match choose_tag(bounded, &params, &bound) {
             Some(TagSighting::Found(found)) => (found, notes),
             other => panic!("the patch against the box: {other:?}, {notes:?}"),
         }

@@ -9,6 +9,7 @@ use super::bounded_tag::{bound_tags, too_large_nearest};
 use super::occupancy::{Component, OccupancyGrid};
 use super::projection::{ProjectedCloud, Reach};
 use super::seeded_segmentation::segment_seeded;
+use super::tag_bound::TagBound;
 use super::tag_search_params::TagSearchParams;
 use super::tag_sighting::{TagDetection, TagSighting};
 use crate::hal::{CameraCalibration, ColorImage, PointCloud};
@@ -86,12 +87,15 @@ pub fn search_tag(
         let joined = join_fragments(components, &blobs, calibration, params);
         let mut notes = Vec::new();
         let join = |parts| join_fragments(parts, &blobs, calibration, params);
-        let bounded = bound_tags(joined, image, calibration, target, params, &join, &mut notes);
-        let sighting = choose_tag(bounded.clone(), params);
+        let bound = TagBound::new(params, calibration);
+        let bounded =
+            bound_tags(joined, image, calibration, target, params, &bound, &join, &mut notes);
+        let sighting = choose_tag(bounded.clone(), params, &bound);
         notes.extend(too_large_nearest(
             &bounded,
             sighting.as_ref().map(TagSighting::nearest),
             params,
+            &bound,
         ));
         TagSearch { sighting, notes }
     }))
@@ -174,35 +178,42 @@ fn join_fragments(
 }
 
 /// The component closest to the target among those big enough to be a tag and near enough to
-/// be the one meant, when it is no larger than any tag; ambiguous when another tag, apart from
-/// it, is nearly as close. None when the closest is larger than any tag: the red thing the
-/// person pointed at is not a tag, and a red thing farther away is not what they meant.
-pub fn choose_tag(components: Vec<Component>, params: &TagSearchParams) -> Option<TagSighting> {
+/// be the one meant, when it is no larger than any tag (`bound`); ambiguous when another tag,
+/// apart from it, is nearly as close. None when the closest is larger than any tag: the red
+/// thing the person pointed at is not a tag, and a red thing farther away is not what they
+/// meant.
+pub(super) fn choose_tag(
+    components: Vec<Component>,
+    params: &TagSearchParams,
+    bound: &TagBound,
+) -> Option<TagSighting> {
     let mut near: Vec<Component> = components
         .into_iter()
         .filter(|c| c.points >= params.min_points && c.distance_to_target <= params.max_distance)
         .collect();
     near.sort_by(|a, b| a.distance_to_target.total_cmp(&b.distance_to_target));
-    let first = near.first()?;
+    let (first, rest) = near.split_first()?;
     // A red thing larger than any tag nearest the pointed location is not what the person
     // meant, and a tag about as near as it (within the pointing's ambiguity) beside it may be;
     // one farther away is not.
-    let reach = if first.radius > params.max_tag_radius {
-        first.distance_to_target + params.ambiguity_margin
-    } else {
+    let first_is_a_tag = bound.holds(first);
+    let reach = if first_is_a_tag {
         f64::INFINITY
+    } else {
+        first.distance_to_target + params.ambiguity_margin
     };
-    let candidates: Vec<Component> = near
+    let candidates: Vec<&Component> = first_is_a_tag
+        .then_some(first)
         .into_iter()
-        .filter(|c| c.radius <= params.max_tag_radius && c.distance_to_target <= reach)
+        .chain(rest.iter().filter(|c| c.distance_to_target <= reach && bound.holds(c)))
         .collect();
-    let nearest = TagDetection::from(candidates.first()?);
+    let nearest = TagDetection::from(*candidates.first()?);
     let rival = candidates[1..].iter().find(|c| {
         (c.centroid - nearest.centroid).norm() >= params.min_tag_separation
             && c.distance_to_target - nearest.distance_to_target < params.ambiguity_margin
     });
     Some(match rival {
-        Some(other) => TagSighting::Ambiguous { nearest, other: other.into() },
+        Some(other) => TagSighting::Ambiguous { nearest, other: (*other).into() },
         _ => TagSighting::Found(nearest),
     })
 }
@@ -210,6 +221,12 @@ pub fn choose_tag(components: Vec<Component>, params: &TagSearchParams) -> Optio
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sim::head_camera;
+
+    /// `params`' bound on a tag, seen by the simulator's head camera.
+    fn bound(params: &TagSearchParams) -> TagBound {
+        TagBound::new(params, &head_camera(1.0))
+    }
 
     fn component(distance: f64, points: usize) -> Component {
         Component {
@@ -225,9 +242,15 @@ mod tests {
     #[test]
     fn specks_and_far_lumps_are_not_tags() {
         let params = TagSearchParams::default();
-        assert_eq!(choose_tag(vec![component(0.01, 3), component(0.9, 400)], &params), None);
-        let found =
-            choose_tag(vec![component(0.01, 3), component(0.05, 40), component(0.3, 400)], &params);
+        assert_eq!(
+            choose_tag(vec![component(0.01, 3), component(0.9, 400)], &params, &bound(&params)),
+            None
+        );
+        let found = choose_tag(
+            vec![component(0.01, 3), component(0.05, 40), component(0.3, 400)],
+            &params,
+            &bound(&params),
+        );
         assert_eq!(found, Some(TagSighting::Found(TagDetection::from(&component(0.05, 40)))));
     }
 
@@ -237,10 +260,13 @@ mod tests {
         let mut too_large = component(0.02, 5000);
         too_large.radius = params.max_tag_radius * 1.5;
         let mug = component(0.25, 300);
-        assert_eq!(choose_tag(vec![too_large.clone(), mug.clone()], &params), None);
+        assert_eq!(
+            choose_tag(vec![too_large.clone(), mug.clone()], &params, &bound(&params)),
+            None
+        );
         // Farther than the mug, the large thing does not stand in its way.
         too_large.distance_to_target = 0.3;
-        let found = choose_tag(vec![too_large, mug.clone()], &params);
+        let found = choose_tag(vec![too_large, mug.clone()], &params, &bound(&params));
         assert_eq!(found, Some(TagSighting::Found(TagDetection::from(&mug))));
     }
 
@@ -251,17 +277,19 @@ mod tests {
         let mut red_box = component(0.02, 5000);
         red_box.radius = params.max_tag_radius * 1.5;
         let tube = component(0.035, 300);
-        let found = choose_tag(vec![red_box.clone(), tube.clone()], &params);
+        let found = choose_tag(vec![red_box.clone(), tube.clone()], &params, &bound(&params));
         assert_eq!(found, Some(TagSighting::Found(TagDetection::from(&tube))));
         // Beyond the pointing's ambiguity, it is not what the person meant.
         let far = component(0.02 + params.ambiguity_margin + 0.01, 300);
-        assert_eq!(choose_tag(vec![red_box.clone(), far.clone()], &params), None);
+        assert_eq!(choose_tag(vec![red_box.clone(), far.clone()], &params, &bound(&params)), None);
         // And the notes say which, and why.
         let taken = TagDetection::from(&tube);
-        let said = too_large_nearest(&[red_box.clone(), tube], Some(&taken), &params).unwrap();
+        let said =
+            too_large_nearest(&[red_box.clone(), tube], Some(&taken), &params, &bound(&params))
+                .unwrap();
         let beside = "the tag-sized part beside it (300 points, 4 cm from the target) is taken";
         assert!(said.ends_with(&format!("{beside} for the tag")), "{said}");
-        let said = too_large_nearest(&[red_box, far], None, &params).unwrap();
+        let said = too_large_nearest(&[red_box, far], None, &params, &bound(&params)).unwrap();
         assert!(said.ends_with("so it is not taken for a tag"), "{said}");
     }
 
@@ -270,13 +298,15 @@ mod tests {
         let params = TagSearchParams::default();
         let mut apart = component(0.15, 80);
         apart.centroid = Point3::new(0.0, 0.3, 0.0);
-        let sighting = choose_tag(vec![component(0.12, 50), apart], &params).unwrap();
+        let sighting =
+            choose_tag(vec![component(0.12, 50), apart], &params, &bound(&params)).unwrap();
         assert!(sighting.is_ambiguous());
         assert_eq!(sighting.nearest().points, 50);
         // A strip of the surface behind a tag's edge, 5 cm from its centroid.
         let mut fringe = component(0.13, 15);
         fringe.centroid = Point3::new(0.12, 0.05, 0.0);
-        let sighting = choose_tag(vec![component(0.12, 500), fringe], &params).unwrap();
+        let sighting =
+            choose_tag(vec![component(0.12, 500), fringe], &params, &bound(&params)).unwrap();
         assert!(!sighting.is_ambiguous());
     }
 }

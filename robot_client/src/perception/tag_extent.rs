@@ -60,20 +60,36 @@ fn extent_on(members: &[Point3<f32>], surface_normal: &Vector3<f64>) -> Option<T
     let across = n.cross(&Vector3::z()).try_normalize(1e-6).unwrap_or(Vector3::x());
     let along = n.cross(&across);
     let extent = |axis: &Vector3<f64>| {
-        let mut values: Vec<f64> =
-            members.iter().map(|p| axis.dot(&p.cast::<f64>().coords)).collect();
-        values.sort_unstable_by(f64::total_cmp);
-        let at = |q: f64| {
-            let position = q * (values.len() - 1) as f64;
-            let (below, above) = (position.floor() as usize, position.ceil() as usize);
-            let fraction = position - below as f64;
-            values[below] * (1.0 - fraction) + values[above] * fraction
-        };
-        (at(1.0 - TRIM) - at(TRIM)) / (1.0 - 2.0 * TRIM)
+        let values: Vec<f64> = members.iter().map(|p| axis.dot(&p.cast::<f64>().coords)).collect();
+        trimmed_span(values, TRIM) / (1.0 - 2.0 * TRIM)
     };
     let millimetres = |value: f64| (value * 1000.0).round() / 1000.0;
     let size = TagSize { width: millimetres(extent(&across)), height: millimetres(extent(&along)) };
     (BOUNDS.contains(&size.width) && BOUNDS.contains(&size.height)).then_some(size)
+}
+
+/// How far `values` spread from their `trim` to their `1 - trim` quantile (interpolated):
+/// their span without the strays at either end. Naught for no values.
+pub(super) fn trimmed_span(mut values: Vec<f64>, trim: f64) -> f64 {
+    let high = quantile(&mut values, 1.0 - trim);
+    high - quantile(&mut values, trim)
+}
+
+/// The `q` quantile of `values`, interpolated between the two values about it, reordering
+/// them (a selection, not a sort: this runs for every direction a part's width is measured
+/// in). Naught for no values.
+fn quantile(values: &mut [f64], q: f64) -> f64 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    let position = q * (values.len() - 1) as f64;
+    let below = position.floor() as usize;
+    let (_, at, above) = values.select_nth_unstable_by(below, f64::total_cmp);
+    let at = *at;
+    match above.iter().copied().reduce(f64::min) {
+        Some(next) => at + (next - at) * (position - below as f64),
+        None => at,
+    }
 }
 
 #[cfg(test)]
