@@ -375,8 +375,8 @@ fn place(
     let normal = Vector3::new(normal_h.x, normal_h.y, 0.0);
     // The device frame's x = 0 plane is the backing surface.
     let foot = base_from_device * Point3::new(0.0, 0.0, tag_d.z);
-    let truth = Truth::new(device_parameters.kind(), tag_base, normal, foot)
-        .with_tag_size(&device.tag_extent);
+    let truth =
+        Truth::new(device_parameters.kind(), tag_base, normal, foot).with_tag_size(device.tag_size);
     let error = loop {
         let e = Vector3::new(d.u(-1.0, 1.0), d.u(-1.0, 1.0), d.u(-1.0, 1.0));
         if e.norm() <= 1.0 {

@@ -7,7 +7,7 @@ use pps_robot::navigation::ApproachPlan;
 use pps_schema::TagSize;
 use serde::{Deserialize, Serialize};
 
-use crate::devices::{DeviceKind, Extent};
+use crate::devices::DeviceKind;
 
 /// Largest tag centroid error that is right, metres.
 pub const TAG_TOLERANCE_M: f64 = 0.04;
@@ -55,11 +55,9 @@ impl Truth {
         }
     }
 
-    /// The same truth with the tag's registered size: the two largest sides of `extent`.
-    pub fn with_tag_size(self, extent: &Extent) -> Self {
-        let mut sides: Vec<f64> = (extent.max - extent.min).iter().copied().collect();
-        sides.sort_by(|a, b| b.total_cmp(a));
-        Self { tag_size_m: [sides[0], sides[1]], ..self }
+    /// The same truth with the tag's registered size, `size` (metres, the larger side first).
+    pub fn with_tag_size(self, size: [f64; 2]) -> Self {
+        Self { tag_size_m: size, ..self }
     }
 
     /// The tag's size as a caretaker registers it.

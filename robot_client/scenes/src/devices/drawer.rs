@@ -112,6 +112,7 @@ pub(super) fn drawer(d: &Drawer, rng: &mut impl Rng) -> Device {
         primitives,
         tag_center,
         tag_extent,
+        tag_size: tag_extent.two_largest_sides(),
         extent: extent_of([back, y0 - overhang, 0.0], [handle_out + 0.01, y1 + overhang, h + 0.02]),
         wall_x: back - d.wall_gap_m,
         tops: vec![Top { x: [back + 0.02, -0.03], y: [y0 + 0.02, y1 - 0.02], z: h + 0.02 }],

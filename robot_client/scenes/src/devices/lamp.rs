@@ -72,6 +72,7 @@ pub(super) fn lamp(l: &Lamp, rng: &mut impl Rng) -> Device {
             [tube_center.x - r, -r, tube_center.z - h],
             [tube_center.x + r, r, tube_center.z + h],
         ),
+        tag_size: [l.tube_length_m, 2.0 * r],
         extent: extent_of(
             [pole_x - shade_radius, pole_y - shade_radius, 0.0],
             [pole_x + shade_radius, pole_y + shade_radius, pole_top],

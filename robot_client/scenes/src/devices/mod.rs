@@ -221,6 +221,14 @@ impl Extent {
         )
         .norm()
     }
+
+    /// Its two largest sides, the larger first, metres: the size a caretaker registers for a
+    /// tag lying flat within it.
+    pub fn two_largest_sides(&self) -> [f64; 2] {
+        let mut sides: Vec<f64> = (self.max - self.min).iter().copied().collect();
+        sides.sort_by(|a, b| b.total_cmp(a));
+        [sides[0], sides[1]]
+    }
 }
 
 /// A device built: its primitives and what the scene around it needs to know, device frame.
@@ -230,6 +238,9 @@ pub struct Device {
     /// The tag's centre.
     pub tag_center: Point3<f64>,
     pub tag_extent: Extent,
+    /// The tag's size as a caretaker measures it, the larger side first, metres: a patch's or
+    /// a towel's sides, a foam tube's length and diameter.
+    pub tag_size: [f64; 2],
     /// Where the device stands on the floor (and how high it reaches).
     pub extent: Extent,
     /// x of the room's wall behind the device (0 when the wall is the backing surface).

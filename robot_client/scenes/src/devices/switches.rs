@@ -36,6 +36,8 @@ pub(super) fn flip_switch(s: &FlipSwitch, rng: &mut impl Rng) -> Device {
         s.tube_length_m,
         materials::RED_FOAM.scaled(rng.random_range(0.85..1.15)),
     );
+    // The box the tube may reach on a turned toggle, whatever its tilt; a caretaker measures
+    // the tube itself.
     let reach = s.tube_length_m / 2.0 + s.tube_radius_m;
     Device {
         primitives: vec![plate, lever, tube],
@@ -44,6 +46,7 @@ pub(super) fn flip_switch(s: &FlipSwitch, rng: &mut impl Rng) -> Device {
             (tube_center - Vector3::repeat(reach)).into(),
             (tube_center + Vector3::repeat(reach)).into(),
         ),
+        tag_size: [s.tube_length_m, 2.0 * s.tube_radius_m],
         extent: extent_of([0.0, -PLATE[1], z - PLATE[2]], [0.06, PLATE[1], z + PLATE[2]]),
         wall_x: 0.0,
         tops: vec![],
@@ -90,6 +93,7 @@ pub(super) fn rocker(r: &Rocker, rng: &mut impl Rng) -> Device {
         primitives: vec![plate, paddle, patch],
         tag_center: front,
         tag_extent: extent_of([PLATE[0], -hw, z - hh], [front.x + 0.005, hw, z + hh]),
+        tag_size: [2.0 * hw.max(hh), 2.0 * hw.min(hh)],
         extent: extent_of([0.0, -PLATE[1], z - PLATE[2]], [0.03, PLATE[1], z + PLATE[2]]),
         wall_x: 0.0,
         tops: vec![],

@@ -42,6 +42,7 @@ pub(super) fn trash_can(c: &TrashCan, rng: &mut impl Rng) -> Device {
         primitives,
         tag_center: Point3::new(t, 0.0, z),
         tag_extent: extent_of([0.0, -hw, z - hh], [t, hw, z + hh]),
+        tag_size: [2.0 * hw.max(hh), 2.0 * hw.min(hh)],
         extent: extent_of(
             [back - 0.008, y0 - 0.008, 0.0],
             [0.05, y1 + 0.008, c.height_m + lid_height],
