@@ -712,6 +712,30 @@ mod tests {
         parts.remove(0)
     }
 
+    /// What the search takes in `region`, seen by `looking_along_x` in `image` and pointed at
+    /// `target`, and what it says.
+    fn chosen_in(
+        region: Component,
+        image: &ColorImage,
+        target: &Point3<f64>,
+        params: &TagSearchParams,
+    ) -> (Option<TagSighting>, Vec<String>) {
+        let calibration = looking_along_x();
+        let bound = TagBound::new(params, &calibration);
+        let mut notes = Vec::new();
+        let bounded = bound_tags(
+            vec![region],
+            image,
+            &calibration,
+            target,
+            params,
+            &bound,
+            &|parts| parts,
+            &mut notes,
+        );
+        (choose_tag(bounded, params, &bound), notes)
+    }
+
     #[test]
     fn a_red_box_a_few_millimetres_prouder_than_the_tag_is_parted_from_it() {
         let params = TagSearchParams::default();
@@ -941,19 +965,8 @@ mod tests {
         let all: Vec<Point3<f32>> = tube.iter().chain(&fabric).copied().collect();
         let region = region_of(&all, &target);
         assert!(region.radius <= params.max_tag_radius, "{} cm", region.radius * 100.0);
-        let bound = TagBound::new(&params, &looking_along_x());
-        let mut notes = Vec::new();
-        let bounded = bound_tags(
-            vec![region],
-            &image,
-            &looking_along_x(),
-            &target,
-            &params,
-            &bound,
-            &|parts| parts,
-            &mut notes,
-        );
-        let Some(TagSighting::Found(found)) = choose_tag(bounded, &params, &bound) else {
+        let (sighting, notes) = chosen_in(region, &image, &target, &params);
+        let Some(TagSighting::Found(found)) = sighting else {
             panic!("no tube: {notes:?}");
         };
         assert!((found.centroid - Point3::new(1.0, -0.015, 0.0)).norm() < 0.005, "{found:?}");
@@ -973,18 +986,7 @@ mod tests {
         let params = TagSearchParams { max_tag_radius: 0.08, ..TagSearchParams::default() };
         let target = Point3::new(1.0, 0.04, 0.0);
         let all: Vec<Point3<f32>> = tag.iter().chain(red_box).copied().collect();
-        let bound = TagBound::new(&params, &looking_along_x());
-        let bounded = bound_tags(
-            vec![region_of(&all, &target)],
-            image,
-            &looking_along_x(),
-            &target,
-            &params,
-            &bound,
-            &|parts| parts,
-            &mut Vec::new(),
-        );
-        match choose_tag(bounded, &params, &bound) {
+        match chosen_in(region_of(&all, &target), image, &target, &params).0 {
             Some(TagSighting::Found(found)) => found,
             other => panic!("the tag beside the box: {other:?}"),
         }
@@ -1112,21 +1114,9 @@ mod tests {
         let rocker = pps_schema::TagSize { width: 0.056, height: 0.10 };
         let params = TagSearchParams::default().for_home_tags([rocker]);
         let target = Point3::new(1.0, -0.02, -0.01);
-        let mut notes = Vec::new();
-        let bound = TagBound::new(&params, &looking_along_x());
-        let bounded = bound_tags(
-            vec![region_of(&red, &target)],
-            &image,
-            &looking_along_x(),
-            &target,
-            &params,
-            &bound,
-            &|parts| parts,
-            &mut notes,
-        );
-        match choose_tag(bounded, &params, &bound) {
-            Some(TagSighting::Found(found)) => (found, notes),
-            other => panic!("the patch against the box: {other:?}, {notes:?}"),
+        match chosen_in(region_of(&red, &target), &image, &target, &params) {
+            (Some(TagSighting::Found(found)), notes) => (found, notes),
+            other => panic!("the patch against the box: {other:?}"),
         }
     }
 }

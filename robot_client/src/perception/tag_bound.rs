@@ -190,32 +190,25 @@ impl SeenAcross {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::hal::CameraIntrinsics;
-    use nalgebra::{Isometry3, Rotation3, Translation3, UnitQuaternion};
+    use crate::sim::head_camera;
+    use nalgebra::{Rotation3, Translation3};
     use pps_schema::TagSize;
 
-    /// A 640-pixel camera over 90° at the base's origin, looking along x (optical z = base x,
-    /// x = -y, y = -z).
+    /// The simulator's head camera at 320 × 240: a pixel 4 mm wide at 1 m.
     fn camera() -> CameraCalibration {
-        let rotation =
-            UnitQuaternion::from_basis_unchecked(&[-Vector3::y(), -Vector3::z(), Vector3::x()]);
-        CameraCalibration {
-            intrinsics: CameraIntrinsics {
-                width: 640,
-                height: 480,
-                fx: 320.0,
-                fy: 320.0,
-                cx: 320.0,
-                cy: 240.0,
-            },
-            base_from_camera: Isometry3::from_parts(Vector3::zeros().into(), rotation),
-        }
+        head_camera(0.25)
     }
 
-    /// The points of a `width` × `height` rectangle 2 mm apart, turned `turn` about the line of
-    /// sight and `lean` about the vertical, its middle `range` metres straight ahead.
+    /// The points of a `width` × `height` rectangle 2 mm apart, `range` metres along the
+    /// camera's axis, facing it, then leaning `lean` about its upright and turned `turn` in its
+    /// own plane.
     fn rectangle(width: f64, height: f64, turn: f64, lean: f64, range: f64) -> Component {
-        let pose = Translation3::new(range, 0.0, 0.0)
+        let eye = camera().base_from_camera;
+        let sight = eye.rotation * Vector3::z();
+        let centre = eye.translation.vector + sight * range;
+        let facing = Rotation3::rotation_between(&Vector3::x(), &-sight).expect("not opposite");
+        let pose = Translation3::from(centre)
+            * facing
             * Rotation3::from_axis_angle(&Vector3::z_axis(), lean.to_radians())
             * Rotation3::from_axis_angle(&Vector3::x_axis(), turn.to_radians());
         let (nw, nh) = ((width / 0.002) as i32, (height / 0.002) as i32);
@@ -231,7 +224,7 @@ mod tests {
             })
             .collect();
         Component {
-            centroid: Point3::new(range, 0.0, 0.0),
+            centroid: Point3::from(centre),
             points: members.len(),
             voxels: members.len() / 25,
             distance_to_target: 0.0,
@@ -265,15 +258,15 @@ mod tests {
         match bound.too_large(&fabric) {
             Some(TooLarge::Wide { width, widest, with_pixels }) => {
                 assert!((widest - 0.03).abs() < 1e-12);
-                // Three pixels at 1.5 m on this camera: 1.4 cm.
-                assert!((with_pixels - (0.03 + 3.0 * 1.5 / 320.0)).abs() < 1e-9);
+                // Three pixels at 1.5 m on this camera: 1.8 cm.
+                assert!((with_pixels - (0.03 + 3.0 * 1.5 / 250.0)).abs() < 1e-9);
                 // 8 cm, leaning 20° away: 7.5 cm or more.
                 assert!(width > 0.073 && width < 0.081, "{width}");
             }
             other => panic!("the fabric was let in: {other:?}"),
         }
         // Farther away the pixels are wider, and the slack with them: at 6 m the fabric's
-        // 7.5 cm is within the tube's 3 cm and three pixels of 1.9 cm each.
+        // 7.5 cm is within the tube's 3 cm and three pixels of 2.4 cm each.
         let far = rectangle(0.12, 0.08, 30.0, 20.0, 6.0);
         assert_eq!(bound.too_large(&far), None);
     }
