@@ -1,5 +1,6 @@
-//! A tag is a bounded thing (issue 34). A red region far larger than any tag in the home (a
-//! plywood cabinet whose orange-brown passes the thresholds, a red bin touching the towel) is
+//! A tag is a bounded thing (issue 34). A red region larger than any tag in the home (a
+//! plywood cabinet whose orange-brown passes the thresholds, a red bin touching the towel), by
+//! its reach or, where the tags' sizes are known, by its width ([`super::tag_bound`]), is
 //! never the tag as a whole: it is divided, by colour first, then by surface, and last by the
 //! two colours, then the two surfaces a few millimetres apart, its voxels may fall into
 //! ([`super::two_clusters`]), and where the home's tags' sizes are known, by the shape of a tag
@@ -85,9 +86,10 @@ pub(super) fn bound_tags(
             }
             continue;
         };
-        // Reaching no further than a tag but wider, it is first divided as a region that size
-        // is: a tube and the fabric hanging beside it are two colours more often than the
-        // colour of the part nearest the target leaves one of them out.
+        // Reaching no further than a tag but wider, it is first divided by two colours, voxel
+        // by voxel, as a region of a tag's size is: that parts a tube from the fabric hanging
+        // beside it where the colour of the part nearest the target (below) keeps the fabric
+        // and loses the tube.
         if let TooLarge::Wide { .. } = too_large {
             let mut said = Vec::new();
             let any = OtherColour::Any;
