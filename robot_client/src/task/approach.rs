@@ -35,6 +35,21 @@ pub(crate) fn look(
     Ok(Look { image, plan, target: *target })
 }
 
+/// What a caretaker can do when the red thing nearest the pointed location was too large to
+/// be a tag and the tag could not be told from it. With every tag's size known, a size is no
+/// help: only the red thing or the pointing can change.
+fn too_large_advice(sized: bool) -> &'static str {
+    if sized {
+        "something red larger than any tag of this home is where you pointed, and the tag could \
+         not be told apart from it; move the red thing away from the tag, or point at the \
+         middle of the tag"
+    } else {
+        "something red larger than any tag of this home is where you pointed, and the tag could \
+         not be told apart from it; move the red thing away from the tag, or give the tag's \
+         size in its form"
+    }
+}
+
 /// Perceives around `target` until a look finds the tag and the surface behind it; returns the
 /// last look, which [`drive_to_waypoint`] follows.
 ///
@@ -85,10 +100,12 @@ pub(crate) fn look_for_tag_and_surface(
 
 /// Drives to the plan's waypoint, facing the tag; returns the tag's centre in the odometry
 /// frame, or `None` (with the reason in the report) when there is no way to approach it: no
-/// tag, no surface behind it, or a blocked waypoint.
+/// tag, no surface behind it, or a blocked waypoint. `sized`: the search was bounded by the
+/// sizes registered for the home's tags.
 pub(crate) fn drive_to_waypoint(
     robot: &impl MobileBase,
     plan: &ApproachPlan,
+    sized: bool,
     report: &mut PhaseReport,
 ) -> Result<Option<Point3<f64>>, HalError> {
     let Some(sighting) = &plan.tag else {
@@ -97,9 +114,7 @@ pub(crate) fn drive_to_waypoint(
         match plan.tag_notes.last() {
             Some(why) => report.fail_advising(
                 format!("no tag taken near the pointed location: {why}"),
-                "something red larger than any tag of this home is where you pointed, and the \
-                 tag could not be told apart from it; move the red thing away from the tag, or \
-                 give the tag's size in its form",
+                too_large_advice(sized),
             ),
             None => report.fail_advising(
                 "no red tag near the pointed location",

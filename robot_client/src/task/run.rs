@@ -54,7 +54,8 @@ pub async fn run_task(
     let seen =
         look_for_tag_and_surface(robot, operator, &target, &config.sweep, &config.approach, phase)?;
     robot.saw_the_tag();
-    let Some(mut tag) = drive_to_waypoint(robot, &seen.plan, phase)? else {
+    let sized = !config.approach.tag.home_tags.is_empty();
+    let Some(mut tag) = drive_to_waypoint(robot, &seen.plan, sized, phase)? else {
         return Ok(report);
     };
     let picture = config.picture.then(|| picture_of(robot, &seen, config, phase)).flatten();

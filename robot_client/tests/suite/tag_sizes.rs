@@ -36,6 +36,10 @@ async fn a_towel_larger_than_every_registered_tag_is_refused_in_words_and_found_
         said.contains("what to do: something red larger than any tag of this home"),
         "{report}"
     );
+    // Every size is registered already: the caretaker is asked to move the red thing or point
+    // at the tag's middle, not to give a size.
+    assert!(said.contains("or point at the middle of the tag"), "{report}");
+    assert!(!said.contains("give the tag's size"), "{report}");
     assert!(result.after.drawer_open < 0.01, "the robot did not act");
 
     // The towel's own size registered: the largest tag of the home, found and pulled.

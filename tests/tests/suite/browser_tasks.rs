@@ -133,7 +133,7 @@ async fn the_robots_own_words_open_on_request_and_a_long_reason_leaves_the_row_r
     let id = task["id"].as_str().unwrap();
     let reason = "it tried and could not find the tag: something red larger than any tag of \
                   this home is where you pointed, and the tag could not be told apart from it; \
-                  move the red thing away from the tag, or give the tag's size in its form";
+                  move the red thing away from the tag, or point at the middle of the tag";
     let said = "no tag taken near the pointed location: the red region nearest the target \
                 (2137 points, 3 cm from it) is 35 cm across, larger than any tag (17 cm at \
                 most), and neither its colours, its surfaces nor its shape divide it";
