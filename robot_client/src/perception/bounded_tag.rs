@@ -180,6 +180,16 @@ pub(super) fn bound_tags(
         {
             divided = join(parts);
         }
+        // What the shape leaves may reach no further than a tag and still be wider: a tube
+        // and the strip of the fabric beside it that the disc could not take. Alone, their two
+        // colours lie apart as the fabric's many points kept them from doing in the whole part.
+        if let Some(part) = nearest_part(&divided, params)
+            && let Some(TooLarge::Wide { .. }) = bound.too_large(part)
+            && let Some(parts) =
+                of_two_colours(part, image, calibration, target, params, OtherColour::Any, notes)
+        {
+            divided = join(parts);
+        }
         match nearest_part(&divided, params) {
             // Kept whole, so that `choose_tag` knows the red thing nearest the target is not a
             // tag and `too_large_nearest` can say why; beside it, the rest of the region's
