@@ -142,7 +142,7 @@ impl SeenAcross {
         Some(Self { flat })
     }
 
-    /// The width, 2nd to 98th percentile, across the direction `angle` from level.
+    /// The width, 2nd to 98th percentile, measured along the direction `angle` from level.
     fn width_at(&self, angle: f64) -> f64 {
         let (sin, cos) = angle.sin_cos();
         trimmed_span(self.flat.iter().map(|[x, y]| x * cos + y * sin).collect(), TRIM)
