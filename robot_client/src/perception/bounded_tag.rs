@@ -154,47 +154,64 @@ pub(super) fn bound_tags(
         // The tag the person pointed at is the part nearest the target. When that part is
         // still larger than any tag, the region's other parts are pieces of the same red thing
         // or of what touches it, and taking one of them would put the tag where it is not.
-        if let Some(part) = nearest_part(&divided, params)
-            && !bound.holds(part)
+        // Each step below divides it further; its size is judged again only when one did.
+        let mut stuck = nearest_too_large(&divided, params, bound);
+        if let Some((i, _)) = stuck
+            && let Some(parts) = of_two_colours(
+                &divided[i],
+                image,
+                calibration,
+                target,
+                params,
+                OtherColour::Any,
+                notes,
+            )
+        {
+            divided = join(parts);
+            stuck = nearest_too_large(&divided, params, bound);
+        }
+        if let Some((i, _)) = stuck
+            && let Some(parts) = of_two_surfaces(&divided[i], target, params, notes)
+        {
+            divided = join(parts);
+            stuck = nearest_too_large(&divided, params, bound);
+        }
+        if let Some((i, _)) = stuck
+            && let Some(parts) = standing_out(&divided[i], &region, target, params, notes)
+        {
+            divided = join(parts);
+            stuck = nearest_too_large(&divided, params, bound);
+        }
+        if let Some((i, _)) = stuck
             && let Some(parts) =
-                of_two_colours(part, image, calibration, target, params, OtherColour::Any, notes)
+                lying_against_it(&divided[i], &region, image, calibration, target, params, notes)
         {
             divided = join(parts);
-        }
-        if let Some(part) = nearest_part(&divided, params)
-            && !bound.holds(part)
-            && let Some(parts) = of_two_surfaces(part, target, params, notes)
-        {
-            divided = join(parts);
-        }
-        if let Some(part) = nearest_part(&divided, params)
-            && !bound.holds(part)
-            && let Some(parts) = standing_out(part, &region, target, params, notes)
-        {
-            divided = join(parts);
-        }
-        if let Some(part) = nearest_part(&divided, params)
-            && !bound.holds(part)
-            && let Some(parts) =
-                lying_against_it(part, &region, image, calibration, target, params, notes)
-        {
-            divided = join(parts);
+            stuck = nearest_too_large(&divided, params, bound);
         }
         // What the shape leaves may reach no further than a tag and still be wider: a tube
         // and the strip of the fabric beside it that the disc could not take. Alone, their two
         // colours lie apart as the fabric's many points kept them from doing in the whole part.
-        if let Some(part) = nearest_part(&divided, params)
-            && let Some(TooLarge::Wide { .. }) = bound.too_large(part)
-            && let Some(parts) =
-                of_two_colours(part, image, calibration, target, params, OtherColour::Any, notes)
+        if let Some((i, TooLarge::Wide { .. })) = stuck
+            && let Some(parts) = of_two_colours(
+                &divided[i],
+                image,
+                calibration,
+                target,
+                params,
+                OtherColour::Any,
+                notes,
+            )
         {
             divided = join(parts);
+            stuck = nearest_too_large(&divided, params, bound);
         }
-        match nearest_part(&divided, params) {
+        match stuck {
             // Kept whole, so that `choose_tag` knows the red thing nearest the target is not a
             // tag and `too_large_nearest` can say why; beside it, the rest of the region's
             // tag-sized parts, one of which may be the tag the person pointed at.
-            Some(part) if !bound.holds(part) => {
+            Some((i, _)) => {
+                let part = &divided[i];
                 let beside = tag_sized_beside(
                     &region,
                     part,
@@ -208,7 +225,7 @@ pub(super) fn bound_tags(
                 bounded.push(part.clone());
                 bounded.extend(beside);
             }
-            _ => bounded.extend(divided),
+            None => bounded.extend(divided),
         }
     }
     bounded
@@ -286,6 +303,18 @@ fn nearest_part<'a>(parts: &'a [Component], params: &TagSearchParams) -> Option<
         .iter()
         .filter(|p| p.points >= params.min_points)
         .min_by(|a, b| a.distance_to_target.total_cmp(&b.distance_to_target))
+}
+
+/// Where in `parts` their [`nearest_part`] is, and why it is no tag; `None` when it may be one,
+/// or there is none.
+fn nearest_too_large(
+    parts: &[Component],
+    params: &TagSearchParams,
+    bound: &TagBound,
+) -> Option<(usize, TooLarge)> {
+    let nearest = nearest_part(parts, params)?;
+    let i = parts.iter().position(|p| std::ptr::eq(p, nearest))?;
+    Some((i, bound.too_large(nearest)?))
 }
 
 /// Which second colours divide a part.
