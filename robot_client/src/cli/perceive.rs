@@ -50,10 +50,11 @@ pub struct PerceiveArgs {
     #[arg(long, value_name = "HMIN,HMAX,SMIN,SMAX,VMIN,VMAX", allow_hyphen_values = true, value_parser = parse_hsv)]
     pub hsv: Option<HsvThresholds>,
     /// The home's largest tag as registered (`tag_size`), WIDTH,HEIGHT in metres: a red region
-    /// reaching further than its half diagonal and 3 cm, or wider as the camera sees it than
-    /// its narrower side and three pixels, is never taken as a tag, though a piece of it a disc
-    /// a little wider than the tag cannot reach may be. Default: a towel over a wide drawer's
-    /// handle (60 × 35 cm), no bound on the width and no such piece.
+    /// reaching further than its half diagonal and 3 cm, or, as the camera sees it, wider than
+    /// its narrower side or longer than its diagonal by three pixels, is never taken as a tag,
+    /// though a piece of it a disc a little wider than the tag cannot reach may be. Default: a
+    /// towel over a wide drawer's handle (60 × 35 cm), no bound on the width or length and no
+    /// such piece.
     #[arg(long, value_name = "WIDTH,HEIGHT", allow_hyphen_values = true, value_parser = parse_largest_tag)]
     pub largest_tag: Option<TagSize>,
     /// Print one JSON document on stdout and nothing else.

@@ -86,11 +86,11 @@ pub(super) fn bound_tags(
             }
             continue;
         };
-        // Reaching no further than a tag but wider, it is first divided by two colours, voxel
-        // by voxel, as a region of a tag's size is: that parts a tube from the fabric hanging
+        // Reaching no further than a tag but wider or longer, it is first divided by two
+        // colours, voxel by voxel, as a region of a tag's size is: that parts a tube from the fabric hanging
         // beside it where the colour of the part nearest the target (below) keeps the fabric
         // and loses the tube.
-        if let TooLarge::Wide { .. } = too_large {
+        if let TooLarge::Wide { .. } | TooLarge::Long { .. } = too_large {
             let mut said = Vec::new();
             let any = OtherColour::Any;
             if let Some(parts) =

@@ -1,6 +1,7 @@
 //! Whether a red part can be a tag of the home (issue 34): no part reaching further from its
 //! middle than the largest tag does, and, where the home's tags' sizes are known, no part wider
-//! where the camera looks at it than the widest tag's narrower side.
+//! where the camera looks at it than the widest tag's narrower side, nor longer than the
+//! longest tag's diagonal.
 //!
 //! The reach alone lets in a red thing about as large as the tag but of another shape: a
 //! fabric 13 × 10 cm hanging beside a lamp's 13 × 3 cm foam tube reaches no further from its
@@ -11,6 +12,11 @@
 //! points along their rays; it owes the camera's pixels (a strip covers one pixel more than its
 //! width fills, and the colour split reads the mean of the pixels one around each point's own),
 //! so a tag may be wider than registered by [`PIXELS_OF_SLACK`] pixels at its distance.
+//!
+//! The width lets in a red thing narrow where the camera looks at it: the face of a red box
+//! seen nearly edge on beside a flip switch's 4 × 3 cm tube, a strip 3 cm wide and 7–10 cm long
+//! that reaches no further from its middle than the tube and its fragments may. No tag, seen
+//! from anywhere, is longer in any direction than its diagonal; the strip is.
 //!
 //! On the corpus's RGB-D scenes with sizes registered (500, red things touching the tags), no
 //! part that was the tag itself was more than 1.7 pixels wider than registered; of the red
@@ -48,6 +54,8 @@ pub(super) struct TagBound {
     reach: f64,
     /// The widest tag's narrower side, metres, when the home's tags' sizes are known.
     widest: Option<f64>,
+    /// The longest tag's diagonal, metres, when the home's tags' sizes are known.
+    longest: Option<f64>,
     /// The camera's centre, base frame.
     eye: Point3<f64>,
     /// One pixel's width at one metre, metres.
@@ -62,6 +70,9 @@ pub(super) enum TooLarge {
     /// It is wider, where the camera looks at it, than any tag: its width, the widest tag's
     /// narrower side and that with the camera's pixels there, metres.
     Wide { width: f64, widest: f64, with_pixels: f64 },
+    /// It is longer, where the camera looks at it, than any tag's diagonal: its length, the
+    /// longest tag's diagonal and that with the camera's pixels there, metres.
+    Long { length: f64, longest: f64, with_pixels: f64 },
 }
 
 impl TagBound {
@@ -70,6 +81,7 @@ impl TagBound {
         Self {
             reach: params.max_tag_radius,
             widest: params.widest_tag_half_width.map(|half| 2.0 * half),
+            longest: params.home_tags.iter().map(|s| 2.0 * s.reach()).reduce(f64::max),
             eye: Point3::from(calibration.base_from_camera.translation.vector),
             pixel_at_one_metre: 1.0 / k.fx.min(k.fy),
         }
@@ -85,12 +97,19 @@ impl TagBound {
         if part.radius > self.reach {
             return Some(TooLarge::Across { across: 2.0 * part.radius, at_most: 2.0 * self.reach });
         }
-        let widest = self.widest?;
+        let (widest, longest) = (self.widest?, self.longest?);
         let distance = (part.centroid - self.eye).norm();
-        let with_pixels = widest + PIXELS_OF_SLACK * self.pixel_at_one_metre * distance;
+        let slack = PIXELS_OF_SLACK * self.pixel_at_one_metre * distance;
         let seen = SeenAcross::new(&part.members, &part.centroid, &self.eye)?;
-        let width = seen.narrowest_width_beyond(with_pixels)?;
-        Some(TooLarge::Wide { width, widest, with_pixels })
+        if let Some(width) = seen.narrowest_width_beyond(widest + slack) {
+            return Some(TooLarge::Wide { width, widest, with_pixels: widest + slack });
+        }
+        let length = seen.length();
+        (length > longest + slack).then_some(TooLarge::Long {
+            length,
+            longest,
+            with_pixels: longest + slack,
+        })
     }
 }
 
@@ -109,6 +128,14 @@ impl fmt::Display for TooLarge {
                  {:.1} cm with the camera's pixels there)",
                 width * 100.0,
                 widest * 100.0,
+                with_pixels * 100.0
+            ),
+            Self::Long { length, longest, with_pixels } => write!(
+                f,
+                "{:.1} cm long as the camera sees it, longer than any tag's diagonal ({:.1} cm \
+                 at most, {:.1} cm with the camera's pixels there)",
+                length * 100.0,
+                longest * 100.0,
                 with_pixels * 100.0
             ),
         }
@@ -171,6 +198,13 @@ impl SeenAcross {
             .map(|i| self.width_at(narrowest.1 + f64::from(i) * degree))
             .fold(narrowest.0, f64::min);
         (width > limit).then_some(width)
+    }
+
+    /// The length, 2nd to 98th percentile, along the points' axis of most scatter: never more
+    /// than the part's extent in its longest direction, which for a tag seen from anywhere is
+    /// at most its diagonal.
+    fn length(&self) -> f64 {
+        self.width_at(self.direction_of_least_scatter() + std::f64::consts::FRAC_PI_2)
     }
 
     /// The angle from level of the points' axis of least scatter.
@@ -269,6 +303,34 @@ mod tests {
         // 7.5 cm is within the tube's 3 cm and three pixels of 2.4 cm each.
         let far = rectangle(0.12, 0.08, 30.0, 20.0, 6.0);
         assert_eq!(bound.too_large(&far), None);
+    }
+
+    #[test]
+    fn a_red_strip_as_narrow_as_the_tag_but_longer_than_its_diagonal_is_no_tag() {
+        // A flip switch's 4.4 × 3 cm foam tube; the face of a red box seen nearly edge on
+        // beside it, a strip 2.5 × 10 cm. The strip reaches 5.2 cm from its middle, within the
+        // tube's 2.7 cm and a fragment's gap, and is narrower than the tube.
+        let home =
+            TagSearchParams::default().for_home_tags([TagSize { width: 0.044, height: 0.03 }]);
+        let bound = TagBound::new(&home, &camera());
+        let strip = rectangle(0.025, 0.10, 0.0, 0.0, 1.5);
+        assert!(strip.radius <= home.max_tag_radius);
+        match bound.too_large(&strip) {
+            Some(TooLarge::Long { length, longest, with_pixels }) => {
+                assert!((longest - 0.044f64.hypot(0.03)).abs() < 1e-12);
+                assert!((with_pixels - (longest + 3.0 * 1.5 / 250.0)).abs() < 1e-9);
+                // 10 cm, less the 2 % of its points left off each end.
+                assert!(length > 0.095 && length <= 0.10, "{length}");
+            }
+            other => panic!("the strip was let in: {other:?}"),
+        }
+        // The tube itself, turned and leaning any way, is never as long as its diagonal.
+        for turn in [0.0, 35.0, 90.0] {
+            for lean in [0.0, 60.0] {
+                let tube = rectangle(0.044, 0.03, turn, lean, 1.5);
+                assert_eq!(bound.too_large(&tube), None, "turned {turn}°, leaning {lean}°");
+            }
+        }
     }
 
     #[test]
