@@ -26,6 +26,7 @@ use super::core_colour::{ColourOf, tag_coloured};
 use super::edge_strips::{dense_in_the_picture, off_the_strips};
 use super::mask::Mask;
 use super::occupancy::{Component, OccupancyGrid};
+use super::tag::about_as_near;
 use super::tag_against_a_side::against_a_side;
 use super::tag_bound::{TagBound, TooLarge};
 use super::tag_search_params::TagSearchParams;
@@ -182,7 +183,23 @@ pub(super) fn bound_tags(
             divided = join(parts);
             stuck = nearest_too_large(&divided, params, bound);
         }
+        // A tag against the red thing by a whole side is looked for only where no part of the
+        // region beside it is tag-sized and about as near the target: one is a tag of a colour
+        // of its own, and past the rectangle's side against it the red thing's colour would
+        // end as at a free side.
         if let Some((i, _)) = stuck
+            && !tag_sized_beside(
+                &region,
+                &divided[i],
+                image,
+                calibration,
+                target,
+                params,
+                bound,
+                join,
+            )
+            .iter()
+            .any(|beside| about_as_near(beside, &divided[i], params))
             && let Some(parts) =
                 lying_against_it(&divided[i], &region, image, calibration, target, params, notes)
         {
@@ -987,32 +1004,18 @@ mod tests {
         // against its side, pointed 3 cm into the fabric. Together they reach 8.6 cm from their
         // middle and each part less, within the tube's 6.7 cm and a fragment's gap: only its
         // width, 8 cm where the tube's is 3, tells the fabric from a tag.
-        let (mut tube, mut fabric) = (Vec::new(), Vec::new());
-        let image = the_plane_seen(17, |point| {
-            let (y, z) = (f64::from(point.y), f64::from(point.z));
-            if (-0.03..0.0).contains(&y) && z.abs() < 0.065 {
-                tube.push(point);
-                [200, 30, 20]
-            } else if (0.0..0.08).contains(&y) && (-0.02..0.06).contains(&z) {
-                fabric.push(point);
-                [185, 50, 45]
-            } else {
-                [120, 110, 100]
-            }
-        });
-        let tube_size = pps_schema::TagSize { width: 0.13, height: 0.03 };
-        let params = TagSearchParams::default().for_home_tags([tube_size]);
+        let tube = OnThePlane { y: -0.03..0.0, z: -0.065..0.065, colour: [200, 30, 20] };
+        let fabric = OnThePlane { y: 0.0..0.08, z: -0.02..0.06, colour: [185, 50, 45] };
+        let registered = pps_schema::TagSize { width: 0.13, height: 0.03 };
         let target = Point3::new(1.0, 0.03, 0.02);
-        let all: Vec<Point3<f32>> = tube.iter().chain(&fabric).copied().collect();
-        let region = region_of(&all, &target);
-        assert!(region.radius <= params.max_tag_radius, "{} cm", region.radius * 100.0);
-        let (sighting, notes) = chosen_in(region, &image, &target, &params);
-        let Some(TagSighting::Found(found)) = sighting else {
-            panic!("no tube: {notes:?}");
-        };
+        let (region, _, of_the_tube) = tag_and_thing(17, &tube, &fabric, &target);
+        let reach = TagSearchParams::default().for_home_tags([registered]).max_tag_radius;
+        assert!(region.radius <= reach, "{} cm", region.radius * 100.0);
+        let (found, notes) = found_on_the_plane(17, &tube, &fabric, registered, &target);
         assert!((found.centroid - Point3::new(1.0, -0.015, 0.0)).norm() < 0.005, "{found:?}");
         // Less the pixels along the fabric, whose colour the camera mixes with the tube's.
-        assert!(found.points >= tube.len() * 4 / 5, "{} of {}", found.points, tube.len());
+        let tube_points = of_the_tube.len();
+        assert!(found.points >= tube_points * 4 / 5, "{} of {tube_points}", found.points);
         let said = notes.join(" ");
         assert!(said.contains("wide as the camera sees it, wider than any tag"), "{said}");
     }
@@ -1058,6 +1061,57 @@ mod tests {
             }
         });
         (tag, red_box, image)
+    }
+
+    /// A rectangle of the plane x = 1, its `y` and `z` in metres, of one colour.
+    struct OnThePlane {
+        y: std::ops::Range<f64>,
+        z: std::ops::Range<f64>,
+        colour: [u8; 3],
+    }
+
+    /// The region a tag and a red thing against it make on the plane x = 1, the plane's
+    /// picture (`seed` scattering its pixels) and the tag's own points.
+    fn tag_and_thing(
+        seed: u64,
+        tag: &OnThePlane,
+        thing: &OnThePlane,
+        target: &Point3<f64>,
+    ) -> (Component, ColorImage, Vec<Point3<f32>>) {
+        let (mut of_the_tag, mut all) = (Vec::new(), Vec::new());
+        let image = the_plane_seen(seed, |point| {
+            let (y, z) = (f64::from(point.y), f64::from(point.z));
+            let on = |r: &OnThePlane| r.y.contains(&y) && r.z.contains(&z);
+            if on(tag) {
+                of_the_tag.push(point);
+                all.push(point);
+                tag.colour
+            } else if on(thing) {
+                all.push(point);
+                thing.colour
+            } else {
+                [120, 110, 100]
+            }
+        });
+        (region_of(&all, target), image, of_the_tag)
+    }
+
+    /// The tag the search finds where `tag` and a red `thing` against it lie on the plane
+    /// x = 1 (`seed` scattering the picture's pixels), the home's tags of `registered` size,
+    /// pointed at `target`; and the notes. Panics when it finds none, or two.
+    fn found_on_the_plane(
+        seed: u64,
+        tag: &OnThePlane,
+        thing: &OnThePlane,
+        registered: pps_schema::TagSize,
+        target: &Point3<f64>,
+    ) -> (TagDetection, Vec<String>) {
+        let params = TagSearchParams::default().for_home_tags([registered]);
+        let (region, image, _) = tag_and_thing(seed, tag, thing, target);
+        match chosen_in(region, &image, target, &params) {
+            (Some(TagSighting::Found(found)), notes) => (found, notes),
+            (sighting, notes) => panic!("no tag found clearly: {sighting:?} {notes:?}"),
+        }
     }
 
     /// The plane x = 1 as `looking_along_x` sees it, 40 × 40 cm: each pixel the colour
@@ -1128,6 +1182,23 @@ mod tests {
         let (found, notes) = the_patch_against_the_box(Some(wood));
         assert!((found.centroid - Point3::new(1.0, -0.028, -0.01)).norm() < 0.005, "{found:?}");
         assert!(notes.iter().any(|n| n.contains("a tag's rectangle (5.6 × 10.0 cm")), "{notes:?}");
+    }
+
+    #[test]
+    fn a_patch_of_its_own_colour_beside_a_fabric_is_taken_before_a_rectangle_in_the_fabric() {
+        // A rocker's 5.8 × 8.4 cm patch against the end of a red fabric 20 × 9 cm of another
+        // red, flush with it, pointed 1 cm into the fabric (rocker 59 of the corpus). The
+        // colour nearest the target keeps the fabric; a rectangle of the patch's size fits in
+        // the fabric's end, its top and bottom free and its side against the patch free of the
+        // fabric's colour, and was taken. The patch beside it, as near the target, is the tag.
+        let patch = OnThePlane { y: -0.058..0.0, z: -0.042..0.042, colour: [200, 30, 20] };
+        let fabric = OnThePlane { y: 0.0..0.20, z: -0.045..0.045, colour: [170, 45, 70] };
+        let registered = pps_schema::TagSize { width: 0.058, height: 0.084 };
+        let target = Point3::new(1.0, 0.01, 0.0);
+        let (found, notes) = found_on_the_plane(29, &patch, &fabric, registered, &target);
+        assert!((found.centroid - Point3::new(1.0, -0.029, 0.0)).norm() < 0.005, "{notes:?}");
+        let said = notes.join(" ");
+        assert!(!said.contains("a tag's rectangle"), "{said}");
     }
 
     /// The tag found where a rocker's 5.6 × 10 cm patch lies against the side of a red box

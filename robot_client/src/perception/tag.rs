@@ -177,6 +177,12 @@ fn join_fragments(
     joined.into_values().chain(far).collect()
 }
 
+/// Whether `part` is about as near the target as `than`, or nearer: within the pointing's
+/// ambiguity, as a tag beside a red thing the person pointed at may be.
+pub(super) fn about_as_near(part: &Component, than: &Component, params: &TagSearchParams) -> bool {
+    part.distance_to_target <= than.distance_to_target + params.ambiguity_margin
+}
+
 /// The component closest to the target among those big enough to be a tag and near enough to
 /// be the one meant, when it is no larger than any tag (`bound`); ambiguous when another tag,
 /// apart from it, is nearly as close. None when the closest is larger than any tag: the red
@@ -197,15 +203,13 @@ pub(super) fn choose_tag(
     // meant, and a tag about as near as it (within the pointing's ambiguity) beside it may be;
     // one farther away is not.
     let first_is_a_tag = bound.holds(first);
-    let reach = if first_is_a_tag {
-        f64::INFINITY
-    } else {
-        first.distance_to_target + params.ambiguity_margin
-    };
     let candidates: Vec<&Component> = first_is_a_tag
         .then_some(first)
         .into_iter()
-        .chain(rest.iter().filter(|c| c.distance_to_target <= reach && bound.holds(c)))
+        .chain(
+            rest.iter()
+                .filter(|c| (first_is_a_tag || about_as_near(c, first, params)) && bound.holds(c)),
+        )
         .collect();
     let nearest = TagDetection::from(*candidates.first()?);
     let rival = candidates[1..].iter().find(|c| {
