@@ -78,19 +78,13 @@ pub(super) fn bound_tags(
             continue;
         }
         let Some(too_large) = bound.too_large(&component) else {
-            // No larger than a tag, and still possibly two things: a rocker's small patch and
-            // the red plastic against it make a region no larger than a towel.
-            let red = OtherColour::Red;
-            match of_two_colours(&component, image, calibration, target, params, red, notes) {
-                Some(parts) => bounded.extend(join(parts)),
-                None => bounded.push(component),
-            }
+            bounded.extend(tag_sized(component, image, calibration, target, params, join, notes));
             continue;
         };
         // Reaching no further than a tag but wider or longer, it is first divided by two
-        // colours, voxel by voxel, as a region of a tag's size is: that parts a tube from the fabric hanging
-        // beside it where the colour of the part nearest the target (below) keeps the fabric
-        // and loses the tube.
+        // colours, voxel by voxel, as a region of a tag's size is: that parts a tube from the
+        // fabric hanging beside it where the colour of the part nearest the target (below)
+        // keeps the fabric and loses the tube.
         if let TooLarge::Wide { .. } | TooLarge::Long { .. } = too_large {
             let mut said = Vec::new();
             let any = OtherColour::Any;
@@ -242,10 +236,41 @@ pub(super) fn bound_tags(
                 bounded.push(part.clone());
                 bounded.extend(beside);
             }
-            None => bounded.extend(divided),
+            // The parts a division left near the target and no larger than a tag may still be
+            // two things, as a region of a tag's size may.
+            None => {
+                for part in divided {
+                    if part.distance_to_target <= params.max_distance && bound.holds(&part) {
+                        let parts =
+                            tag_sized(part, image, calibration, target, params, join, notes);
+                        bounded.extend(parts);
+                    } else {
+                        bounded.push(part);
+                    }
+                }
+            }
         }
     }
     bounded
+}
+
+/// `part`, no larger than a tag, divided into its two things when it is two: a rocker's small
+/// patch and the red plastic against it make a region no larger than a towel, and a lamp's
+/// pull chain seen before a wooden wall joins the tube.
+fn tag_sized(
+    part: Component,
+    image: &ColorImage,
+    calibration: &CameraCalibration,
+    target: &Point3<f64>,
+    params: &TagSearchParams,
+    join: &dyn Fn(Vec<Component>) -> Vec<Component>,
+    notes: &mut Vec<String>,
+) -> Vec<Component> {
+    let red = OtherColour::Red;
+    match of_two_colours(&part, image, calibration, target, params, red, notes) {
+        Some(parts) => join(parts),
+        None => vec![part],
+    }
 }
 
 /// The parts of `region` no larger than a tag once `part`, a red thing too large to be one,
@@ -365,7 +390,7 @@ fn of_two_colours(
     if let OtherColour::Red = other
         && params.thresholds.chroma_distance(half.other) > RED_REACH_SPREADS * half.spread
     {
-        return None;
+        return beyond_the_closing(part, &half.kept, image, calibration, target, params, notes);
     }
     notes.push(format!(
         "a part {:.0} cm across is of two colours voxel by voxel ({:.3} apart on the chroma \
@@ -379,6 +404,52 @@ fn of_two_colours(
     ));
     let kept: Vec<Point3<f32>> = half.kept.iter().map(|&i| part.members[i]).collect();
     Some(components_of(&kept, target, params))
+}
+
+/// `part` without its points of a colour the search does not take that lie beyond the mask's
+/// closing from every point of its tag's colour (`kept`), when there are enough of them to be
+/// a thing. The closing fills a tag's outline and its folds with pixels of other colours, and
+/// those points belong to the tag. Points further from the tag's colour were not filled in for
+/// it: a thin thing one or two pixels wide closed over between the pixels of a red-enough
+/// background (a lamp's pull chain before a wooden wall), or a wood whose colour the search
+/// lets in only here and there. Only a cloud dense in the picture is judged so: a laser's beams
+/// land pixels apart, and the tag's own points of another colour may lie as far from its red
+/// ones.
+fn beyond_the_closing(
+    part: &Component,
+    kept: &[usize],
+    image: &ColorImage,
+    calibration: &CameraCalibration,
+    target: &Point3<f64>,
+    params: &TagSearchParams,
+    notes: &mut Vec<String>,
+) -> Option<Vec<Component>> {
+    let pixels = pixels_of(&part.members, image, calibration);
+    if !dense_in_the_picture(&pixels, image.width, image.height) {
+        return None;
+    }
+    let mut red = Mask::new(image.width as usize, image.height as usize);
+    for &(x, y) in kept.iter().filter_map(|&i| pixels[i].as_ref()) {
+        red.set(x as usize, y as usize, true);
+    }
+    let within = red.dilate(params.close_radius_px);
+    let near_red =
+        |px: &Option<(u32, u32)>| px.is_none_or(|(x, y)| within.get(x as usize, y as usize));
+    let stays: Vec<Point3<f32>> =
+        part.members.iter().zip(&pixels).filter(|(_, px)| near_red(px)).map(|(p, _)| *p).collect();
+    let beyond = part.members.len() - stays.len();
+    if beyond < params.min_points {
+        return None;
+    }
+    notes.push(format!(
+        "a part {:.0} cm across has {beyond} of its {} points of a colour the search does not \
+         take further in the picture than its closing ({} pixels) from every point of its own \
+         colour: another thing, not the tag's outline the closing filled",
+        part.radius * 200.0,
+        part.points,
+        params.close_radius_px,
+    ));
+    Some(components_of(&stays, target, params))
 }
 
 /// `part` divided by its voxels' distances from the plane its part nearest the target lies on,
@@ -996,6 +1067,41 @@ mod tests {
         let found = found_beside_a_box(&tag, &red_box, &noisy_picture([185, 50, 45]));
         assert!((found.centroid - Point3::new(1.03, -0.03, 0.0)).norm() < 0.005, "{found:?}");
         assert!(found.points >= tag.len() * 9 / 10, "{} of {}", found.points, tag.len());
+    }
+
+    #[test]
+    fn a_pull_chain_the_closing_took_in_is_not_part_of_the_tube() {
+        // A lamp's 13 × 3 cm foam tube hanging from a dark chain two pixels wide, 20 cm of it
+        // above the tube, before a wooden wall the search lets in: the mask's closing takes
+        // the chain's pixels in between the wall's, and the chain's points, at the tube's
+        // depth, join it. Sizes unknown, so the region is no larger than a tag.
+        let (mut tube, mut region) = (Vec::new(), Vec::new());
+        let image = the_plane_seen(31, |point| {
+            let (y, z) = (f64::from(point.y), f64::from(point.z));
+            if (-0.015..0.015).contains(&y) && z.abs() < 0.065 {
+                tube.push(point);
+                region.push(point);
+                [200, 30, 20]
+            } else if (-0.001..0.001).contains(&y) && (0.065..0.265).contains(&z) {
+                region.push(point);
+                [40, 40, 45]
+            } else {
+                [120, 110, 100]
+            }
+        });
+        let params = TagSearchParams::default();
+        let target = Point3::new(1.0, 0.0, 0.02);
+        let (sighting, notes) = chosen_in(region_of(&region, &target), &image, &target, &params);
+        let Some(TagSighting::Found(found)) = sighting else {
+            panic!("no tube: {notes:?}");
+        };
+        // Kept, the chain lifts the middle by 9 mm.
+        assert!((found.centroid - Point3::new(1.0, 0.0, 0.0)).norm() < 0.003, "{found:?}");
+        // The tube, and the chain in the voxels beside the tube's, whose colour is pooled with
+        // the tube's: 2 cm of it at most, two pixels wide.
+        assert!(found.points <= tube.len() + 2 * 20, "{} of {}", found.points, tube.len());
+        let said = notes.join(" ");
+        assert!(said.contains("another thing, not the tag's outline"), "{said}");
     }
 
     #[test]
