@@ -37,6 +37,9 @@ enum Command {
         /// With --rgbd: wood in the furniture and red things touching the tag as well.
         #[arg(long, requires = "rgbd")]
         homes: bool,
+        /// With --rgbd: wood in the furniture and some walls, nothing red touching the tag.
+        #[arg(long, requires = "rgbd", conflicts_with = "homes")]
+        wood: bool,
         /// With --rgbd: the farthest the camera stands from the tag, metres (the corpus's
         /// variants "within 2.5 m" draw their scenes with 2.5).
         #[arg(long, requires = "rgbd", default_value_t = 5.0, value_parser = parse_farthest)]
@@ -127,8 +130,9 @@ fn main() -> anyhow::Result<()> {
     // The benchmark runs the chain on this thread: it works beside the pool, not waiting on it.
     pps_robot::cores::work_on_this_thread();
     match Cli::parse().command {
-        Command::Write { seed, kind, rgbd, homes, farthest, out } => {
-            let variants = RgbdVariants { farthest_m: farthest, ..rgbd_variants(homes) };
+        Command::Write { seed, kind, rgbd, homes, wood, farthest, out } => {
+            let drawn = if wood { RgbdVariants::WOOD } else { rgbd_variants(homes) };
+            let variants = RgbdVariants { farthest_m: farthest, ..drawn };
             write(seed, kind, rgbd.then_some(variants), &out)
         }
         Command::WriteCorpus { scenes, rgbd, homes, out } => (0..scenes).try_for_each(|i| {

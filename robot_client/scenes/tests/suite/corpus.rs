@@ -7,7 +7,8 @@
 //!
 //! The same bar holds on what RGB-D cameras give (issue 34): dense organised clouds from a
 //! stereo or structured-light depth sensor with its own noise and holes, at 0.5–5 m, under warm
-//! and cool light without a flash. `pps-scenes write --rgbd` writes such a scene.
+//! and cool light without a flash. `pps-scenes write --rgbd` writes such a scene (`--wood` or
+//! `--homes` for the variants with wood, or with wood and red things touching the tag).
 //!
 //! What the robot knows of the home's tags matters where red things touch them: with every tag's
 //! size registered, a red region larger than the home's largest tag is divided or refused.
@@ -133,7 +134,7 @@ per_kind!(perception_is_right_on_dense_rgbd_frames_to_5_m, 40, |seed, kind| {
 // Wood behind and around the tag as the real captures of issue 34 had it (a plywood wall at
 // 3.5-4.8 m), nothing red touching, sizes unknown.
 per_kind!(perception_is_right_on_dense_rgbd_frames_with_wood_to_5_m, 40, |seed, kind| {
-    generate_rgbd(seed, Some(kind), RgbdVariants { wood: true, ..RgbdVariants::PLAIN })
+    generate_rgbd(seed, Some(kind), RgbdVariants::WOOD)
 });
 
 per_kind!(
