@@ -1075,23 +1075,12 @@ mod tests {
         // above the tube, before a wooden wall the search lets in: the mask's closing takes
         // the chain's pixels in between the wall's, and the chain's points, at the tube's
         // depth, join it. Sizes unknown, so the region is no larger than a tag.
-        let (mut tube, mut region) = (Vec::new(), Vec::new());
-        let image = the_plane_seen(31, |point| {
-            let (y, z) = (f64::from(point.y), f64::from(point.z));
-            if (-0.015..0.015).contains(&y) && z.abs() < 0.065 {
-                tube.push(point);
-                region.push(point);
-                [200, 30, 20]
-            } else if (-0.001..0.001).contains(&y) && (0.065..0.265).contains(&z) {
-                region.push(point);
-                [40, 40, 45]
-            } else {
-                [120, 110, 100]
-            }
-        });
-        let params = TagSearchParams::default();
+        let tube = OnThePlane { y: -0.015..0.015, z: -0.065..0.065, colour: [200, 30, 20] };
+        let chain = OnThePlane { y: -0.001..0.001, z: 0.065..0.265, colour: [40, 40, 45] };
         let target = Point3::new(1.0, 0.0, 0.02);
-        let (sighting, notes) = chosen_in(region_of(&region, &target), &image, &target, &params);
+        let (region, image, tube) = tag_and_thing(31, &tube, &chain, &target);
+        let params = TagSearchParams::default();
+        let (sighting, notes) = chosen_in(region, &image, &target, &params);
         let Some(TagSighting::Found(found)) = sighting else {
             panic!("no tube: {notes:?}");
         };
