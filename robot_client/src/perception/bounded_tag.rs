@@ -177,28 +177,35 @@ pub(super) fn bound_tags(
             divided = join(parts);
             stuck = nearest_too_large(&divided, params, bound);
         }
+        let beside_of = |part: &Component| {
+            tag_sized_beside(&region, part, image, calibration, target, params, bound, join)
+        };
+        // The tag-sized parts beside the part stuck nearest the target, found once for it and
+        // again only after a step has divided it.
+        let mut beside = None;
         // A tag against the red thing by a whole side is looked for only where no part of the
         // region beside it is tag-sized and about as near the target: one is a tag of a colour
         // of its own, and past the rectangle's side against it the red thing's colour would
         // end as at a free side.
-        if let Some((i, _)) = stuck
-            && !tag_sized_beside(
-                &region,
-                &divided[i],
-                image,
-                calibration,
-                target,
-                params,
-                bound,
-                join,
-            )
-            .iter()
-            .any(|beside| about_as_near(beside, &divided[i], params))
-            && let Some(parts) =
-                lying_against_it(&divided[i], &region, image, calibration, target, params, notes)
-        {
-            divided = join(parts);
-            stuck = nearest_too_large(&divided, params, bound);
+        if let Some((i, _)) = stuck {
+            let found = beside_of(&divided[i]);
+            let a_tag_beside = found.iter().any(|part| about_as_near(part, &divided[i], params));
+            beside = Some(found);
+            if !a_tag_beside
+                && let Some(parts) = lying_against_it(
+                    &divided[i],
+                    &region,
+                    image,
+                    calibration,
+                    target,
+                    params,
+                    notes,
+                )
+            {
+                divided = join(parts);
+                stuck = nearest_too_large(&divided, params, bound);
+                beside = None;
+            }
         }
         // What the shape leaves may reach no further than a tag and still be wider: a tube
         // and the strip of the fabric beside it that the disc could not take. Alone, their two
@@ -216,6 +223,7 @@ pub(super) fn bound_tags(
         {
             divided = join(parts);
             stuck = nearest_too_large(&divided, params, bound);
+            beside = None;
         }
         match stuck {
             // Kept whole, so that `choose_tag` knows the red thing nearest the target is not a
@@ -223,16 +231,7 @@ pub(super) fn bound_tags(
             // tag-sized parts, one of which may be the tag the person pointed at.
             Some((i, _)) => {
                 let part = &divided[i];
-                let beside = tag_sized_beside(
-                    &region,
-                    part,
-                    image,
-                    calibration,
-                    target,
-                    params,
-                    bound,
-                    join,
-                );
+                let beside = beside.unwrap_or_else(|| beside_of(part));
                 bounded.push(part.clone());
                 bounded.extend(beside);
             }
@@ -1103,10 +1102,10 @@ mod tests {
         let fabric = OnThePlane { y: 0.0..0.08, z: -0.02..0.06, colour: [185, 50, 45] };
         let registered = pps_schema::TagSize { width: 0.13, height: 0.03 };
         let target = Point3::new(1.0, 0.03, 0.02);
-        let (region, _, of_the_tube) = tag_and_thing(17, &tube, &fabric, &target);
+        let (region, image, of_the_tube) = tag_and_thing(17, &tube, &fabric, &target);
         let reach = TagSearchParams::default().for_home_tags([registered]).max_tag_radius;
         assert!(region.radius <= reach, "{} cm", region.radius * 100.0);
-        let (found, notes) = found_on_the_plane(17, &tube, &fabric, registered, &target);
+        let (found, notes) = found_in(region, &image, registered, &target);
         assert!((found.centroid - Point3::new(1.0, -0.015, 0.0)).norm() < 0.005, "{found:?}");
         // Less the pixels along the fabric, whose colour the camera mixes with the tube's.
         let tube_points = of_the_tube.len();
@@ -1191,19 +1190,17 @@ mod tests {
         (region_of(&all, target), image, of_the_tag)
     }
 
-    /// The tag the search finds where `tag` and a red `thing` against it lie on the plane
-    /// x = 1 (`seed` scattering the picture's pixels), the home's tags of `registered` size,
-    /// pointed at `target`; and the notes. Panics when it finds none, or two.
-    fn found_on_the_plane(
-        seed: u64,
-        tag: &OnThePlane,
-        thing: &OnThePlane,
+    /// The tag the search finds in `region` on the plane x = 1, seen in `image`, the home's
+    /// tags of `registered` size, pointed at `target`; and the notes. Panics when it finds
+    /// none, or two.
+    fn found_in(
+        region: Component,
+        image: &ColorImage,
         registered: pps_schema::TagSize,
         target: &Point3<f64>,
     ) -> (TagDetection, Vec<String>) {
         let params = TagSearchParams::default().for_home_tags([registered]);
-        let (region, image, _) = tag_and_thing(seed, tag, thing, target);
-        match chosen_in(region, &image, target, &params) {
+        match chosen_in(region, image, target, &params) {
             (Some(TagSighting::Found(found)), notes) => (found, notes),
             (sighting, notes) => panic!("no tag found clearly: {sighting:?} {notes:?}"),
         }
@@ -1290,7 +1287,8 @@ mod tests {
         let fabric = OnThePlane { y: 0.0..0.20, z: -0.045..0.045, colour: [170, 45, 70] };
         let registered = pps_schema::TagSize { width: 0.058, height: 0.084 };
         let target = Point3::new(1.0, 0.01, 0.0);
-        let (found, notes) = found_on_the_plane(29, &patch, &fabric, registered, &target);
+        let (region, image, _) = tag_and_thing(29, &patch, &fabric, &target);
+        let (found, notes) = found_in(region, &image, registered, &target);
         assert!((found.centroid - Point3::new(1.0, -0.029, 0.0)).norm() < 0.005, "{notes:?}");
         let said = notes.join(" ");
         assert!(!said.contains("a tag's rectangle"), "{said}");
