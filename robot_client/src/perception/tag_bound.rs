@@ -146,6 +146,8 @@ impl fmt::Display for TooLarge {
 /// for a large part.
 struct SeenAcross {
     flat: Vec<[f64; 2]>,
+    /// The angle from level of the points' axis of least scatter.
+    least_scatter: f64,
 }
 
 impl SeenAcross {
@@ -158,7 +160,7 @@ impl SeenAcross {
         let level = sight.cross(&Vector3::z()).try_normalize(1e-6).unwrap_or(Vector3::x());
         let upright = sight.cross(&level);
         let step = points.len().div_ceil(MOST_POINTS);
-        let flat = points
+        let flat: Vec<[f64; 2]> = points
             .iter()
             .step_by(step)
             .map(|p| {
@@ -166,7 +168,8 @@ impl SeenAcross {
                 [d.dot(&level), d.dot(&upright)]
             })
             .collect();
-        Some(Self { flat })
+        let least_scatter = direction_of_least_scatter(&flat);
+        Some(Self { flat, least_scatter })
     }
 
     /// The width, 2nd to 98th percentile, measured along the direction `angle` from level.
@@ -179,7 +182,7 @@ impl SeenAcross {
     /// no wider. The direction of least scatter is tried first, and is the narrowest of a
     /// rectangle or a tube: most parts are done with it.
     fn narrowest_width_beyond(&self, limit: f64) -> Option<f64> {
-        let least_scatter = self.direction_of_least_scatter();
+        let least_scatter = self.least_scatter;
         let coarse = std::f64::consts::PI / COARSE_TURNS as f64;
         let mut narrowest = (f64::INFINITY, least_scatter);
         for angle in (0..COARSE_TURNS).map(|i| least_scatter + i as f64 * coarse) {
@@ -204,21 +207,21 @@ impl SeenAcross {
     /// than the part's extent in its longest direction, which for a tag seen from anywhere is
     /// at most its diagonal.
     fn length(&self) -> f64 {
-        self.width_at(self.direction_of_least_scatter() + std::f64::consts::FRAC_PI_2)
+        self.width_at(self.least_scatter + std::f64::consts::FRAC_PI_2)
     }
+}
 
-    /// The angle from level of the points' axis of least scatter.
-    fn direction_of_least_scatter(&self) -> f64 {
-        let n = self.flat.len() as f64;
-        let [mx, my] = self.flat.iter().fold([0.0, 0.0], |[a, b], [x, y]| [a + x, b + y]);
-        let (mx, my) = (mx / n, my / n);
-        let [xx, yy, xy] = self.flat.iter().fold([0.0; 3], |[a, b, c], [x, y]| {
-            let (dx, dy) = (x - mx, y - my);
-            [a + dx * dx, b + dy * dy, c + dx * dy]
-        });
-        // The axis of most scatter is at half the angle of (xx - yy, 2 xy); least, square to it.
-        0.5 * (2.0 * xy).atan2(xx - yy) + std::f64::consts::FRAC_PI_2
-    }
+/// The angle from level of the axis of least scatter of points `flat`.
+fn direction_of_least_scatter(flat: &[[f64; 2]]) -> f64 {
+    let n = flat.len() as f64;
+    let [mx, my] = flat.iter().fold([0.0, 0.0], |[a, b], [x, y]| [a + x, b + y]);
+    let (mx, my) = (mx / n, my / n);
+    let [xx, yy, xy] = flat.iter().fold([0.0; 3], |[a, b, c], [x, y]| {
+        let (dx, dy) = (x - mx, y - my);
+        [a + dx * dx, b + dy * dy, c + dx * dy]
+    });
+    // The axis of most scatter is at half the angle of (xx - yy, 2 xy); least, square to it.
+    0.5 * (2.0 * xy).atan2(xx - yy) + std::f64::consts::FRAC_PI_2
 }
 
 #[cfg(test)]
