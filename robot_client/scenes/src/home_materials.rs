@@ -9,6 +9,7 @@
 //! the cast) or with a full white balance. Nothing here is tuned: change a number only with its
 //! source.
 
+use pps_robot::perception::UNMISTAKABLE_HUES;
 use pps_schema::ColorSegmentation;
 use serde::Serialize;
 
@@ -17,9 +18,11 @@ use serde::Serialize;
 /// more, starts at 12.3° (brick under 4000 K), so hue stops at 10°, midway. Saturation and
 /// value are the factory's. The factory default ([`ColorSegmentation::default`], hue 340–20°)
 /// is the published contract of `perceive` and stays; a household narrows it by learning its
-/// tags' colour from confirmed reads, which converges on this side of the wood.
+/// tags' colour from confirmed reads, which converges on this side of the wood. Its hues are
+/// perception's [`UNMISTAKABLE_HUES`]: a red region larger than any tag whose part nearest the
+/// pointed location lies beyond them is searched for its points within them.
 pub const SEPARATING_COLOUR: ColorSegmentation =
-    ColorSegmentation { hue_deg: [340.0, 10.0], saturation: [0.6, 1.0], value: [0.15, 1.0] };
+    ColorSegmentation { hue_deg: UNMISTAKABLE_HUES, saturation: [0.6, 1.0], value: [0.15, 1.0] };
 
 /// How a material's colour was published.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]

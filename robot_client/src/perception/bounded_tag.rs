@@ -1,10 +1,12 @@
 //! A tag is a bounded thing (issue 34). A red region larger than any tag in the home (a
 //! plywood cabinet whose orange-brown passes the thresholds, a red bin touching the towel), by
 //! its reach or, where the tags' sizes are known, by its width ([`super::tag_bound`]), is
-//! never the tag as a whole: it is divided, by colour first, then by surface, and last by the
-//! two colours, then the two surfaces a few millimetres apart, its voxels may fall into
-//! ([`super::two_clusters`]), and where the home's tags' sizes are known, by the shape of a tag
-//! standing out of it ([`super::tag_shape`]). When its part nearest the target stays larger
+//! never the tag as a whole. Where its part nearest the target has a hue no tag has (a wood's
+//! under warm light), only its points of a tag's red are searched ([`super::unmistakable_red`]).
+//! Then it is divided, by colour first, then by surface, and last by the two colours, then the
+//! two surfaces a few millimetres apart, its voxels may fall into ([`super::two_clusters`]),
+//! and where the home's tags' sizes are known, by the shape of a tag standing out of it
+//! ([`super::tag_shape`]). When its part nearest the target stays larger
 //! than a tag, that part is not the tag the person pointed at, and only a tag-sized part of the
 //! region beside it, about as near the target, may be ([`super::tag::choose_tag`]). Every
 //! division and every refusal is said in words.
@@ -36,6 +38,7 @@ use super::two_clusters::of_the_core_cluster;
 use super::two_colours::{
     colours_around, colours_at, colours_of, mean_colour_around, pixel_finder, pixels_of,
 };
+use super::unmistakable_red::{UNMISTAKABLE_HUES, unmistakably_red};
 use crate::hal::{CameraCalibration, ColorImage};
 
 /// Half the width of a surface's band, in standard deviations of the tag's own points about
@@ -72,6 +75,16 @@ pub(super) fn bound_tags(
     notes: &mut Vec<String>,
 ) -> Vec<Component> {
     let mut bounded = Vec::with_capacity(components.len());
+    let components: Vec<Component> = components
+        .into_iter()
+        .flat_map(|component| {
+            match of_unmistakable_red(&component, image, calibration, target, params, bound, notes)
+            {
+                Some(parts) => join(parts),
+                None => vec![component],
+            }
+        })
+        .collect();
     for component in components {
         if component.distance_to_target > params.max_distance {
             bounded.push(component);
@@ -251,6 +264,53 @@ pub(super) fn bound_tags(
         }
     }
     bounded
+}
+
+/// The parts of the unmistakable red ([`unmistakably_red`]) of `component`, when it lies near
+/// the target, is larger than any tag, and its part nearest the target has a hue only a home
+/// material has: a wood's, a brick's, a leather's, a skin's. `None` when not, or when that red holds no
+/// part near the target: the region is then divided as any other.
+#[allow(clippy::too_many_arguments)]
+fn of_unmistakable_red(
+    component: &Component,
+    image: &ColorImage,
+    calibration: &CameraCalibration,
+    target: &Point3<f64>,
+    params: &TagSearchParams,
+    bound: &TagBound,
+    notes: &mut Vec<String>,
+) -> Option<Vec<Component>> {
+    if component.distance_to_target > params.max_distance {
+        return None;
+    }
+    let too_large = bound.too_large(component)?;
+    let members = &component.members;
+    let red = unmistakably_red(
+        members,
+        &core_of(members, target, params),
+        image,
+        calibration,
+        &params.thresholds,
+        params.voxel_size,
+        PIXEL_NOISE_REACH,
+    )?;
+    let parts = components_of(&red.kept, target, params);
+    let near = |part: &Component| {
+        part.distance_to_target <= params.max_distance && part.points >= params.min_points
+    };
+    if !parts.iter().any(near) {
+        return None;
+    }
+    let [from, to] = UNMISTAKABLE_HUES;
+    notes.push(format!(
+        "the red region near the target is {too_large}, and its part nearest the target has hue \
+         {:.0}°, outside a tag's red ({from:.0}–{to:.0}°), where wood, brick, leather and skin \
+         lie: {} of its {} points have a tag's red, and only they are searched",
+        red.nearest_hue,
+        red.kept.len(),
+        component.points,
+    ));
+    Some(parts)
 }
 
 /// `part`, no larger than a tag, divided into its two things when it is two: a rocker's small
@@ -1292,6 +1352,61 @@ mod tests {
         assert!((found.centroid - Point3::new(1.0, -0.029, 0.0)).norm() < 0.005, "{notes:?}");
         let said = notes.join(" ");
         assert!(!said.contains("a tag's rectangle"), "{said}");
+    }
+
+    /// What the first step makes of a rocker's 6 × 8 cm patch on a plywood front whose
+    /// orange-brown (hue 16°) the factory colour lets in, the front filling the picture, with
+    /// `params` (the patch's size registered) and pointed at `target`: the parts, the patch's
+    /// own points, and the notes.
+    fn unmistakable_red_of_the_patch_on_wood(
+        params: &TagSearchParams,
+        target: &Point3<f64>,
+    ) -> (Option<Vec<Component>>, Vec<Point3<f32>>, Vec<String>) {
+        let patch = OnThePlane { y: -0.03..0.03, z: -0.04..0.04, colour: [200, 30, 20] };
+        let wood = OnThePlane { y: -0.2..0.2, z: -0.2..0.2, colour: [175, 80, 45] };
+        let (region, image, of_the_patch) = tag_and_thing(41, &patch, &wood, target);
+        let calibration = looking_along_x();
+        let bound = TagBound::new(params, &calibration);
+        let mut notes = Vec::new();
+        let parts =
+            of_unmistakable_red(&region, &image, &calibration, target, params, &bound, &mut notes);
+        (parts, of_the_patch, notes)
+    }
+
+    #[test]
+    fn a_wood_pointed_at_beside_the_tag_is_left_for_the_tags_red() {
+        // Pointed 1 cm into the wood beside the patch: the colour anchored there would be the
+        // wood's, and keep the wood.
+        let registered = pps_schema::TagSize { width: 0.06, height: 0.08 };
+        let params = TagSearchParams::default().for_home_tags([registered]);
+        let target = Point3::new(1.0, -0.04, 0.0);
+        let (parts, of_the_patch, notes) = unmistakable_red_of_the_patch_on_wood(&params, &target);
+        let parts = parts.expect("divided");
+        let kept: Vec<&Point3<f32>> = parts.iter().flat_map(|p| &p.members).collect();
+        let of_the_wood = kept.iter().filter(|p| p.y.abs() > 0.031 || p.z.abs() > 0.041).count();
+        assert_eq!(of_the_wood, 0, "{notes:?}");
+        // All but the patch's outermost pixels, whose colour the camera mixes with the wood's.
+        assert!(kept.len() >= of_the_patch.len() * 9 / 10, "{} points {notes:?}", kept.len());
+        assert_eq!(notes.len(), 1);
+        assert!(notes[0].contains("outside a tag's red (340–10°)"), "{notes:?}");
+    }
+
+    #[test]
+    fn a_region_pointed_at_in_the_tags_red_or_searched_in_a_learned_colour_is_left_whole() {
+        let registered = pps_schema::TagSize { width: 0.06, height: 0.08 };
+        let params = TagSearchParams::default().for_home_tags([registered]);
+        // Pointed at the patch itself.
+        let (parts, _, notes) =
+            unmistakable_red_of_the_patch_on_wood(&params, &Point3::new(1.0, -0.01, 0.0));
+        assert!(parts.is_none() && notes.is_empty(), "{notes:?}");
+        // At the wood, by a household whose colour, learned from its towels, is 346–8°.
+        let learned = TagSearchParams {
+            thresholds: params.thresholds.with_hues([346.0, 8.0]),
+            ..params.clone()
+        };
+        let (parts, _, notes) =
+            unmistakable_red_of_the_patch_on_wood(&learned, &Point3::new(1.0, -0.04, 0.0));
+        assert!(parts.is_none() && notes.is_empty(), "{notes:?}");
     }
 
     /// The tag found where a rocker's 5.6 × 10 cm patch lies against the side of a red box

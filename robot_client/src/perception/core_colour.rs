@@ -65,7 +65,20 @@ pub(super) fn tag_coloured(
     voxel_size: f32,
 ) -> Option<ColourSplit> {
     let colour = ColourOf::of(colours, core)?;
-    let of_colour: Vec<bool> = colours.iter().map(|c| c.is_some_and(|c| colour.holds(c))).collect();
+    let kept = of_a_colour(points, colours, |c| colour.holds(c), voxel_size);
+    (kept.len() < points.len()).then_some(ColourSplit { kept, spread: colour.spread })
+}
+
+/// The points whose colour `holds` and that lie in a voxel (of edge `voxel_size`) most of
+/// whose points have such a colour: the camera's noise scatters a few pixels of a colour over
+/// a thing of another, and the thing's own voxels are all of its colour.
+pub(super) fn of_a_colour(
+    points: &[Point3<f32>],
+    colours: &[Option<[f32; 2]>],
+    holds: impl Fn([f32; 2]) -> bool,
+    voxel_size: f32,
+) -> Vec<Point3<f32>> {
+    let of_colour: Vec<bool> = colours.iter().map(|c| c.is_some_and(&holds)).collect();
     // Per voxel: its points, and those of the colour.
     let mut voxels: FxHashMap<[i64; 3], (u32, u32)> = FxHashMap::default();
     for (p, &is) in points.iter().zip(&of_colour) {
@@ -77,13 +90,12 @@ pub(super) fn tag_coloured(
         let (all, of) = voxels[&cube_of(p, voxel_size)];
         2 * of > all
     };
-    let kept: Vec<Point3<f32>> = points
+    points
         .iter()
         .zip(&of_colour)
         .filter(|(p, is)| **is && mostly_of_colour(p))
         .map(|(p, _)| *p)
-        .collect();
-    (kept.len() < points.len()).then_some(ColourSplit { kept, spread: colour.spread })
+        .collect()
 }
 
 fn median(values: impl Iterator<Item = f32>) -> f32 {

@@ -57,15 +57,15 @@ impl HsvThresholds {
                 return Err(ThresholdError::NotAFraction(*v));
             }
         }
-        let [from, to] = segmentation.hue_deg;
         let mut thresholds = Self {
-            hue_from: from.rem_euclid(360.0) as f32,
-            hue_to: to.rem_euclid(360.0) as f32,
-            every_hue: to - from >= 360.0,
+            hue_from: 0.0,
+            hue_to: 0.0,
+            every_hue: false,
             saturation: segmentation.saturation.map(|v| v as f32),
             value: segmentation.value.map(|v| v as f32),
             chroma_bounds: [[1, 0]; 256],
-        };
+        }
+        .with_hues(segmentation.hue_deg);
         for max in 0..=u8::MAX {
             // Passing is an interval of chroma: the test is `low ≤ chroma ≤ high` for bounds
             // that depend on `max` alone.
@@ -76,6 +76,33 @@ impl HsvThresholds {
             }
         }
         Ok(thresholds)
+    }
+
+    /// These thresholds with their hues `hue_deg` (from, to, wrapping through 0 when from is
+    /// above to), saturation and value kept.
+    pub fn with_hues(self, [from, to]: [f64; 2]) -> Self {
+        Self {
+            hue_from: from.rem_euclid(360.0) as f32,
+            hue_to: to.rem_euclid(360.0) as f32,
+            every_hue: to - from >= 360.0,
+            ..self
+        }
+    }
+
+    /// Whether these thresholds take every hue `other` takes, and more.
+    pub fn takes_more_hues_than(&self, other: &Self) -> bool {
+        if self.every_hue {
+            return !other.every_hue;
+        }
+        let (span, other_span) = (self.hue_span(), other.hue_span());
+        !other.every_hue
+            && span > other_span
+            && (other.hue_from - self.hue_from).rem_euclid(360.0) + other_span <= span
+    }
+
+    /// How many degrees the hue range spans, counted from `hue_from` up to `hue_to`.
+    fn hue_span(&self) -> f32 {
+        (self.hue_to - self.hue_from).rem_euclid(360.0)
     }
 
     /// Whether a colour whose brightest channel is `max` and whose chroma is `chroma` passes
@@ -106,7 +133,7 @@ impl HsvThresholds {
     /// saturations the ranges admit, whatever its value: 0 inside them.
     pub fn chroma_distance(&self, [x, y]: [f32; 2]) -> f32 {
         let saturation = x.hypot(y);
-        let hue = y.atan2(x).to_degrees().rem_euclid(360.0);
+        let hue = hue_of_chroma_point([x, y]);
         let [least, most] = self.saturation;
         if self.contains_hue(hue) {
             return (least - saturation).max(saturation - most).max(0.0);
@@ -185,6 +212,11 @@ pub fn hsv_of([r, g, b]: [u8; 3]) -> [f32; 3] {
 pub fn chroma_point(rgb: [u8; 3]) -> [f32; 2] {
     let [hue, saturation, _] = hsv_of(rgb);
     polar(hue, saturation)
+}
+
+/// The hue of a point of the chroma disc ([`chroma_point`]), degrees in 0..360.
+pub fn hue_of_chroma_point([x, y]: [f32; 2]) -> f32 {
+    y.atan2(x).to_degrees().rem_euclid(360.0)
 }
 
 fn polar(hue_deg: f32, saturation: f32) -> [f32; 2] {

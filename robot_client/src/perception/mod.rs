@@ -39,6 +39,7 @@ mod tag_shape;
 mod tag_sighting;
 mod two_clusters;
 mod two_colours;
+mod unmistakable_red;
 pub(crate) mod voxel_coords;
 
 pub use blobs::Blobs;
@@ -61,3 +62,4 @@ pub use tag_colours::{covering_colour, describe_colour};
 pub use tag_extent::tag_size;
 pub use tag_search_params::TagSearchParams;
 pub use tag_sighting::{TagDetection, TagSighting};
+pub use unmistakable_red::UNMISTAKABLE_HUES;
