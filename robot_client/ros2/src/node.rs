@@ -5,9 +5,9 @@
 use std::sync::{Arc, Mutex};
 
 use pps_robot::navigation::ApproachParams;
-use pps_robot::perception::DepthNoise;
+use pps_robot::perception::{DepthNoise, TagSearchParams};
 use pps_robot::registry::RegistryClient;
-use pps_robot::task::{ColourSource, search_for_known_tags};
+use pps_robot::task::{ColourSource, search_for_known_tags, search_in_the_registered_colour};
 use pps_schema::Epc;
 use ros2_client::{Context, NodeName, NodeOptions, Publisher};
 use time::OffsetDateTime;
@@ -243,12 +243,22 @@ async fn on_click(shared: &Arc<Shared>, click: PointStamped) {
     const TOPIC: &str = "clicked_point";
     let snapshot = shared.sensors.lock().unwrap_or_else(|e| e.into_inner()).clone();
     shared.registry.refresh_announced().await;
-    let approach = approach_for_known_tags(shared);
+    let (approach, registered) = approach_for_known_tags(shared);
     let work = shared.clone();
     // The chain takes tens of milliseconds of computation: off the tasks that move messages.
     let answered = tokio::task::spawn_blocking(move || {
         let settings = &work.settings;
-        answer_click(&snapshot, &click, &settings.base_frame, &approach, settings.depth_noise)
+        let answer = |approach: &ApproachParams| {
+            answer_click(&snapshot, &click, &settings.base_frame, approach, settings.depth_noise)
+        };
+        let first = answer(&approach)?;
+        match registered {
+            Some((tag, note)) if first.plan.saw_nothing_red() => {
+                tracing::info!("tag search: {note}");
+                answer(&ApproachParams { tag, ..approach })
+            }
+            _ => Ok(first),
+        }
     })
     .await;
     let answer = match answered {
@@ -299,10 +309,13 @@ async fn on_click(shared: &Arc<Shared>, click: PointStamped) {
 
 /// The approach's settings with the tag search set for the home's tags as the registry's
 /// entries (cached, so also offline) know them now; what changed since the last click is logged.
-fn approach_for_known_tags(shared: &Shared) -> ApproachParams {
+/// Beside them, the search in the registered colour to look again with when the household's
+/// learned colour sees nothing red ([`search_in_the_registered_colour`]).
+fn approach_for_known_tags(shared: &Shared) -> (ApproachParams, Option<(TagSearchParams, String)>) {
     let settings = &shared.settings;
     let known = shared.registry.known_entries();
     let (tag, notes) = search_for_known_tags(&settings.approach.tag, &known, settings.colour);
+    let registered = search_in_the_registered_colour(&tag, &known);
     let mut said = shared.known_tags.lock().unwrap_or_else(|e| e.into_inner());
     if *said != notes {
         for note in &notes {
@@ -310,7 +323,7 @@ fn approach_for_known_tags(shared: &Shared) -> ApproachParams {
         }
         *said = notes;
     }
-    ApproachParams { tag, ..settings.approach.clone() }
+    (ApproachParams { tag, ..settings.approach.clone() }, registered)
 }
 
 async fn on_round(shared: &Arc<Shared>, round: TagReads) {

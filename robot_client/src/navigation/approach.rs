@@ -100,6 +100,12 @@ pub struct ApproachPlan {
 }
 
 impl ApproachPlan {
+    /// Whether the search saw nothing of the tag's colour near the target: no tag, and no red
+    /// region it divided or turned down.
+    pub fn saw_nothing_red(&self) -> bool {
+        self.tag.is_none() && self.tag_notes.is_empty()
+    }
+
     /// The laser's noise across surfaces here (standard deviation, metres): the median over
     /// the planes found, `None` when none was.
     pub fn laser_noise(&self) -> Option<f64> {

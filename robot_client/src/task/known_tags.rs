@@ -3,7 +3,7 @@
 //! offline). `run`, `work` and `pps-ros2` look for tags with these settings. Once a tag's EPC is
 //! read, its own entry narrows them: its own learned colour and its own registered size.
 
-use pps_schema::{EffectiveEntry, TagSize};
+use pps_schema::{EffectiveEntry, LearnedColor, TagSize};
 
 use crate::perception::{HsvThresholds, TagSearchParams, covering_colour, describe_colour};
 
@@ -55,8 +55,16 @@ pub fn search_for_this_tag(
             "this tag's own colour"
         }
         (ColourSource::KnownTags, None) => {
-            let (thresholds, from) =
-                known_colour(used.thresholds, std::slice::from_ref(entry), &mut notes);
+            let entry = std::slice::from_ref(entry);
+            // The household's colour again only if the tag was found in it: one that saw
+            // nothing of this tag before the read ([`search_in_the_registered_colour`]) would
+            // see nothing of it now.
+            let (thresholds, from) = match households_colour(entry) {
+                Some((_, household)) if household != used.thresholds => {
+                    registered_colour(used.thresholds, entry, &mut notes)
+                }
+                _ => known_colour(used.thresholds, entry, &mut notes),
+            };
             params.thresholds = thresholds;
             from
         }
@@ -108,13 +116,7 @@ fn known_colour(
     known: &[EffectiveEntry],
     notes: &mut Vec<String>,
 ) -> (HsvThresholds, &'static str) {
-    let household = known
-        .iter()
-        .filter_map(|e| e.entry.properties.household_color())
-        .max_by_key(|learned| learned.trials);
-    if let Some(learned) = household
-        && let Ok(thresholds) = HsvThresholds::new(&learned.segmentation)
-    {
+    if let Some((learned, thresholds)) = households_colour(known) {
         notes.push(format!(
             "looking for {} (learned from {} confirmed reads of this household's tags)",
             describe_colour(&learned.segmentation),
@@ -122,6 +124,52 @@ fn known_colour(
         ));
         return (thresholds, "the household's learned colour");
     }
+    registered_colour(fallback, known, notes)
+}
+
+/// The colour this robot's class has learned its household's tags to have, from the entry
+/// whose model rests on the most confirmed reads; `None` before three.
+fn households_colour(known: &[EffectiveEntry]) -> Option<(LearnedColor, HsvThresholds)> {
+    let learned = known
+        .iter()
+        .filter_map(|e| e.entry.properties.household_color())
+        .max_by_key(|learned| learned.trials)?;
+    let thresholds = HsvThresholds::new(&learned.segmentation).ok()?;
+    Some((learned, thresholds))
+}
+
+/// `params` (from [`search_for_known_tags`]) looking for the colours the registry's entries
+/// give instead of the household's learned colour, when that is what they look for, with what
+/// it does in words; `None` otherwise. A colour learned from the household's tags holds the
+/// reds they were seen in: a tag of another red hung since (an orange-red towel), or a light
+/// the looks never had, shows nothing of it, and the robot looks again for the broader
+/// registered colour before it asks the person to point at the tag itself.
+pub fn search_in_the_registered_colour(
+    params: &TagSearchParams,
+    known: &[EffectiveEntry],
+) -> Option<(TagSearchParams, String)> {
+    let (learned, thresholds) = households_colour(known)?;
+    if thresholds != params.thresholds {
+        return None;
+    }
+    let mut notes = Vec::new();
+    let (registered, _) = registered_colour(params.thresholds, known, &mut notes);
+    let note = format!(
+        "nothing of the household's learned colour ({}) near the pointed location: a tag of \
+         another red, or a light its looks never had; {}",
+        describe_colour(&learned.segmentation),
+        notes.join("; ")
+    );
+    Some((TagSearchParams { thresholds: registered, ..params.clone() }, note))
+}
+
+/// The colours this robot's camera sees the registry's tags in (their entries'
+/// `color_segmentation`, merged for this robot), or `fallback` when those cannot be used.
+fn registered_colour(
+    fallback: HsvThresholds,
+    known: &[EffectiveEntry],
+    notes: &mut Vec<String>,
+) -> (HsvThresholds, &'static str) {
     let colours = known.iter().filter_map(|e| e.entry.properties.color_segmentation());
     let colour = covering_colour(colours.clone());
     match HsvThresholds::new(&colour) {
@@ -235,6 +283,42 @@ mod tests {
         let (params, notes) = search_for_known_tags(&factory, &entries, ColourSource::AsGiven);
         assert_eq!(params.thresholds, factory.thresholds);
         assert!(notes.iter().all(|n| !n.contains("looking for")), "{notes:?}");
+    }
+
+    #[test]
+    fn where_the_learned_colour_sees_nothing_the_registered_one_is_looked_for() {
+        let factory = TagSearchParams::default();
+        let rocker = known(
+            "E2000001",
+            json!({
+                "name": "rocker",
+                "color_segmentation": {"hue_deg": [340.0, 20.0], "saturation": [0.5, 1.0], "value": [0.15, 1.0]},
+                "household_color_segmentation": {
+                    "hue_deg": [353.0, 357.0], "saturation": [0.6, 1.0], "value": [0.15, 1.0], "trials": 3
+                }
+            }),
+        );
+        let entries = [rocker];
+        let (learned, _) = search_for_known_tags(&factory, &entries, ColourSource::KnownTags);
+        let (registered, note) =
+            search_in_the_registered_colour(&learned, &entries).expect("looked for again");
+        let expected = HsvThresholds::new(&pps_schema::ColorSegmentation {
+            hue_deg: [340.0, 20.0],
+            saturation: [0.5, 1.0],
+            value: [0.15, 1.0],
+        })
+        .unwrap();
+        assert_eq!(registered.thresholds, expected);
+        assert_eq!(registered.max_tag_radius, learned.max_tag_radius, "only the colour changes");
+        assert!(note.contains("hue 353..357°") && note.contains("hue 340..20°"), "{note}");
+        // A search that was not for the learned colour (a colour given) is not looked for again,
+        // nor is one in a household that has learned none.
+        assert!(search_in_the_registered_colour(&factory, &entries).is_none());
+        assert!(search_in_the_registered_colour(&factory, &[patch("E2000002")]).is_none());
+        // After the read, the tag found in the registered colour is not looked for in the
+        // household's again.
+        let this = search_for_this_tag(&registered, &entries[0], ColourSource::KnownTags);
+        assert_eq!(this.params.thresholds, expected, "{:?}", this.notes);
     }
 
     #[test]

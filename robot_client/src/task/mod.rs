@@ -26,7 +26,10 @@ mod trailing;
 
 pub use act::{ActionChoice, choose_action, vertical_choice_for};
 pub use config::TaskConfig;
-pub use known_tags::{ColourSource, ThisTagSearch, search_for_known_tags, search_for_this_tag};
+pub use known_tags::{
+    ColourSource, ThisTagSearch, search_for_known_tags, search_for_this_tag,
+    search_in_the_registered_colour,
+};
 pub use report::{PhaseReport, TaskReport};
 pub use run::run_task;
 pub use task_robot::TaskRobot;

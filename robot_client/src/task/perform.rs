@@ -193,8 +193,8 @@ fn look_knowing_the_tag(
     let search = search_for_this_tag(&config.approach.tag, entry, ColourSource::KnownTags);
     if !search.differs {
         phase.note(format!(
-            "its entry tells no more than the household's ({}): acting where the tag was first \
-             seen",
+            "its entry tells no more than the look before the read ({}): acting where the tag \
+             was first seen",
             search.with
         ));
         return Ok(true);

@@ -4,7 +4,7 @@ use super::approach::{Look, drive_to_waypoint, look_for_tag_and_surface};
 use super::config::TaskConfig;
 use super::drive::{camera_origin, drive_toward, in_base, in_odom};
 use super::identify::servo_and_read;
-use super::known_tags::{ColourSource, search_for_known_tags};
+use super::known_tags::{ColourSource, search_for_known_tags, search_in_the_registered_colour};
 use super::perform::{Acting, FoundTag, act, settle_epc};
 use super::report::{PhaseReport, TaskReport};
 use super::task_robot::TaskRobot;
@@ -40,19 +40,31 @@ pub async fn run_task(
     let robot = &trailing;
     let phase = report.phase(2, "approach the tag perpendicular to its surface");
     registry.refresh_announced().await;
-    let (tag, notes) = search_for_known_tags(
-        &config.approach.tag,
-        &registry.known_entries(),
-        ColourSource::KnownTags,
-    );
+    let known = registry.known_entries();
+    let (tag, notes) = search_for_known_tags(&config.approach.tag, &known, ColourSource::KnownTags);
     for note in notes {
         phase.note(note);
     }
     let mut config = config.clone();
     config.approach.tag = tag;
-    let config = &config;
-    let seen =
+    let mut seen =
         look_for_tag_and_surface(robot, operator, &target, &config.sweep, &config.approach, phase)?;
+    if seen.plan.saw_nothing_red()
+        && let Some((registered, note)) =
+            search_in_the_registered_colour(&config.approach.tag, &known)
+    {
+        phase.note(note);
+        config.approach.tag = registered;
+        seen = look_for_tag_and_surface(
+            robot,
+            operator,
+            &target,
+            &config.sweep,
+            &config.approach,
+            phase,
+        )?;
+    }
+    let config = &config;
     robot.saw_the_tag();
     let sized = !config.approach.tag.home_tags.is_empty();
     let Some(mut tag) = drive_to_waypoint(robot, &seen.plan, sized, phase)? else {
