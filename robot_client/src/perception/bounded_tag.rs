@@ -6,10 +6,10 @@
 //! Then it is divided, by colour first, then by surface, and last by the two colours, then the
 //! two surfaces a few millimetres apart, its voxels may fall into ([`super::two_clusters`]),
 //! and where the home's tags' sizes are known, by the shape of a tag standing out of it
-//! ([`super::tag_shape`]). When its part nearest the target stays larger
-//! than a tag, that part is not the tag the person pointed at, and only a tag-sized part of the
-//! region beside it, about as near the target, may be ([`super::tag::choose_tag`]). Every
-//! division and every refusal is said in words.
+//! ([`super::tag_shape`]). When its part nearest the target stays larger than a tag, that part
+//! is not the tag the person pointed at, and only a tag-sized part of the region beside it,
+//! about as near the target, may be ([`super::tag::choose_tag`]). Every division and every
+//! refusal is said in words.
 //!
 //! A region no larger than a tag is divided by two colours alone: two colours whose voxels lie
 //! clearly apart are two things whatever their size (a small patch and the red plastic against
@@ -268,8 +268,8 @@ pub(super) fn bound_tags(
 
 /// The parts of the unmistakable red ([`unmistakably_red`]) of `component`, when it lies near
 /// the target, is larger than any tag, and its part nearest the target has a hue only a home
-/// material has: a wood's, a brick's, a leather's, a skin's. `None` when not, or when that red holds no
-/// part near the target: the region is then divided as any other.
+/// material has: a wood's, a brick's, a leather's, a skin's. `None` when not, or when that red
+/// holds no part near the target: the region is then divided as any other.
 #[allow(clippy::too_many_arguments)]
 fn of_unmistakable_red(
     component: &Component,

@@ -292,9 +292,12 @@ mod tests {
             "E2000001",
             json!({
                 "name": "rocker",
-                "color_segmentation": {"hue_deg": [340.0, 20.0], "saturation": [0.5, 1.0], "value": [0.15, 1.0]},
+                "color_segmentation": {
+                    "hue_deg": [340.0, 20.0], "saturation": [0.5, 1.0], "value": [0.15, 1.0]
+                },
                 "household_color_segmentation": {
-                    "hue_deg": [353.0, 357.0], "saturation": [0.6, 1.0], "value": [0.15, 1.0], "trials": 3
+                    "hue_deg": [353.0, 357.0], "saturation": [0.6, 1.0], "value": [0.15, 1.0],
+                    "trials": 3
                 }
             }),
         );
