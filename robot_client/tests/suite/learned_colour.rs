@@ -36,20 +36,26 @@ fn plywood() -> Vec<[u8; 3]> {
 
 /// Runs `LOOKS` confirmed reads of the drawer in real use; the household model they teach.
 async fn learn_from_the_drawer(client: &RegistryClient) -> pps_schema::LearnedColor {
+    learn_from(client, DeviceKind::Drawer, ["open", "close"]).await
+}
+
+/// Runs `LOOKS` confirmed reads of `device` in real use, its two `actions` in turn; the
+/// household model they teach.
+async fn learn_from(
+    client: &RegistryClient,
+    device: DeviceKind,
+    actions: [&str; 2],
+) -> pps_schema::LearnedColor {
     let body = start_up(client).await.unwrap();
-    let drawer = DeviceKind::Drawer.epc();
+    let epc = device.epc();
     let mut learned = None;
     for n in 1..=LOOKS {
-        let action = if n % 2 == 1 { "open" } else { "close" };
-        let trial = SimulatedTrial {
-            body,
-            seed: n,
-            ..SimulatedTrial::new(DeviceKind::Drawer, action, None)
-        };
+        let action = actions[usize::from(n % 2 == 0)];
+        let trial = SimulatedTrial { body, seed: n, ..SimulatedTrial::new(device, action, None) };
         let result = run_simulated(&trial, client, &TaskConfig::default()).await.unwrap();
-        assert_eq!(result.report.epc.as_ref(), Some(&drawer), "{}", result.report);
+        assert_eq!(result.report.epc.as_ref(), Some(&epc), "{}", result.report);
         flush_until_stored(client).await.unwrap();
-        let entry = client.effective_entry(&drawer).await.unwrap().entry;
+        let entry = client.effective_entry(&epc).await.unwrap().entry;
         learned = entry.entry.properties.household_color();
         assert_eq!(learned.is_some(), n == LOOKS, "after {n} reads: {learned:?}");
     }
@@ -116,20 +122,8 @@ async fn a_new_tag_of_another_red_is_looked_for_in_the_registered_colour_too() {
     let dir = tempfile::tempdir().unwrap();
     let registry = pps_test_kit::RobotRegistry::start().await;
     let client = registry.client(dir.path());
+    let learned = learn_from(&client, DeviceKind::AdaLightSwitch, ["on", "off"]).await;
     let body = start_up(&client).await.unwrap();
-    for seed in 1..=LOOKS {
-        let action = if seed % 2 == 1 { "on" } else { "off" };
-        let trial = SimulatedTrial {
-            body,
-            seed,
-            ..SimulatedTrial::new(DeviceKind::AdaLightSwitch, action, None)
-        };
-        run_simulated(&trial, &client, &TaskConfig::default()).await.unwrap();
-        flush_until_stored(&client).await.unwrap();
-    }
-    let rocker = client.effective_entry(&DeviceKind::AdaLightSwitch.epc()).await.unwrap().entry;
-    let learned = rocker.entry.properties.household_color().expect("the household's learned");
-
     let trial = SimulatedTrial {
         body,
         room: RoomOptions { orange_towel: true, ..RoomOptions::default() },
